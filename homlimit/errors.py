@@ -1,0 +1,63 @@
+"""Failure types of homlimit: one place for every error the package raises on purpose."""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["HomlimitError", "ParameterError", "MeshError", "SolverError", "check_range"]
+
+
+class HomlimitError(Exception):
+    """Base class of every expected homlimit failure."""
+
+
+class ParameterError(HomlimitError, ValueError):
+    """An input value is outside its allowed range. The message names parameter, value and range."""
+
+
+class MeshError(HomlimitError, RuntimeError):
+    """Meshing failed (gmsh error, empty or inconsistent mesh)."""
+
+
+class SolverError(HomlimitError, RuntimeError):
+    """A conic program did not end optimal. ``status`` holds the solver's status string."""
+
+    def __init__(self, message: str, status: str | None = None):
+        super().__init__(message)
+        self.status = status
+
+
+def check_range(
+    name: str,
+    value,
+    lo: float | None = None,
+    hi: float | None = None,
+    *,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    unit: str = "",
+) -> float:
+    """Return ``float(value)`` if it lies in the stated interval, else raise ParameterError.
+
+    The message names the parameter, its value and the allowed range, e.g.
+    ``b = -0.5 m is out of range: allowed 0 < b``.
+    """
+    u = f" {unit}" if unit else ""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} = {value!r} is not a number") from None
+    bad = not math.isfinite(x)
+    if lo is not None and (x <= lo if lo_open else x < lo):
+        bad = True
+    if hi is not None and (x >= hi if hi_open else x > hi):
+        bad = True
+    if bad:
+        parts = []
+        if lo is not None:
+            parts.append(f"{lo:g} {'<' if lo_open else '<='} {name}")
+        if hi is not None:
+            parts.append(f"{name} {'<' if hi_open else '<='} {hi:g}")
+        rng = " and ".join(parts) if parts else f"{name} finite"
+        raise ParameterError(f"{name} = {value!r}{u} is out of range: allowed {rng}{u}")
+    return x
