@@ -12,9 +12,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from .errors import ParameterError, check_range
 
-__all__ = ["RigidBody"]
+__all__ = ["RigidBody", "triangle_moments"]
 
 
 @dataclass(frozen=True)
@@ -52,3 +54,49 @@ class RigidBody:
     def i(self) -> float:
         """i = I_O / m (eq. 4) [m²]."""
         return self.I_O / self.m
+
+    @classmethod
+    def from_triangles(cls, points, triangles, density, O=(0.0, 0.0)) -> RigidBody:
+        """The rigid body made of linear triangles with per-triangle densities, rotating about O.
+
+        points (n_points, 2) in the section frame [m]; triangles (n_tri, 3) vertex indices;
+        density: scalar or (n_tri,) mass per unit area [kg/m² per unit thickness, i.e. γ·s];
+        O: rotation centre (x, z) [m]. Mass, G and I_O are integrated exactly (linear geometry).
+        """
+        points = np.asarray(points, float)
+        triangles = np.asarray(triangles, int)
+        if points.ndim != 2 or points.shape[1] != 2:
+            raise ParameterError(f"points has shape {points.shape}: allowed (n_points, 2)")
+        if triangles.ndim != 2 or triangles.shape[1] != 3 or len(triangles) == 0:
+            raise ParameterError(f"triangles has shape {triangles.shape}: "
+                                 "allowed (n_tri >= 1, 3)")
+        if triangles.min() < 0 or triangles.max() >= len(points):
+            raise ParameterError(f"triangles index range [{triangles.min()}, {triangles.max()}] is "
+                                 f"out of range: allowed 0 <= index < {len(points)}")
+        rho = np.broadcast_to(np.asarray(density, float), (len(triangles),))
+        if not np.all(np.isfinite(rho)) or np.any(rho < 0):
+            raise ParameterError(f"density min = {rho.min()!r} is out of range: "
+                                 "allowed 0 <= density")
+        A, Sx, Sz, J = triangle_moments(points, triangles, O)
+        m = float(rho @ A)
+        check_range("mass of the triangles", m, 0.0, lo_open=True, unit="kg")
+        return cls(m=m, x_G=float(rho @ Sx) / m, z_G=float(rho @ Sz) / m, I_O=float(rho @ J))
+
+
+def triangle_moments(points: np.ndarray, triangles: np.ndarray, O=(0.0, 0.0)):
+    """Exact area, first and polar second moments about O of linear triangles (vectorised).
+
+    For a triangle of area A with vertices p_1, p_2, p_3 (relative to O):
+    ∫ dA = A,  ∫ x dA = A x_c,  ∫ x² dA = (A/6) (Σ_i x_i² + Σ_{i<j} x_i x_j)  (same for z).
+    Returns (A, Sx, Sz, J) arrays of shape (n_triangles,), with J = ∫ (x² + z²) dA.
+    """
+    p = np.asarray(points, float)[np.asarray(triangles, int)] - np.asarray(O, float)
+    x, z = p[..., 0], p[..., 1]  # (n, 3)
+    A = 0.5 * np.abs((x[:, 1] - x[:, 0]) * (z[:, 2] - z[:, 0])
+                     - (x[:, 2] - x[:, 0]) * (z[:, 1] - z[:, 0]))
+
+    def second(u):
+        return (A / 6.0) * (np.sum(u * u, axis=1) + u[:, 0] * u[:, 1] + u[:, 1] * u[:, 2]
+                            + u[:, 2] * u[:, 0])
+
+    return A, A * x.mean(axis=1), A * z.mean(axis=1), second(x) + second(z)
