@@ -1,0 +1,282 @@
+"""Closed-form collapse mechanisms I and II of the paper, vectorised over (λ, ρ, α, β).
+
+Normalised forms (eq. 11: λ = h/b, ρ = l/s, α = √(cf/a), β = c/b) work on numpy arrays that
+broadcast together, so Figure 2's family of curves is one call. The object forms
+``mechanism_I(case)`` and ``mechanism_II(case)`` return a MechanismResult in SI units.
+
+Mechanism I (detachment): the façade strip of height h rotates about its outer toe; the
+restoring work is eq. 10 (linearised gravity + friction at the abutment, both branches of eq. 9).
+Normalised by g γ s b³ and written as w(θ)/24 it reads, for θ >= β/λ (u(h) >= c),
+
+    24 W / (g γ s b³) = 12ρλθ − 6ρλ²θ² + 6α²βλ² − 4α²β²λ/θ + α²β³/θ²          (eq. 12, corrected)
+
+(the printed eq. 12 has a factor 24 instead of 1/24 and β² instead of β³; eq. 13 has a wrong
+sign: see analytic/NOTES.md). θ_m is the exact maximiser of W; eq. 14 is kept as an
+approximation for comparison.
+
+Mechanism II (diagonal crack): the façade strip and a wedge of the transversal wall cut by a
+straight crack of slope tan ψ from the vertical (default √(cf/a), eq. 16) rotate about the
+façade's outer toe; eqs 17, 20 give G and i, eq. 19 the collapse velocity. The wedge must stay
+inside the transversal wall: λ tan ψ <= L/b.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .body import RigidBody
+from .errors import ParameterError, check_range
+from .params import Case
+
+__all__ = [
+    "work_I",
+    "theta_m_I",
+    "theta_m_I_eq14",
+    "vnorm_I",
+    "critical_I",
+    "geometry_II",
+    "vnorm_II",
+    "critical_II",
+    "lam_max_II",
+    "MechanismResult",
+    "mechanism_I",
+    "mechanism_II",
+]
+
+
+def _bcast(*xs):
+    return np.broadcast_arrays(*[np.asarray(x, dtype=float) for x in xs])
+
+
+# --------------------------------------------------------------------------- mechanism I
+def work_I(theta, lam, rho, alpha, beta):
+    """Restoring work of mechanism I, W(θ) / (g γ s b³) (eqs 9–10, normalised as eq. 12).
+
+    Both branches of eq. 9: θ < β/λ (every abutment joint still overlapping, u(h) < c) and
+    θ >= β/λ. Gravity enters linearised, as in eq. 10.
+    """
+    theta, lam, rho, alpha, beta = _bcast(theta, lam, rho, alpha, beta)
+    a2 = alpha ** 2
+    gravity = 12 * rho * lam * theta - 6 * rho * lam ** 2 * theta ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        right = 6 * a2 * beta * lam ** 2 - 4 * a2 * beta ** 2 * lam / theta \
+            + a2 * beta ** 3 / theta ** 2
+        left = a2 * lam ** 3 * theta * (4 * beta - lam * theta) / beta
+    friction = np.where(lam * theta < beta, left, right)
+    return (gravity + friction) / 24.0
+
+
+def theta_m_I(lam, rho, alpha, beta):
+    """Exact maximiser θ_m of W(θ) for mechanism I (corrected eq. 13, both branches).
+
+    Candidates: the real roots θ >= β/λ of θ⁴ − θ³/λ − α²β²θ/(3ρλ) + α²β³/(6ρλ²) = 0, the
+    stationary point of the left branch (θ < β/λ) and the branch point θ = β/λ; the one of
+    largest W wins. Vectorised: the quartics' roots come from batched companion matrices.
+    """
+    lam, rho, alpha, beta = _bcast(lam, rho, alpha, beta)
+    shape = lam.shape
+    lam, rho, alpha, beta = (x.ravel() for x in (lam, rho, alpha, beta))
+    a2 = alpha ** 2
+    # quartic θ⁴ + p3 θ³ + p2 θ² + p1 θ + p0 = 0, companion matrix eigenvalues
+    p3 = -1.0 / lam
+    p2 = np.zeros_like(lam)
+    p1 = -a2 * beta ** 2 / (3 * rho * lam)
+    p0 = a2 * beta ** 3 / (6 * rho * lam ** 2)
+    comp = np.zeros((lam.size, 4, 4))
+    comp[:, 0, :] = -np.stack([p3, p2, p1, p0], axis=1)
+    comp[:, 1, 0] = comp[:, 2, 1] = comp[:, 3, 2] = 1.0
+    roots = np.linalg.eigvals(comp)
+    real = np.abs(roots.imag) <= 1e-9 * np.maximum(1.0, np.abs(roots.real))
+    theta_c = beta / lam
+    r = np.where(real & (roots.real >= theta_c[:, None]), roots.real, np.nan)
+    # left branch: 24w = 12ρλθ − 6ρλ²θ² + α²λ³θ(4β − λθ)/β, stationary where derivative vanishes
+    left = (12 * rho * lam + 4 * a2 * lam ** 3) / (12 * rho * lam ** 2 + 2 * a2 * lam ** 4 / beta)
+    left = np.where(left < theta_c, left, np.nan)
+    cand = np.column_stack([r, left, theta_c])
+    W = work_I(cand, lam[:, None], rho[:, None], alpha[:, None], beta[:, None])
+    W = np.where(np.isnan(cand), -np.inf, W)
+    best = cand[np.arange(lam.size), np.argmax(W, axis=1)]
+    return best.reshape(shape)
+
+
+def theta_m_I_eq14(lam, rho, alpha, beta, corrected=False):
+    """The paper's approximation of θ_m (eq. 14): the quartic expanded to second order about 1/λ.
+
+    As printed, eq. 14 carries the sign error of the printed eq. 13 (the term 30 + 18β); the
+    expansion of the corrected quartic has 30 − 18β (``corrected=True``); see analytic/NOTES.md.
+    """
+    lam, rho, alpha, beta = _bcast(lam, rho, alpha, beta)
+    k = (alpha * beta * lam) ** 2
+    sign = -1.0 if corrected else 1.0
+    return (5 / 6 + k / (18 * rho)
+            + np.sqrt(9 * rho ** 2 + k * rho * (30 + sign * 18 * beta) + k ** 2) / (18 * rho)) / lam
+
+
+def vnorm_I(lam, rho, alpha, beta, theta_m=None):
+    """Normalised collapse velocity v̄_g / √(g b) of mechanism I (eqs 7, 10).
+
+    With m = γ s b² ρλ, I_O = m b²(λ² + 1)/3 and z_G = λb/2 (the façade strip about its toe),
+    eq. 7 gives (v̄_g)² / (g b) = 24 W(θ_m)/(g γ s b³) · (λ² + 1) / (9 ρ λ³).
+    """
+    lam, rho, alpha, beta = _bcast(lam, rho, alpha, beta)
+    th = theta_m_I(lam, rho, alpha, beta) if theta_m is None else np.asarray(theta_m, float)
+    w24 = 24 * work_I(th, lam, rho, alpha, beta)
+    return np.sqrt(w24 * (lam ** 2 + 1) / (9 * rho * lam ** 3))
+
+
+# --------------------------------------------------------------------------- mechanism II
+def geometry_II(lam, rho, tanpsi):
+    """x_G/b, z_G/b (eq. 17) and i/b² (eq. 20) of façade strip + wedge about the outer toe.
+
+    The eqs are written with α = tan ψ; here tan ψ is free (eq. 16 sets √(cf/a)).
+    """
+    lam, rho, t = _bcast(lam, rho, tanpsi)
+    den = 2 * rho + lam * t
+    xg = (3 * rho + lam ** 2 * t ** 2 + 3 * t * lam) / (3 * den)
+    zg = lam * (3 * rho + 2 * lam * t) / (3 * den)
+    i = ((3 * t + t ** 3) * lam ** 3 + 4 * (rho + t ** 2) * lam ** 2 + 6 * lam * t
+         + 4 * rho) / (6 * den)
+    return xg, zg, i
+
+
+def vnorm_II(lam, rho, tanpsi):
+    """Normalised collapse velocity v̄_g / √(g b) of mechanism II (eq. 19 with eqs 17, 20)."""
+    xg, zg, i = geometry_II(lam, rho, tanpsi)
+    rg = np.hypot(xg, zg)
+    return np.sqrt(2 * i / zg * (rg / zg - 1))
+
+
+def lam_max_II(H_over_b, L_over_b, tanpsi):
+    """Largest λ of mechanism II: the failing part fits the wall (λ <= H/b) and the wedge the
+    transversal wall (λ tan ψ <= L/b)."""
+    H_over_b, L_over_b, t = _bcast(H_over_b, L_over_b, tanpsi)
+    with np.errstate(divide="ignore"):
+        return np.minimum(H_over_b, np.where(t > 0, L_over_b / t, np.inf))
+
+
+# --------------------------------------------------------------------------- minimisation
+def _minimise(fun, lam_max, lam_min=0.5, n_grid=400, n_golden=60):
+    """Vectorised minimisation of fun(λ) over [lam_min, lam_max] for arrays of problems.
+
+    A log-spaced grid locates the best cell, then golden-section search refines it. Returns
+    (λ*, fun(λ*)). If the minimum sits on lam_max the constraint λ <= H/b is active.
+    """
+    lam_max = np.asarray(lam_max, float)
+    shape = lam_max.shape
+    lm = lam_max.ravel()
+    s = np.linspace(0.0, 1.0, n_grid)
+    grid = lam_min * (lm[:, None] / lam_min) ** s[None, :]
+    vals = fun(grid, (slice(None), None))
+    k = np.nanargmin(vals, axis=1)
+    idx = np.arange(lm.size)
+    lo = grid[idx, np.maximum(k - 1, 0)]
+    hi = grid[idx, np.minimum(k + 1, n_grid - 1)]
+    gr = (math.sqrt(5) - 1) / 2
+    for _ in range(n_golden):
+        x1 = hi - gr * (hi - lo)
+        x2 = lo + gr * (hi - lo)
+        f1 = fun(x1, slice(None))
+        f2 = fun(x2, slice(None))
+        left = f1 < f2
+        hi = np.where(left, x2, hi)
+        lo = np.where(left, lo, x1)
+    lam = 0.5 * (lo + hi)
+    # keep the grid's end points if they beat the interior refinement
+    lam = np.where(vals[idx, k] < fun(lam, slice(None)), grid[idx, k], lam)
+    return lam.reshape(shape), fun(lam, slice(None)).reshape(shape)
+
+
+def critical_I(rho, alpha, beta, lam_max):
+    """Critical slenderness λ and v̄_g/√(gb) of mechanism I: min over 0 < λ <= lam_max (= H/b)."""
+    rho, alpha, beta, lam_max = _bcast(rho, alpha, beta, lam_max)
+    r, a, b = rho.ravel(), alpha.ravel(), beta.ravel()
+
+    def fun(lam, ix):
+        return vnorm_I(lam, r[ix], a[ix], b[ix])
+
+    lam, v = _minimise(fun, lam_max.ravel())
+    return lam.reshape(rho.shape), v.reshape(rho.shape)
+
+
+def critical_II(rho, tanpsi, lam_max):
+    """Critical λ and v̄_g/√(gb) of mechanism II: min over 0 < λ <= lam_max (see lam_max_II)."""
+    rho, t, lam_max = _bcast(rho, tanpsi, lam_max)
+    r, tt = rho.ravel(), t.ravel()
+
+    def fun(lam, ix):
+        return vnorm_II(lam, r[ix], tt[ix])
+
+    lam, v = _minimise(fun, lam_max.ravel())
+    return lam.reshape(rho.shape), v.reshape(rho.shape)
+
+
+# --------------------------------------------------------------------------- SI objects
+@dataclass(frozen=True)
+class MechanismResult:
+    """A closed-form mechanism at its critical height.
+
+    lam = h/b, h [m], vnorm = v̄_g/√(gb), vg = v̄_g [m/s], theta_m [rad] (peak of W), W_m [J],
+    body: the failing body about O (3D masses: façade of length l, wedge of thickness s).
+    """
+
+    name: str
+    lam: float
+    h: float
+    vnorm: float
+    vg: float
+    theta_m: float
+    W_m: float
+    body: RigidBody
+    tanpsi: float | None = None
+    theta_m_eq14: float | None = None
+    lam_max: float = math.inf
+
+    def as_dict(self) -> dict:
+        d = {k: getattr(self, k) for k in ("name", "lam", "h", "vnorm", "vg", "theta_m", "W_m",
+                                           "tanpsi", "theta_m_eq14", "lam_max")}
+        d["body"] = {k: getattr(self.body, k) for k in ("m", "x_G", "z_G", "I_O")}
+        return d
+
+
+def mechanism_I(case: Case, lam: float | None = None) -> MechanismResult:
+    """Mechanism I (detachment of the façade) at its critical λ, or at a given λ <= H/b."""
+    w, rho, alpha, beta = case.wall, case.rho, case.alpha, case.beta
+    lam_max = w.H / w.b
+    if lam is None:
+        lam, _ = critical_I(rho, alpha, beta, lam_max)
+    lam = check_range("lam", lam, 0.0, lam_max, lo_open=True)
+    th = float(theta_m_I(lam, rho, alpha, beta))
+    v = float(vnorm_I(lam, rho, alpha, beta, th))
+    h = lam * w.b
+    m = w.gamma * h * w.b * w.l
+    body = RigidBody(m=m, x_G=w.b / 2, z_G=h / 2, I_O=m * (h ** 2 + w.b ** 2) / 3)
+    W_m = float(work_I(th, lam, rho, alpha, beta)) * w.g * w.gamma * w.s * w.b ** 3
+    return MechanismResult("I", float(lam), h, v, v * math.sqrt(w.g * w.b), th, W_m, body,
+                           theta_m_eq14=float(theta_m_I_eq14(lam, rho, alpha, beta)),
+                           lam_max=lam_max)
+
+
+def mechanism_II(case: Case, tanpsi: float | None = None,
+                 lam: float | None = None) -> MechanismResult:
+    """Mechanism II (diagonal crack, tan ψ default √(cf/a), eq. 16) at its critical λ."""
+    w, rho = case.wall, case.rho
+    t = case.alpha if tanpsi is None else check_range("tanpsi", tanpsi, 0.0)
+    lam_max = float(lam_max_II(w.H / w.b, w.L / w.b, t))
+    if lam is None:
+        lam, _ = critical_II(rho, t, lam_max)
+    if not 0.0 < float(lam) <= lam_max * (1 + 1e-12):
+        raise ParameterError(f"lam = {lam!r} is out of range: allowed 0 < lam <= {lam_max:g} "
+                             "(the part must fit the wall and the wedge the transversal wall)")
+    lam = float(lam)
+    xg, zg, i = (float(x) for x in geometry_II(lam, rho, t))
+    v = float(vnorm_II(lam, rho, t))
+    h, b = lam * w.b, w.b
+    m = w.gamma * (w.l * b * h + w.s * t * h ** 2 / 2)
+    body = RigidBody(m=m, x_G=xg * b, z_G=zg * b, I_O=m * i * b ** 2)
+    theta_m = math.atan2(xg, zg)  # G over the vertical through O (eq. 18)
+    W_m = m * w.g * (body.r_G - body.z_G)
+    return MechanismResult("II", lam, h, v, v * math.sqrt(w.g * b), theta_m, W_m, body,
+                           tanpsi=t, lam_max=lam_max)
