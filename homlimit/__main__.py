@@ -1,0 +1,5 @@
+"""``python -m homlimit ...`` ≡ the ``homlimit`` console script."""
+
+from .cli import main
+
+main()

@@ -1,0 +1,245 @@
+"""The ``homlimit`` command line: a thin typer layer over the Python API.
+
+    homlimit run [CASE.toml]      the full pipeline for one wall (no case: the embedded B1 wall)
+    homlimit demo                 the embedded default case (Table 1's B1)
+    homlimit table1 [--fe]        the paper's Table 1 beside the closed forms (and the FE body)
+    homlimit figure2              the paper's Figure 2 as a PNG
+    homlimit crack-study          the crack-angle study over a grid of c/a and f
+    homlimit mesh CASE.toml       the T-section mesh only, for inspection
+
+Every computing command takes ``--json`` (machine-readable on stdout, nothing else there),
+``--out DIR`` (default homlimit-out/NAME/) and ``-v`` (solver logs). Exit codes: 0 success,
+2 bad input (ParameterError, invalid case file, usage), 3 failure of a solver or of the mesher
+(SolverError, MeshError), with a one-line reason on stderr and no traceback.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import sys
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from .errors import HomlimitError, MeshError, ParameterError, SolverError
+
+__all__ = ["app", "main"]
+
+EXIT_BAD_INPUT = 2
+EXIT_SOLVER = 3
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  help="Out-of-plane collapse of masonry façades bonded to transversal walls: "
+                       "closed-form mechanisms, homogenised FE limit analysis, impulse "
+                       "criterion.")
+
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print the results as JSON on stdout "
+                                                      "(nothing else there); no progress.")]
+OutOpt = Annotated[Path | None, typer.Option("--out", "-o", help="Output folder "
+                                             "[default: homlimit-out/NAME/].")]
+VerboseOpt = Annotated[bool, typer.Option("--verbose", "-v", help="Show solver logs.")]
+CaseArg = Annotated[Path | None, typer.Argument(help="Case file (TOML); see docs/case-file.md. "
+                                                "Omitted: the embedded default case (B1).")]
+
+
+def _fail(code: int, message: str):
+    print(f"homlimit: error: {message}", file=sys.stderr)
+    raise typer.Exit(code)
+
+
+def _guarded(fn):
+    """Map expected failures to exit codes 2 (bad input) and 3 (solver/mesher), no traceback."""
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        from .config import ConfigError
+
+        try:
+            return fn(*args, **kwargs)
+        except ConfigError as e:
+            print(f"homlimit: error: {e.problems[0] if len(e.problems) == 1 else e}",
+                  file=sys.stderr)
+            raise typer.Exit(EXIT_BAD_INPUT) from None
+        except ParameterError as e:
+            _fail(EXIT_BAD_INPUT, str(e))
+        except SolverError as e:
+            _fail(EXIT_SOLVER, f"solver failed ({e.status or 'no status'}): {e}")
+        except MeshError as e:
+            _fail(EXIT_SOLVER, f"meshing failed: {e}")
+        except HomlimitError as e:  # any other expected failure
+            _fail(EXIT_SOLVER, str(e))
+
+    return wrapper
+
+
+@contextmanager
+def _stdout_quiet(enabled: bool):
+    """Under --json, send everything written to stdout (Python or native libraries: gmsh,
+    Clarabel) to stderr, so that stdout carries the JSON document only. Yields the real stdout."""
+    real = sys.stdout
+    if not enabled:
+        yield real
+        return
+    saved_fd = None
+    try:
+        fd = real.fileno()
+    except (AttributeError, OSError, ValueError):  # e.g. typer's CliRunner
+        fd = None
+    real.flush()
+    if fd is not None:
+        saved_fd = os.dup(fd)
+        os.dup2(sys.stderr.fileno(), fd)
+    sys.stdout = sys.stderr
+    try:
+        yield real
+    finally:
+        sys.stdout.flush()
+        sys.stdout = real
+        if saved_fd is not None:
+            os.dup2(saved_fd, fd)
+            os.close(saved_fd)
+
+
+def _emit_json(stream, data):
+    from .report import to_jsonable
+
+    stream.write(json.dumps(to_jsonable(data), indent=2, ensure_ascii=False) + "\n")
+    stream.flush()
+
+
+def _run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool):
+    from .pipeline import run
+
+    with _stdout_quiet(as_json) as stdout:
+        result = run(case, out=out, write=True, progress=not as_json, verbose=verbose)
+    if as_json:
+        _emit_json(stdout, result.to_dict())
+    else:
+        print(result.summary())
+
+
+@app.command("run")
+@_guarded
+def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
+            verbose: VerboseOpt = False):
+    """Run the full pipeline for one wall (no CASE: the embedded default, B1).
+
+    Closed-form mechanisms I and II, the FE mechanism and its crack, the impulse criterion;
+    prints a summary and writes summary.json, .vtu and PNG files."""
+    _run_case(case, as_json, out, verbose)
+
+
+@app.command()
+@_guarded
+def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False):
+    """Run the embedded default case: the paper's Table 1 wall B1 (H=9 m, b=0.5 m, ρ=12)."""
+    _run_case(None, as_json, out, verbose)
+
+
+@app.command()
+@_guarded
+def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
+           fe: Annotated[bool, typer.Option("--fe", help="Add the finite-element body's "
+                                            "columns (slow).")] = False,
+           mesh_size: Annotated[float, typer.Option(help="FE mesh size [m] (with --fe).")]
+           = 0.25):
+    """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
+    from . import report
+    from .pipeline import Progress
+    from .pipeline import table1_records
+
+    out = out or Path("homlimit-out") / "table1"
+    with _stdout_quiet(as_json) as stdout:
+        rows = table1_records(fe=fe, mesh_size=mesh_size, verbose=verbose,
+                              progress=Progress(not as_json))
+        report.write_csv(out / "table1.csv", rows)
+        report.write_json(out / "table1.json", rows)
+    if as_json:
+        _emit_json(stdout, rows)
+        return
+    cols = ["test", "lam_I", "vnorm_I", "lam_II", "vnorm_II", "lam_dem", "vnorm_dem",
+            "ratio_I", "ratio_II"]
+    if fe:
+        cols += ["lam_fe", "vnorm_fe", "tanpsi_fe", "mechanism_fe"]
+    print(report.format_table(cols, [[r.get(k) for k in cols] for r in rows],
+                              title="Table 1: closed forms (I, II) beside the DEM; "
+                                    "vnorm = vg/sqrt(gb), ratio = closed form / DEM"))
+    print(f"\nfiles: {out / 'table1.csv'}, {out / 'table1.json'}")
+
+
+@app.command()
+@_guarded
+def figure2(as_json: JsonOpt = False, out: OutOpt = None):
+    """The paper's Figure 2: critical λ and v̄_g/√(gb) against ρ, both mechanisms, DEM points."""
+    from . import plots
+
+    out = out or Path("homlimit-out") / "figure2"
+    path = out / "figure2.png"
+    with _stdout_quiet(as_json) as stdout:
+        out.mkdir(parents=True, exist_ok=True)
+        plots.figure2(path)
+    if as_json:
+        _emit_json(stdout, {"figure2_png": str(path)})
+    else:
+        print(f"Figure 2 written to {path}")
+
+
+@app.command("crack-study")
+@_guarded
+def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
+                mesh_size: Annotated[float, typer.Option(help="FE mesh size [m].")] = 0.3,
+                quick: Annotated[bool, typer.Option(help="A 2 x 2 grid (for a first look).")]
+                = False):
+    """The crack-angle study: the FE crack slope over a grid of c/a and f, beside √(cf/a)."""
+    from . import plots, report
+    from .pipeline import Progress
+    from .pipeline import crack_study_records
+
+    out = out or Path("homlimit-out") / "crack-study"
+    with _stdout_quiet(as_json) as stdout:
+        records = crack_study_records(mesh_size=mesh_size, quick=quick, verbose=verbose,
+                                      progress=Progress(not as_json))
+        files = {"csv": report.write_csv(out / "crack_study.csv", records),
+                 "png": plots.plot_crack_study(out / "crack_study.png", records,
+                                               title="crack-angle study: FE crack slope "
+                                                     "against √(cf/a)")}
+    if as_json:
+        _emit_json(stdout, {"records": records, "files": files})
+        return
+    cols = [k for k in ("facade", "c_over_a", "f", "sqrt_cf_a", "tanpsi_fe",
+                        "tanpsi_block", "tanpsi_fixed", "mechanism") if records
+            and k in records[0]]
+    print(report.format_table(cols, [[r.get(k) for k in cols] for r in records],
+                              title="crack-angle study"))
+    print(f"\nfiles: {files['csv']}, {files['png']}")
+
+
+@app.command()
+@_guarded
+def mesh(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None):
+    """Mesh the T-section of a case only; write mesh.vtu and mesh.png for inspection."""
+    from .config import load_case
+    from .pipeline import mesh_case, output_dir
+
+    with _stdout_quiet(as_json) as stdout:
+        config = load_case(case)
+        info = mesh_case(config, output_dir(config, out))
+    if as_json:
+        _emit_json(stdout, info)
+    else:
+        print(f"case {config.name}: {info['n_triangles']} triangles, {info['n_nodes']} nodes; "
+              + ", ".join(f"{k} {v}" for k, v in info["regions"].items()))
+        print("files: " + ", ".join(info["files"].values()))
+
+
+def main():
+    """Console-script entry point (``homlimit``, ``python -m homlimit``)."""
+    app(prog_name="homlimit")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

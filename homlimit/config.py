@@ -1,0 +1,331 @@
+"""Case files: TOML (or a plain dict of the same shape) → validated parameter objects.
+
+One section per parameter object, SI units::
+
+    name = "B1"                    # optional; default: the file's stem
+    [wall]     H L s b l gamma g   → homlimit.params.Wall
+    [masonry]  a c f               → homlimit.params.Masonry
+    [mesh]     size ...            → MeshConfig
+    [analysis] fe facade ...       → AnalysisConfig
+    [output]   dir png vtu         → OutputConfig
+
+Every problem of a case — unknown section or key, wrong type, missing required value, value out
+of range, blocks that do not fit the wall — is collected and raised at once as one
+``ConfigError`` (a ``ParameterError``), each line naming the file, section, key, value and the
+allowed range. No numerics here: nothing is computed before the whole case is valid.
+The full key reference (``docs/case-file.md``) is generated from ``SCHEMA`` by ``schema_markdown``.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from .errors import ParameterError, check_range
+from .params import Case, Masonry, Wall
+
+__all__ = ["AnalysisConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig", "OutputConfig",
+           "SCHEMA", "default_case", "load_case", "schema_markdown"]
+
+REQUIRED = object()
+
+
+class ConfigError(ParameterError):
+    """A case description is invalid. ``problems`` lists every problem found, one line each."""
+
+    def __init__(self, source: str, problems: list[str]):
+        self.source = source
+        self.problems = [f"{source}: {p}" for p in problems]
+        n = len(self.problems)
+        head = f"{source}: {n} problem{'s' if n != 1 else ''} in the case description"
+        super().__init__(head + "".join(f"\n  - {p}" for p in self.problems))
+
+
+@dataclass(frozen=True)
+class Key:
+    """One case-file key: its type, default (or REQUIRED), unit, allowed range and meaning."""
+
+    kind: type                    # float, int, bool or str
+    default: Any = REQUIRED
+    unit: str = ""
+    lo: float | None = None
+    hi: float | None = None
+    lo_open: bool = False
+    hi_open: bool = False
+    choices: tuple = ()
+    doc: str = ""
+
+    @property
+    def required(self) -> bool:
+        return self.default is REQUIRED
+
+    def range_text(self, name: str) -> str:
+        if self.choices:
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        parts = []
+        if self.lo is not None:
+            parts.append(f"{self.lo:g} {'<' if self.lo_open else '<='} {name}")
+        if self.hi is not None:
+            parts.append(f"{name} {'<' if self.hi_open else '<='} {self.hi:g}")
+        return " and ".join(parts)
+
+
+_POS = dict(lo=0.0, lo_open=True)
+
+#: section -> key -> Key. The single source of truth for case files and their documentation.
+SCHEMA: dict[str, dict[str, Key]] = {
+    "wall": {
+        "H": Key(float, unit="m", **_POS, doc="height of façade and transversal wall"),
+        "L": Key(float, unit="m", **_POS, doc="length of the transversal wall"),
+        "s": Key(float, unit="m", **_POS, doc="thickness of the transversal wall"),
+        "b": Key(float, unit="m", **_POS, doc="thickness of the façade"),
+        "l": Key(float, unit="m", **_POS,
+                 doc="length of the façade between transversal walls (ρ = l/s, eq. 11)"),
+        "gamma": Key(float, 2000.0, "kg/m³", **_POS, doc="mass density of masonry γ"),
+        "g": Key(float, 9.81, "m/s²", **_POS, doc="gravitational acceleration"),
+    },
+    "masonry": {
+        "a": Key(float, unit="m", **_POS, doc="block height (a <= H)"),
+        "c": Key(float, unit="m", **_POS, doc="half block length (2c <= L)"),
+        "f": Key(float, unit="", **_POS, doc="joint friction coefficient (α = √(cf/a), eq. 11)"),
+    },
+    "mesh": {
+        "size": Key(float, 0.25, "m", **_POS,
+                    doc="target triangle size away from the refinements"),
+        "size_junction": Key(float, 0.0, "m", lo=0.0,
+                             doc="size along the façade–wall junction (0: half of `size`)"),
+        "size_top": Key(float, 0.0, "m", lo=0.0,
+                        doc="size along the top of the façade (0: same as `size`)"),
+    },
+    "analysis": {
+        "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),
+        "tanpsi": Key(float, 0.0, "", lo=0.0,
+                      doc="crack slope tan ψ of mechanism II (0: √(cf/a), eq. 16)"),
+        "lam_points": Key(int, 200, "", lo=10, hi=100000,
+                          doc="points of the v̄_g(λ) curves over 0 < λ <= H/b"),
+        "fe": Key(bool, True, doc="finite-element kinematic mechanism, crack and impulse"),
+        "facade": Key(str, "homogenised", choices=("homogenised", "bed-joints"),
+                      doc="strength domain of the façade in the FE model (eq. 15, or bed "
+                          "joints only)"),
+        "heights": Key(int, 5, "", lo=1, hi=200,
+                       doc="collapse heights h tried by the FE impulse scan (eq. 7 minimised "
+                           "over λ)"),
+        "tol": Key(float, 1e-8, "", lo=0.0, hi=1e-2, lo_open=True,
+                   doc="conic solver tolerance (Clarabel gap and feasibility)"),
+    },
+    "output": {
+        "dir": Key(str, "", doc="output folder (empty: homlimit-out/<name>/; --out overrides)"),
+        "json": Key(bool, True, doc="write summary.json (every input, result, version)"),
+        "png": Key(bool, True, doc="write the PNG pictures"),
+        "vtu": Key(bool, True, doc="write the mesh and mechanism as .vtu (ParaView)"),
+    },
+}
+REQUIRED_SECTIONS = ("wall", "masonry")
+TOP_LEVEL = {"name": Key(str, "", doc="case name, used in titles and the output folder "
+                                      "(empty: the file's stem)")}
+
+
+@dataclass(frozen=True)
+class MeshConfig:
+    """[mesh]: sizes of the T-section triangulation [m]; 0 means 'derived from size'."""
+
+    size: float = 0.25
+    size_junction: float = 0.0
+    size_top: float = 0.0
+
+
+@dataclass(frozen=True)
+class AnalysisConfig:
+    """[analysis]: which analyses run and how."""
+
+    closed_form: bool = True
+    tanpsi: float = 0.0
+    lam_points: int = 200
+    fe: bool = True
+    facade: str = "homogenised"
+    heights: int = 5
+    tol: float = 1e-8
+
+
+@dataclass(frozen=True)
+class OutputConfig:
+    """[output]: what is written and where."""
+
+    dir: str = ""
+    json: bool = True
+    png: bool = True
+    vtu: bool = True
+
+
+@dataclass(frozen=True)
+class CaseConfig:
+    """A whole validated case description."""
+
+    case: Case
+    mesh: MeshConfig = field(default_factory=MeshConfig)
+    analysis: AnalysisConfig = field(default_factory=AnalysisConfig)
+    output: OutputConfig = field(default_factory=OutputConfig)
+    source: str = "<dict>"
+
+    @property
+    def name(self) -> str:
+        return self.case.name
+
+    def as_dict(self) -> dict:
+        """Every input, in the case-file layout (round-trips through ``load_case``)."""
+        d = self.case.as_dict()
+        out = {"name": d["name"], "wall": d["wall"], "masonry": d["masonry"]}
+        for sec in ("mesh", "analysis", "output"):
+            obj = getattr(self, sec)
+            out[sec] = {k: getattr(obj, k) for k in SCHEMA[sec]}
+        return out
+
+
+def _typed(kind: type, value) -> tuple[bool, Any]:
+    """(ok, converted) for TOML values: ints are accepted for floats, bools are never numbers."""
+    if isinstance(value, bool):
+        return kind is bool, value
+    if kind is float and isinstance(value, int | float):
+        return True, float(value)
+    return isinstance(value, kind), value
+
+
+_TYPE_NAMES = {float: "a number", int: "an integer", bool: "true or false", str: "a string"}
+
+
+def _check_key(where: str, name: str, key: Key, value, problems: list[str]):
+    """Append a problem for a wrong type or an out-of-range value; return the converted value."""
+    ok, value = _typed(key.kind, value)
+    if not ok:
+        problems.append(f"{where} {name} = {value!r} has the wrong type: expected "
+                        f"{_TYPE_NAMES[key.kind]}")
+        return None
+    if key.choices and value not in key.choices:
+        problems.append(f"{where} {name} = {value!r} is not allowed: allowed "
+                        f"{key.range_text(name)}")
+        return None
+    if key.kind in (float, int):
+        try:
+            check_range(name, value, key.lo, key.hi, lo_open=key.lo_open, hi_open=key.hi_open,
+                        unit=key.unit)
+        except ParameterError as e:
+            problems.append(f"{where} {e}")
+            return None
+        if not math.isfinite(value):  # pragma: no cover - check_range already rejects
+            return None
+    return value
+
+
+def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
+    problems: list[str] = []
+    if not isinstance(data, dict):
+        raise ConfigError(source, [f"the case must be a table/dict, got {type(data).__name__}"])
+    values: dict[str, dict[str, Any]] = {}
+    for top, v in data.items():
+        if top in SCHEMA:
+            if not isinstance(v, dict):
+                problems.append(f"[{top}] must be a section (table), got {v!r}")
+        elif top in TOP_LEVEL:
+            _check_key("", top, TOP_LEVEL[top], v, problems)
+        else:
+            allowed = ", ".join([f"[{s}]" for s in SCHEMA] + list(TOP_LEVEL))
+            problems.append(f"unknown {'section' if isinstance(v, dict) else 'key'} "
+                            f"{top!r}: allowed {allowed}")
+    for sec, keys in SCHEMA.items():
+        given = data.get(sec, {})
+        if not isinstance(given, dict):
+            continue  # already reported above
+        if sec in REQUIRED_SECTIONS and sec not in data:
+            problems.append(f"[{sec}] section is missing: required keys "
+                            + ", ".join(k for k, key in keys.items() if key.required))
+            continue
+        vals = values.setdefault(sec, {})
+        for name, v in given.items():
+            if name not in keys:
+                problems.append(f"[{sec}] unknown key {name!r}: allowed " + ", ".join(keys))
+                continue
+            out = _check_key(f"[{sec}]", name, keys[name], v, problems)
+            if out is not None:
+                vals[name] = out
+        for name, key in keys.items():
+            if name in given:
+                continue
+            if key.required:
+                problems.append(f"[{sec}] {name} is missing ({key.doc}, {key.unit or '-'}; "
+                                f"allowed {key.range_text(name)})")
+            else:
+                vals[name] = key.default
+    name = data.get("name") if isinstance(data.get("name"), str) else ""
+    name = name or default_name
+    case = None
+    if not problems:
+        try:
+            case = Case(wall=Wall(**values["wall"]), masonry=Masonry(**values["masonry"]),
+                        name=name)
+        except ParameterError as e:  # cross-key checks of params.Case (a <= H, 2c <= L)
+            problems.append(f"[wall]/[masonry] {e}")
+    if case is not None:
+        span = min(case.wall.H, case.wall.b + case.wall.L)
+        for key in ("size", "size_junction", "size_top"):
+            if values["mesh"][key] >= span:
+                problems.append(f"[mesh] {key} = {values['mesh'][key]!r} m is out of range: "
+                                f"allowed {key} < min(H, b + L) = {span:g} m")
+    if problems:
+        raise ConfigError(source, [p.strip() for p in problems])
+    return CaseConfig(case=case, mesh=MeshConfig(**values["mesh"]),
+                      analysis=AnalysisConfig(**values["analysis"]),
+                      output=OutputConfig(**values["output"]), source=source)
+
+
+def load_case(path_or_dict: str | Path | dict | None = None) -> CaseConfig:
+    """Read and validate a case: a TOML path, a dict of the same shape, or None (the default).
+
+    Raises ConfigError (a ParameterError) listing every problem, before any computation.
+    """
+    if path_or_dict is None:
+        return default_case()
+    if isinstance(path_or_dict, dict):
+        return _parse(path_or_dict, "<dict>", "case")
+    path = Path(path_or_dict)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as e:
+        raise ConfigError(str(path), [f"cannot read the case file: {e.strerror or e}"]) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise ConfigError(str(path), [f"not valid TOML: {e}"]) from None
+    return _parse(data, str(path), path.stem)
+
+
+def default_case() -> CaseConfig:
+    """The embedded default case: Table 1's wall B1 (homlimit/data/default.toml)."""
+    text = resources.files("homlimit").joinpath("data/default.toml").read_text(encoding="utf-8")
+    return _parse(tomllib.loads(text), "<default: B1>", "B1")
+
+
+def schema_markdown() -> str:
+    """The key reference of docs/case-file.md, generated from SCHEMA (one table per section)."""
+    lines = []
+    for sec, keys in [("(top level)", TOP_LEVEL)] + [(f"[{s}]", k) for s, k in SCHEMA.items()]:
+        req = " (required section)" if sec.strip("[]") in REQUIRED_SECTIONS else ""
+        lines += [f"### {sec}{req}", "", "| key | type | default | unit | allowed | meaning |",
+                  "|---|---|---|---|---|---|"]
+        for name, key in keys.items():
+            default = "**required**" if key.required else f"`{_toml_value(key.default)}`"
+            lines.append(f"| `{name}` | {key.kind.__name__} | {default} | {key.unit or '–'} | "
+                         f"{key.range_text(name) or 'any'} | {key.doc} |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return f'"{v}"'
+    return f"{v:g}" if isinstance(v, float) else str(v)

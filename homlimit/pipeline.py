@@ -1,0 +1,342 @@
+"""The whole analysis of one wall, shared by the three doors.
+
+``homlimit run CASE.toml``, ``python -m homlimit run CASE.toml`` and ``homlimit.run(CASE)`` all
+call ``run`` below, which
+
+1. validates the case (``homlimit.config``), before any computation;
+2. evaluates the closed-form mechanisms I (eqs 8–14) and II (eqs 16–20) at their critical
+   slenderness, and their v̄_g(λ) curves;
+3. when ``[analysis] fe`` is on, meshes the T-section, solves the finite-element kinematic
+   problem, measures the crack against √(cf/a) and f, and turns the FE body into a collapse
+   ground velocity (eq. 7) over a scan of collapse heights;
+4. writes the result files (summary.json, .vtu, PNG), each whole or not at all.
+
+Each analysis is reached through one function of this module (``_closed_form``, ``_fe``),
+which is the only seam between the user-facing layer and the analysis modules.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import sys
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .config import CaseConfig, load_case
+from .errors import HomlimitError
+from .params import Case
+
+__all__ = ["Progress", "Result", "dem_reference", "output_dir", "run"]
+
+
+class Progress:
+    """Stage-by-stage progress on stderr (silent when disabled, e.g. under --json)."""
+
+    def __init__(self, enabled: bool = False, stream=None):
+        self.enabled = enabled
+        self.stream = stream if stream is not None else sys.stderr
+        self.timings: dict[str, float] = {}
+
+    def say(self, msg: str):
+        if self.enabled:
+            print(f"[homlimit] {msg}", file=self.stream, flush=True)
+
+    @contextmanager
+    def stage(self, name: str, detail: str = ""):
+        """Time a stage; print its start and its end with the elapsed time."""
+        self.say(f"{name}{' (' + detail + ')' if detail else ''} ...")
+        t0 = time.perf_counter()
+        yield
+        dt = time.perf_counter() - t0
+        self.timings[name] = self.timings.get(name, 0.0) + dt
+        self.say(f"{name} done in {dt:.2f} s")
+
+    def bar(self, items, label: str):
+        """Iterate ``items`` with a one-line text progress bar."""
+        items = list(items)
+        n = len(items)
+        for k, item in enumerate(items):
+            if self.enabled:
+                done = int(30 * k / max(n, 1))
+                print(f"\r[homlimit] {label} [{'#' * done}{'.' * (30 - done)}] {k}/{n}",
+                      end="", file=self.stream, flush=True)
+            yield item
+        if self.enabled:
+            print(f"\r[homlimit] {label} [{'#' * 30}] {n}/{n}", file=self.stream, flush=True)
+
+
+@dataclass
+class Result:
+    """Everything one ``run`` produced: inputs, closed-form and FE results, files written."""
+
+    config: CaseConfig
+    mechanism_I: Any = None       # homlimit.mechanisms.MechanismResult
+    mechanism_II: Any = None
+    curves: dict = field(default_factory=dict)   # λ and v̄_g(λ) of both mechanisms
+    fe: dict | None = None
+    dem: dict | None = None       # the paper's Table 1 DEM row when the case is one of its walls
+    files: dict[str, Path] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)
+    artifacts: dict = field(default_factory=dict, repr=False)  # meshes and drawing data
+
+    @property
+    def case(self) -> Case:
+        return self.config.case
+
+    @property
+    def name(self) -> str:
+        return self.config.name
+
+    def critical(self) -> dict | None:
+        """The governing mechanism: the lowest collapse velocity among those computed."""
+        cands = [(m.vg, m.name) for m in (self.mechanism_I, self.mechanism_II) if m is not None]
+        if self.fe and self.fe.get("vg") is not None:
+            cands.append((self.fe["vg"], "FE"))
+        if not cands:
+            return None
+        vg, name = min(cands)
+        return {"mechanism": name, "vg": vg, "vnorm": vg / math.sqrt(self.case.wall.g *
+                                                                   self.case.wall.b)}
+
+    def to_dict(self) -> dict:
+        """The JSON summary: every input, every result, the package version."""
+        from . import __version__
+
+        c = self.case
+        return {
+            "homlimit_version": __version__,
+            "case": self.name,
+            "source": self.config.source,
+            "inputs": self.config.as_dict(),
+            "derived": {"rho": c.rho, "alpha": c.alpha, "alpha2": c.alpha ** 2, "beta": c.beta,
+                        "lam_max": c.wall.lam_max, "f": c.masonry.f,
+                        "c_over_a": c.masonry.c / c.masonry.a},
+            "mechanism_I": None if self.mechanism_I is None else self.mechanism_I.as_dict(),
+            "mechanism_II": None if self.mechanism_II is None else self.mechanism_II.as_dict(),
+            "fe": self.fe,
+            "critical": self.critical(),
+            "dem_table1": self.dem,
+            "files": {k: str(v) for k, v in self.files.items()},
+            "timings_s": self.timings,
+        }
+
+    def summary(self) -> str:
+        """A readable terminal table: each mechanism's λ, h, v̄_g, v̄_g/√(gb), beside the DEM."""
+        from .report import format_table
+
+        c = self.case
+        rows = []
+        for m in (self.mechanism_I, self.mechanism_II):
+            if m is not None:
+                label = ("I  detachment (eqs 10, 7)" if m.name == "I" else
+                         f"II diagonal crack tanψ={m.tanpsi:.3f} (eqs 17-20)")
+                rows.append([label, m.lam, m.h, m.vg, m.vnorm])
+        if self.fe:
+            rows.append([f"FE kinematic, {self.fe.get('mechanism', '?')} (eq. 7)",
+                         self.fe.get("lam"), self.fe.get("h"), self.fe.get("vg"),
+                         self.fe.get("vnorm")])
+        if self.dem:
+            rows.append(["DEM, paper's Table 1", self.dem["lambda_v"], self.dem["h_v"],
+                         self.dem["vg"], self.dem["vg_norm"]])
+        head = (f"case {self.name}: H={c.wall.H:g} m, L={c.wall.L:g} m, s={c.wall.s:g} m, "
+                f"b={c.wall.b:g} m, l={c.wall.l:g} m; a={c.masonry.a:g} m, c={c.masonry.c:g} m, "
+                f"f={c.masonry.f:g}\n"
+                f"  rho=l/s={c.rho:.4g}  alpha^2=cf/a={c.alpha ** 2:.4g}  beta=c/b={c.beta:.4g}"
+                f"  (eq. 11)")
+        out = [head, "", format_table(["mechanism", "lambda=h/b", "h [m]", "vg [m/s]",
+                                       "vg/sqrt(gb)"], rows)]
+        if self.fe:
+            out += ["", self._fe_lines()]
+        crit = self.critical()
+        if crit:
+            out += ["", f"governing: {crit['mechanism']}, collapse ground velocity "
+                        f"vg = {crit['vg']:.3f} m/s (vg/sqrt(gb) = {crit['vnorm']:.3f})"]
+        if self.files:
+            out += ["", "files:"] + [f"  {v}" for v in self.files.values()]
+        return "\n".join(out)
+
+    def _fe_lines(self) -> str:
+        fe = self.fe
+        lines = [f"FE: multiplier lambda_c = {fe['multiplier']:.4g} (horizontal body force / "
+                 f"weight), {fe.get('n_triangles', '?')} triangles"]
+        if fe.get("tanpsi") is not None:
+            edges = fe.get("tanpsi_edges") or (None, None)
+            e = ", ".join("–" if x is None else f"{x:.3f}" for x in edges)
+            lines.append(f"crack: tan psi = {fe['tanpsi']:.3f} (mid-line), edges {e}; "
+                         f"sqrt(cf/a) = {self.case.alpha:.3f}, f = {self.case.masonry.f:.3f}")
+        return "\n".join(lines)
+
+
+def output_dir(config: CaseConfig, out: str | Path | None = None) -> Path:
+    """--out, else [output] dir, else homlimit-out/<case name>/ (relative to the cwd)."""
+    if out:
+        return Path(out)
+    if config.output.dir:
+        return Path(config.output.dir)
+    return Path("homlimit-out") / config.name
+
+
+def dem_reference(case: Case) -> dict | None:
+    """The paper's Table 1 DEM row whose wall and masonry match ``case`` (ρ = l/s), else None."""
+    text = resources.files("homlimit").joinpath("data/table1_dem.csv").read_text("utf-8")
+    rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
+    w, m = case.wall, case.masonry
+    mine = (w.H, w.L, w.s, w.b, m.a, m.c, m.f, w.rho)
+    for r in rows:
+        theirs = tuple(float(r[k]) for k in ("H", "L", "s", "b", "a", "c", "f", "rho"))
+        if np.allclose(mine, theirs, rtol=1e-9, atol=0):
+            return {"test": r["test"]} | {k: float(r[k]) for k in
+                                         ("h_v", "lambda_v", "vg", "vg_norm")}
+    return None
+
+
+# ----------------------------------------------------------------------------- the analyses
+def _closed_form(config: CaseConfig) -> tuple[Any, Any, dict]:
+    """Mechanisms I and II at their critical λ, and v̄_g(λ) over 0 < λ <= H/b (seam: mechanisms)."""
+    from . import mechanisms as mech
+
+    case, an = config.case, config.analysis
+    tanpsi = an.tanpsi or None  # 0 in the case file: eq. 16's √(cf/a)
+    m1 = mech.mechanism_I(case)
+    m2 = mech.mechanism_II(case, tanpsi=tanpsi)
+    w = case.wall
+    lam = np.linspace(w.lam_max / an.lam_points, w.lam_max, an.lam_points)
+    scale = math.sqrt(w.g * w.b)
+    v1 = mech.vnorm_I(lam, case.rho, case.alpha, case.beta) * scale
+    lam2 = lam[lam <= m2.lam_max * (1 + 1e-12)]
+    v2 = mech.vnorm_II(lam2, case.rho, m2.tanpsi) * scale
+    curves = {"lam_I": lam, "vg_I": v1, "lam_II": lam2, "vg_II": v2}
+    return m1, m2, curves
+
+
+def _fe(config: CaseConfig, progress: Progress, verbose: bool) -> tuple[dict, dict]:
+    """The finite-element mechanism, crack and impulse (seam: geometry, kinematic, crack, ...).
+
+    Returns (plain data for the summary, artifacts for the writers: ``mesh`` the meshio mesh,
+    ``mechanism`` a meshio mesh with the fields, ``plot`` the drawing data).
+    """
+    raise HomlimitError("the finite-element analysis is not available yet in this build "
+                        "(set [analysis] fe = false)")
+
+
+def _mesh(config: CaseConfig):
+    """The T-section mesh of the case as a meshio.Mesh (seam: homlimit.geometry)."""
+    raise HomlimitError("meshing is not available yet in this build (homlimit.geometry)")
+
+
+def _fe_table_columns(case: Case, mesh_size: float, verbose: bool) -> dict:
+    """The FE body's Table 1 columns (seam: homlimit.fe_impulse.fe_mechanism)."""
+    raise HomlimitError("the FE columns are not available yet in this build "
+                        "(homlimit.fe_impulse)")
+
+
+def _crack_study(mesh_size: float, quick: bool, verbose: bool, progress: Progress) -> list[dict]:
+    """Records of the crack-angle study (seam: homlimit.studies)."""
+    raise HomlimitError("the crack-angle study is not available yet in this build "
+                        "(homlimit.studies)")
+
+
+# ----------------------------------------------------------------------------- other commands
+def table1_records(fe: bool = False, mesh_size: float = 0.25, verbose: bool = False,
+                   progress: Progress | None = None) -> list[dict]:
+    """Table 1 reproduced (homlimit.paper.table1_rows), optionally with the FE body's columns
+    lam_fe, vnorm_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe."""
+    from .errors import check_range
+    from .paper import table1, table1_rows
+
+    progress = progress or Progress(False)
+    if fe:
+        check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
+    with progress.stage("closed forms for Table 1"):
+        rows = table1_rows()
+    if fe:
+        cases = {t.test: t.case for t in table1()}
+        for row in progress.bar(rows, "FE body per Table 1 wall"):
+            row.update(_fe_table_columns(cases[row["test"]], mesh_size, verbose))
+    return rows
+
+
+def crack_study_records(mesh_size: float = 0.3, quick: bool = False, verbose: bool = False,
+                        progress: Progress | None = None) -> list[dict]:
+    """The crack-angle study over a grid of c/a and f (see homlimit.studies)."""
+    from .errors import check_range
+
+    check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
+    return _crack_study(mesh_size, quick, verbose, progress or Progress(False))
+
+
+def mesh_case(config: CaseConfig, out: Path) -> dict:
+    """Mesh the case's T-section only; write mesh.vtu and mesh.png; return counts and files."""
+    from . import plots, report
+
+    m = _mesh(config)
+    _, tri, region, names = plots.triangle_regions(m)
+    files = {"mesh_vtu": report.write_vtu(out / "mesh.vtu", m),
+             "mesh_png": plots.plot_mesh(out / "mesh.png", m, title=f"case {config.name}")}
+    return {"case": config.name, "n_triangles": int(len(tri)), "n_nodes": int(len(m.points)),
+            "regions": {n: int(np.count_nonzero(region == k)) for k, n in enumerate(names)},
+            "mesh": {"size": config.mesh.size, "size_junction": config.mesh.size_junction,
+                     "size_top": config.mesh.size_top},
+            "files": {k: str(v) for k, v in files.items()}}
+
+
+# ----------------------------------------------------------------------------- the outputs
+def _write(result: Result, out: Path, progress: Progress) -> dict[str, Path]:
+    from . import report
+
+    cfg = result.config.output
+    files: dict[str, Path] = {}
+    title = f"case {result.name}"
+    if cfg.png:
+        from . import plots
+
+        with progress.stage("pictures"):
+            if result.mechanism_I is not None:
+                files["vg_lambda_png"] = plots.plot_vg_lambda(
+                    out / "vg_lambda.png", result.curves, result.mechanism_I,
+                    result.mechanism_II, fe=result.fe, dem=result.dem, title=title,
+                    b=result.case.wall.b)
+            art = result.artifacts
+            if "mesh" in art:
+                files["mesh_png"] = plots.plot_mesh(out / "mesh.png", art["mesh"], title=title)
+            if "plot" in art:
+                files["mechanism_png"] = plots.plot_mechanism(
+                    out / "mechanism.png", art["plot"], result.case, title=title)
+    if cfg.vtu and "mechanism" in result.artifacts:
+        files["mechanism_vtu"] = report.write_vtu(out / "mechanism.vtu",
+                                                  result.artifacts["mechanism"])
+    if cfg.json:
+        files["summary_json"] = out / "summary.json"
+        result.files = {**result.files, **files}
+        report.write_json(out / "summary.json", result.to_dict())
+    return files
+
+
+def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *, out: str | Path | None = None,
+        write: bool = True, progress: bool | Progress = False, verbose: bool = False) -> Result:
+    """Run the case: validate, closed forms, FE (if asked), write files to ``out``.
+
+    ``path_or_dict``: a TOML case file, a dict of the same shape, a CaseConfig, or None for the
+    embedded default (Table 1's B1). ``out`` defaults to [output] dir or homlimit-out/<name>/.
+    Raises ConfigError/ParameterError for bad input (before any computation), SolverError
+    when a conic program does not end optimal.
+    """
+    config = path_or_dict if isinstance(path_or_dict, CaseConfig) else load_case(path_or_dict)
+    prog = progress if isinstance(progress, Progress) else Progress(bool(progress))
+    result = Result(config=config, dem=dem_reference(config.case))
+    if config.analysis.closed_form:
+        with prog.stage("closed-form mechanisms I and II"):
+            result.mechanism_I, result.mechanism_II, result.curves = _closed_form(config)
+    if config.analysis.fe:
+        result.fe, result.artifacts = _fe(config, prog, verbose)
+    result.timings = dict(prog.timings)
+    if write:
+        result.files = _write(result, output_dir(config, out), prog)
+    return result

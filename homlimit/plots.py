@@ -1,0 +1,227 @@
+"""Pictures (PNG) of meshes, mechanisms, v̄_g(λ) curves and studies.
+
+matplotlib is imported lazily, with the non-interactive Agg backend, so importing homlimit never
+pulls in a GUI. Every picture is written atomically (``homlimit.report.write_figure``), with axis
+labels in SI units and a title naming the case. Frame: x from the façade's outer face into the
+building, z up (see homlimit.params).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["plot_crack_study", "plot_mechanism", "plot_mesh", "plot_vg_lambda",
+           "triangle_regions"]
+
+DPI = 120
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _save(fig, path: str | Path) -> Path:
+    from .report import write_figure
+
+    plt = _pyplot()
+    try:
+        return write_figure(path, lambda tmp: fig.savefig(tmp, dpi=DPI, format="png"))
+    finally:
+        plt.close(fig)
+
+
+def triangle_regions(mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
+    """(points (n, 2), triangles (m, 3), region index per triangle (m,), region names).
+
+    Regions come from the meshio ``cell_sets`` (gmsh physical groups) that hold triangles; a
+    mesh without them is one region "all".
+    """
+    pts = np.asarray(mesh.points)[:, :2]
+    blocks = [(k, c.data) for k, c in enumerate(mesh.cells) if c.type == "triangle"]
+    tri = np.concatenate([d for _, d in blocks])
+    offset = np.cumsum([0] + [len(d) for _, d in blocks])
+    region = np.full(len(tri), -1)
+    names = []
+    for name, sets in getattr(mesh, "cell_sets", {}).items():
+        idx = [np.asarray(sets[k]) + offset[j] for j, (k, _) in enumerate(blocks)
+               if k < len(sets) and sets[k] is not None and len(sets[k])]
+        if not idx or name.startswith("gmsh:"):
+            continue
+        region[np.concatenate(idx)] = len(names)
+        names.append(name)
+    if not names or np.any(region < 0):
+        names.append("other" if names else "all")
+        region[region < 0] = len(names) - 1
+    return pts, tri, region, names
+
+
+def _boundary_lines(mesh) -> dict[str, np.ndarray]:
+    """name → line segments (k, 2, 2) of the named boundary parts (meshio line cell sets)."""
+    pts = np.asarray(mesh.points)[:, :2]
+    out = {}
+    for name, sets in getattr(mesh, "cell_sets", {}).items():
+        segs = [c.data[np.asarray(sets[k])] for k, c in enumerate(mesh.cells)
+                if c.type == "line" and k < len(sets) and sets[k] is not None and len(sets[k])]
+        if segs and not name.startswith("gmsh:"):
+            out[name] = pts[np.concatenate(segs)]
+    return out
+
+
+def plot_mesh(path: str | Path, mesh, title: str = "") -> Path:
+    """The triangulation coloured by region, with the named boundary parts drawn over it."""
+    plt = _pyplot()
+    from matplotlib.collections import LineCollection
+
+    pts, tri, region, names = triangle_regions(mesh)
+    fig, ax = plt.subplots(figsize=(7, 7.5))
+    colours = plt.get_cmap("Pastel1")
+    ax.tripcolor(pts[:, 0], pts[:, 1], tri, facecolors=region.astype(float),
+                 cmap=colours, vmin=0, vmax=8, edgecolors="0.35", linewidth=0.2)
+    handles = [plt.Rectangle((0, 0), 1, 1, color=colours(k)) for k in range(len(names))]
+    labels = [f"region {n} ({np.count_nonzero(region == k)} triangles)"
+              for k, n in enumerate(names)]
+    line_colours = plt.get_cmap("tab10")
+    for k, (name, segs) in enumerate(_boundary_lines(mesh).items()):
+        lc = LineCollection(segs, colors=[line_colours(k)], linewidths=2.5)
+        ax.add_collection(lc)
+        handles.append(plt.Line2D([], [], color=line_colours(k), lw=2.5))
+        labels.append(f"boundary {name}")
+    ax.legend(handles, labels, loc="upper right", fontsize=8, framealpha=0.9)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m] (from the façade's outer face into the building)")
+    ax.set_ylabel("z [m]")
+    ax.set_title(f"{title}: mesh, {len(tri)} triangles, {len(pts)} nodes".lstrip(": "))
+    return _save(fig, path)
+
+
+def plot_vg_lambda(path: str | Path, curves: dict, mech_I, mech_II, *, fe: dict | None = None,
+                   dem: dict | None = None, title: str = "", b: float | None = None) -> Path:
+    """Collapse ground velocity v̄_g against slenderness λ = h/b (eq. 7).
+
+    Mechanism I (eq. 10) and II (eqs 17–20) as curves with their critical points; the FE
+    body's scan over collapse heights and the paper's DEM value when available.
+    """
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    ax.plot(curves["lam_I"], curves["vg_I"], color="C0", label="mechanism I (detachment)")
+    ax.plot(curves["lam_II"], curves["vg_II"], color="C1",
+            label=f"mechanism II (diagonal crack, tan ψ = {mech_II.tanpsi:.3f})")
+    for m, col in ((mech_I, "C0"), (mech_II, "C1")):
+        ax.plot([m.lam], [m.vg], "o", color=col, ms=8, mec="k",
+                label=f"critical {m.name}: λ = {m.lam:.2f}, v̄_g = {m.vg:.3f} m/s")
+    if fe and fe.get("scan"):
+        lam = [r["lam"] for r in fe["scan"] if r.get("vg") is not None]
+        vg = [r["vg"] for r in fe["scan"] if r.get("vg") is not None]
+        ax.plot(lam, vg, "s--", color="C2", mec="k", label="finite-element body (scan over h)")
+        if fe.get("vg") is not None:
+            ax.plot([fe["lam"]], [fe["vg"]], "*", color="C2", ms=16, mec="k",
+                    label=f"critical FE: λ = {fe['lam']:.2f}, v̄_g = {fe['vg']:.3f} m/s")
+    if dem:
+        ax.plot([dem["lambda_v"]], [dem["vg"]], "D", color="C3", ms=9, mec="k",
+                label=f"DEM, paper's Table 1 ({dem['test']}): λ = {dem['lambda_v']:g}, "
+                      f"v̄_g = {dem['vg']:g} m/s")
+    finite = np.concatenate([np.asarray(curves["vg_I"]), np.asarray(curves["vg_II"])])
+    finite = finite[np.isfinite(finite)]
+    top = min(float(np.max(finite)), 2.5 * max(mech_I.vg, mech_II.vg))
+    ax.set_ylim(0.0, top * 1.05)
+    ax.set_xlim(0.0, float(np.max(curves["lam_I"])) * 1.02)
+    ax.set_xlabel("slenderness of the failing part λ = h/b [-]")
+    ax.set_ylabel("collapse ground velocity v̄_g [m/s]")
+    if b:
+        sec = ax.secondary_xaxis("top", functions=(lambda x: x * b, lambda h: h / b))
+        sec.set_xlabel("height of the failing part h [m]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right")
+    ax.set_title(f"{title}: collapse ground velocity against slenderness".lstrip(": "))
+    return _save(fig, path)
+
+
+def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
+    """The FE collapse mechanism: velocity magnitude, the deformed shape, the detected crack,
+    and the lines of slope tan ψ = √(cf/a) (eq. 16) and tan ψ = f from the hinge.
+
+    ``data``: points (n, 2), triangles (m, 3), velocity (n, 2) at the points; optional
+    ``crack`` (k, 2) polyline, ``crack_edges`` list of polylines, ``hinge`` (x, z).
+    """
+    plt = _pyplot()
+    pts = np.asarray(data["points"])[:, :2]
+    tri = np.asarray(data["triangles"])
+    v = np.asarray(data["velocity"])[:, :2]
+    speed = np.hypot(v[:, 0], v[:, 1])
+    fig, ax = plt.subplots(figsize=(7.5, 8))
+    tpc = ax.tripcolor(pts[:, 0], pts[:, 1], tri, speed, shading="gouraud", cmap="viridis")
+    fig.colorbar(tpc, ax=ax, shrink=0.7,
+                 label="velocity magnitude |u| [m/s per unit rate, normalised]")
+    # deformed outline: points displaced by a small multiple of the velocity
+    vmax = float(speed.max()) or 1.0
+    span = float(np.ptp(pts[:, 1]))
+    scale = 0.08 * span / vmax
+    ax.triplot(pts[:, 0] + scale * v[:, 0], pts[:, 1] + scale * v[:, 1], tri,
+               color="w", lw=0.15, alpha=0.5)
+    w = case.wall
+    hinge = data.get("hinge")
+    x0, z0 = (w.b, 0.0) if hinge is None else (float(hinge[0]), float(hinge[1]))
+    if hinge is not None:
+        ax.plot([x0], [z0], "o", color="r", ms=9, mec="k", label="hinge (rotation centre)")
+    for k, poly in enumerate(data.get("crack_edges") or []):
+        poly = np.asarray(poly)
+        ax.plot(poly[:, 0], poly[:, 1], ":", color="orange", lw=2,
+                label="fan edges (detected)" if k == 0 else None)
+    if data.get("crack") is not None:
+        c = np.asarray(data["crack"])
+        ax.plot(c[:, 0], c[:, 1], "-", color="r", lw=2.5, label="detected crack (mid-line)")
+    top = w.H - z0
+    for slope, style, lab in ((case.alpha, "--", f"tan ψ = √(cf/a) = {case.alpha:.3f}"),
+                              (case.masonry.f, "-.", f"tan ψ = f = {case.masonry.f:.3f}")):
+        t = np.array([0.0, top])
+        ax.plot(x0 + slope * t, z0 + t, style, color="w", lw=1.8, label=lab)
+    ax.set_xlim(float(pts[:, 0].min()), float(pts[:, 0].max()))
+    ax.set_ylim(float(pts[:, 1].min()), float(pts[:, 1].max()))
+    ax.set_aspect("equal")
+    ax.legend(fontsize=8, loc="lower right", framealpha=0.9)
+    ax.set_xlabel("x [m] (from the façade's outer face into the building)")
+    ax.set_ylabel("z [m]")
+    ax.set_title(f"{title}: collapse mechanism".lstrip(": "))
+    return _save(fig, path)
+
+
+def plot_crack_study(path: str | Path, records: list[dict], title: str = "crack-angle study"
+                     ) -> Path:
+    """Measured crack slope against √(cf/a): records with c_over_a, f and tanpsi_fe (and
+    optional tanpsi_block / tanpsi_fixed for the fan edges, and facade)."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7, 6))
+    recs = [r for r in records if r.get("tanpsi_fe") is not None]
+    if recs:
+        pred = np.array([math.sqrt(r["c_over_a"] * r["f"]) for r in recs])
+        meas = np.array([r["tanpsi_fe"] for r in recs])
+        fs = np.array([r["f"] for r in recs])
+        facades = sorted({str(r.get("facade", "")) for r in recs})
+        markers = dict(zip(facades, "os^vD"))
+        for fac in facades:
+            sel = np.array([str(r.get("facade", "")) == fac for r in recs])
+            sc = ax.scatter(pred[sel], meas[sel], c=fs[sel], cmap="plasma", vmin=fs.min(),
+                            vmax=max(fs.max(), fs.min() + 1e-9), marker=markers[fac],
+                            edgecolors="k", label=f"FE mid-line{', ' + fac if fac else ''}")
+        fig.colorbar(sc, ax=ax, label="joint friction f [-]")
+        lim = [0.0, 1.1 * max(pred.max(), meas.max())]
+        ax.plot(lim, lim, "k--", lw=1, label="tan ψ = √(cf/a) (eq. 16)")
+        ax.set_xlim(lim)
+        ax.set_ylim(lim)
+    ax.set_xlabel("predicted slope √(cf/a) [-]")
+    ax.set_ylabel("measured crack slope tan ψ [-]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+    ax.set_title(title)
+    return _save(fig, path)
+
+
+# Figure 2 of the paper (figure2) is drawn by the closed-form core; it belongs below.
