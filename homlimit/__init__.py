@@ -7,6 +7,7 @@ energy-based impulse criterion that turns any mechanism into a collapse ground v
 
 from .errors import HomlimitError, MeshError, ParameterError, SolverError
 from .params import Case, Masonry, Wall
+from .pipeline import run
 
 __version__ = "0.1.0"
 
@@ -19,4 +20,5 @@ __all__ = [
     "ParameterError",
     "SolverError",
     "Wall",
+    "run",
 ]
