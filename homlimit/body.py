@@ -87,7 +87,7 @@ def triangle_moments(points: np.ndarray, triangles: np.ndarray, O=(0.0, 0.0)):
     """Exact area, first and polar second moments about O of linear triangles (vectorised).
 
     For a triangle of area A with vertices p_1, p_2, p_3 (relative to O):
-    ∫ dA = A,  ∫ x dA = A x_c,  ∫ x² dA = (A/6) (Σ_i x_i² + Σ_{i<j} x_i x_j)  (same for z).
+    ∫ dA = A,  ∫ x dA = A x_c,  ∫ x² dA = (A/6)(Σ_i x_i² + Σ_{i<j} x_i x_j), same for z.
     Returns (A, Sx, Sz, J) arrays of shape (n_triangles,), with J = ∫ (x² + z²) dA.
     """
     p = np.asarray(points, float)[np.asarray(triangles, int)] - np.asarray(O, float)
