@@ -225,3 +225,52 @@ def plot_crack_study(path: str | Path, records: list[dict], title: str = "crack-
 
 
 # Figure 2 of the paper (figure2) is drawn by the closed-form core; it belongs below.
+
+
+def figure2(path: str | Path, rho=None) -> Path:
+    """The paper's Figure 2: critical v̄_g/√(gb) and critical λ against ρ = l/s.
+
+    One column per β of Table 1 (0.4: b = 0.5 m, 0.8: b = 0.25 m; c = 0.2 m, H = 9 m, L = 6 m),
+    one colour per α² ∈ {0.4, 0.6, 0.8}; mechanism I solid, mechanism II dashed (λ <= H/b and,
+    for II, λ tan ψ <= L/b); Table 1's DEM results as markers. All curves come from one
+    vectorised call per mechanism.
+    """
+    from .mechanisms import critical_I, critical_II, lam_max_II
+    from .paper import table1
+
+    plt = _pyplot()
+    rho = np.linspace(1.0, 20.0, 96) if rho is None else np.asarray(rho, float)
+    alpha2 = np.array([0.4, 0.6, 0.8])
+    betas = (0.4, 0.8)
+    H, L, c = 9.0, 6.0, 0.2
+    dem = table1()
+    colours = ["tab:blue", "tab:orange", "tab:green"]
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7.5), sharex=True)
+    for j, beta in enumerate(betas):
+        b = c / beta
+        R, A2 = np.meshgrid(rho, alpha2)  # (3, n)
+        lam_I, v_I = critical_I(R, np.sqrt(A2), beta, H / b)
+        lam_II, v_II = critical_II(R, np.sqrt(A2), lam_max_II(H / b, L / b, np.sqrt(A2)))
+        for k, a2 in enumerate(alpha2):
+            col = colours[k]
+            axes[0, j].plot(rho, v_I[k], "-", color=col, label=f"I, α² = {a2:g}")
+            axes[0, j].plot(rho, v_II[k], "--", color=col, label=f"II, α² = {a2:g}")
+            axes[1, j].plot(rho, lam_I[k], "-", color=col)
+            axes[1, j].plot(rho, lam_II[k], "--", color=col)
+            pts = [t for t in dem if abs(t.case.beta - beta) < 1e-9
+                   and abs(t.case.alpha ** 2 - a2) < 1e-9]
+            axes[0, j].plot([t.case.rho for t in pts], [t.vg_norm for t in pts], "o", color=col,
+                            mec="k", label=f"DEM, α² = {a2:g}")
+            axes[1, j].plot([t.case.rho for t in pts], [t.lam_v for t in pts], "o", color=col,
+                            mec="k")
+        axes[0, j].set_title(f"β = c/b = {beta:g} (b = {b:g} m)")
+        axes[0, j].set_ylabel("v̄_g / √(g b)  [-]")
+        axes[1, j].set_ylabel("critical λ = h / b  [-]")
+        axes[1, j].set_xlabel("ρ = l / s  [-]")
+        for ax in axes[:, j]:
+            ax.grid(alpha=0.3)
+    axes[0, 0].legend(fontsize=7, ncol=3, loc="upper right")
+    fig.suptitle("Figure 2: collapse ground velocity and slenderness of the overturning part "
+                 "(lines: mechanisms I solid, II dashed; dots: DEM, Table 1)", fontsize=10)
+    fig.tight_layout()
+    return _save(fig, path)
