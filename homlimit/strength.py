@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import check_range
+
 __all__ = ["ConicBlock", "StrengthDomain", "jump_strain"]
 
 
@@ -99,3 +101,262 @@ class StrengthDomain(ABC):
     @abstractmethod
     def static_cone(self) -> ConicBlock:
         """σ ∈ G  ⇔  ∃ y:  A σ + D y + e ∈ K."""
+
+
+# ---------------------------------------------------------------------------------------------
+# Concrete domains
+# ---------------------------------------------------------------------------------------------
+
+__all__ += ["Homogenised", "BedJoints", "Tresca", "MohrCoulomb"]
+
+
+def _norm(x: np.ndarray) -> np.ndarray:
+    return np.sqrt(np.sum(np.asarray(x, float) ** 2, axis=-1))
+
+
+def _polyhedral_support(N: np.ndarray, r: np.ndarray, d: np.ndarray,
+                        rtol: float = 1e-9) -> np.ndarray:
+    """π(d) = sup{σ·d : Nσ <= r} = min{r·μ : Nᵀμ = d, μ >= 0} (LP duality; N of rank 3).
+
+    An LP attains its optimum at a basic solution, so π is the least cost over the bases B of
+    three rows with Nᵀ_B μ_B = d and μ_B >= 0 (+inf if no basis is feasible: d ∉ cone(N)).
+    The loop runs over the C(m, 3) <= 20 bases, vectorised over all points d.
+    """
+    d = np.asarray(d, float)
+    best = np.full(d.shape[:-1], np.inf)
+    tol = rtol * (1.0 + _norm(d))
+    for B in _bases(len(N)):
+        NB = N[list(B)]
+        if abs(np.linalg.det(NB)) < 1e-12:
+            continue
+        mu = d @ np.linalg.inv(NB)          # μ_Bᵀ = dᵀ N_B⁻¹  ⇔  N_Bᵀ μ_B = d
+        ok = np.all(mu >= -tol[..., None], axis=-1)
+        best = np.where(ok, np.minimum(best, mu @ r[list(B)]), best)
+    return best
+
+
+def _bases(m: int):
+    from itertools import combinations
+    return combinations(range(m), 3)
+
+
+class _Polyhedral(StrengthDomain):
+    """G = {σ : N_k·σ <= r_k}: facts shared by the polyhedral domains."""
+
+    normals: np.ndarray   # (m, 3) outward normals N_k
+    rhs: np.ndarray       # (m,)   right-hand sides r_k >= 0 (so σ = 0 is admissible)
+
+    def residual(self, sigma: np.ndarray) -> np.ndarray:
+        """N_k·σ − r_k for every facet, shape (..., m); <= 0 inside G."""
+        return np.asarray(sigma, float) @ self.normals.T - self.rhs
+
+    def is_admissible(self, sigma, tol: float = 1e-9):
+        sigma = np.asarray(sigma, float)
+        scale = 1.0 + _norm(sigma)[..., None] + np.abs(self.rhs)
+        return np.all(self.residual(sigma) <= tol * scale, axis=-1)
+
+    def active_facet(self, sigma, rtol: float = 1e-6) -> np.ndarray:
+        """Index k of the facet N_k·σ = r_k the stress σ (..., 3) lies on, −1 if σ is interior.
+
+        The facet is the one of largest normalised residual (N_k·σ − r_k)/|N_k|; σ counts as
+        interior when that residual is below −rtol·(|σ| + max r).
+        """
+        sigma = np.asarray(sigma, float)
+        res = self.residual(sigma) / _norm(self.normals)
+        k = np.argmax(res, axis=-1)
+        top = np.take_along_axis(res, k[..., None], axis=-1)[..., 0]
+        inside = top < -rtol * (_norm(sigma) + np.max(self.rhs, initial=0.0))
+        return np.where(inside, -1, k)
+
+    def static_cone(self) -> ConicBlock:
+        """σ ∈ G  ⇔  −Nσ + r >= 0 (one linear row per facet, no auxiliary variable)."""
+        return ConicBlock(A=-self.normals, D=np.zeros((len(self.rhs), 0)), e=self.rhs,
+                          n_lin=len(self.rhs))
+
+    def generator_cone(self) -> ConicBlock:
+        """π(d) = min r·μ  s.t.  d − Nᵀμ = 0, μ >= 0 (LP duality; m auxiliary variables μ)."""
+        m = len(self.rhs)
+        A = np.vstack([np.eye(3), np.zeros((m, 3))])
+        D = np.vstack([-self.normals.T, np.eye(m)])
+        return ConicBlock(A=A, D=D, e=np.zeros(3 + m), n_eq=3, n_lin=m, cy=self.rhs)
+
+
+class Homogenised(_Polyhedral):
+    """Running-bond masonry homogenised (de Buhan & de Felice 1997), paper eq. 15.
+
+    Blocks of height a and length 2c, rigid and infinitely strong; joints with Coulomb friction
+    f, cohesion C (``cohesion``, Pa) and tensile cut-off T (``tension``, Pa; at most the Coulomb
+    apex C/f, so T only acts when C > 0). With C = T = 0 this is eq. 15:
+        N_k·σ <= 0,  N_1,2 = (0, f, ±1),  N_3,4 = (a/c, f, ±(1 + f a/c)).
+    With cohesion, the micro stress field that proves eq. 15 (head joints free of shear and
+    carrying σ_h <= T_h = min(T, C/f); bed-joint normal stresses σ_z ∓ (a/c)τ on the two halves
+    of a block; bed shears τ ± Δ) gives, for c/a >= f,
+        ±τ + fσ_z <= C,
+        (a/c)σ_x + fσ_z ± (1 + fa/c)τ <= C + (a/c) T_h,
+        σ_z ± (a/c)τ <= T_h          (only when T_h < C/f: the bed joints' tension cut-off).
+    This is a static (inner) estimate of the cohesive homogenised domain, exact for C = T = 0.
+    """
+
+    def __init__(self, a: float, c: float, f: float, cohesion: float = 0.0,
+                 tension: float = 0.0):
+        self.a = check_range("a", a, 0.0, lo_open=True, unit="m")
+        self.c = check_range("c", c, 0.0, lo_open=True, unit="m")
+        self.f = check_range("f", f, 0.0, lo_open=True)
+        self.cohesion = check_range("cohesion", cohesion, 0.0, unit="Pa")
+        self.tension = check_range("tension", tension, 0.0, unit="Pa")
+        a, c, f, C = self.a, self.c, self.f, self.cohesion
+        k = a / c
+        Th = min(self.tension, C / f)
+        rows = [(0.0, f, 1.0), (0.0, f, -1.0), (k, f, 1.0 + f * k), (k, f, -(1.0 + f * k))]
+        rhs = [C, C, C + k * Th, C + k * Th]
+        if C > 0 and Th < C / f:
+            rows += [(0.0, 1.0, k), (0.0, 1.0, -k)]
+            rhs += [Th, Th]
+        self.normals = np.array(rows)
+        self.rhs = np.array(rhs)
+
+    @property
+    def dry(self) -> bool:
+        """True without cohesion and tension: G is a cone and π is 0 or +inf."""
+        return self.cohesion == 0.0
+
+    @property
+    def facets(self) -> np.ndarray:
+        """Rows F of the cone generated by N_1..N_4: d ∈ cone(N) ⇔ F d >= 0, i.e.
+        d_xx >= 0,  d_zz >= f (c/a) d_xx,  |γ_xz| <= d_zz/f + f d_xx   (eliminating μ >= 0 in
+        d = Σ μ_k N_k: μ_3 + μ_4 = (c/a) d_xx, μ_1 + μ_2 = d_zz/f − (c/a) d_xx)."""
+        a, c, f = self.a, self.c, self.f
+        return np.array([[1.0, 0.0, 0.0], [-f * c / a, 1.0, 0.0],
+                         [f, 1.0 / f, -1.0], [f, 1.0 / f, 1.0]])
+
+    def support(self, d):
+        return _polyhedral_support(self.normals, self.rhs, d)
+
+    def kinematic_cone(self) -> ConicBlock:
+        """Facet form F d >= 0 when there are four facets; π is then linear on the cone.
+
+        With r_1 = r_2 = C and r_3 = r_4 = R, π = C(μ_1 + μ_2) + R(μ_3 + μ_4)
+        = C (d_zz/f − (c/a) d_xx) + R (c/a) d_xx, whatever the split of the μ's: cx·d with
+        cx = ((R − C) c/a, C/f, 0), and cx = 0 in the dry case. With the tension cut-off rows
+        the generator form (``generator_cone``) is used.
+        """
+        if len(self.rhs) != 4:
+            return self.generator_cone()
+        C, R, k = self.rhs[0], self.rhs[2], self.c / self.a
+        return ConicBlock(A=self.facets, D=np.zeros((4, 0)), e=np.zeros(4), n_lin=4,
+                          cx=np.array([(R - C) * k, C / self.f, 0.0]))
+
+
+class BedJoints(_Polyhedral):
+    """Façade cut across its thickness: horizontal bed joints only, Coulomb friction f.
+
+    G = {±τ + fσ_z <= C, σ_z <= T_h} with σ_x unbounded (no head joints cross the section);
+    T_h = min(T, C/f). Dry (C = T = 0): |τ| + fσ_z <= 0. Since σ_x is free, π(d) = +inf unless
+    d_xx = 0; then π = T_h d_zz + (C − f T_h)|γ| where d_zz >= f|γ| (vertex (T_h, ±(C − fT_h))
+    of the joint domain), +inf otherwise.
+    """
+
+    def __init__(self, f: float, cohesion: float = 0.0, tension: float = 0.0):
+        self.f = check_range("f", f, 0.0, lo_open=True)
+        self.cohesion = check_range("cohesion", cohesion, 0.0, unit="Pa")
+        self.tension = check_range("tension", tension, 0.0, unit="Pa")
+        f, C = self.f, self.cohesion
+        self.t_h = min(self.tension, C / f)
+        rows, rhs = [(0.0, f, 1.0), (0.0, f, -1.0)], [C, C]
+        if C > 0 and self.t_h < C / f:
+            rows.append((0.0, 1.0, 0.0))
+            rhs.append(self.t_h)
+        self.normals = np.array(rows)
+        self.rhs = np.array(rhs)
+
+    def support(self, d, rtol: float = 1e-9):
+        d = np.asarray(d, float)
+        dxx, dzz, g = d[..., 0], d[..., 1], d[..., 2]
+        tol = rtol * (1.0 + _norm(d))
+        ok = (np.abs(dxx) <= tol) & (dzz - self.f * np.abs(g) >= -tol)
+        val = self.t_h * dzz + (self.cohesion - self.f * self.t_h) * np.abs(g)
+        return np.where(ok, val, np.inf)
+
+    def kinematic_cone(self) -> ConicBlock:
+        """Dry: d_xx = 0 (equality) and d_zz/f ∓ γ >= 0, π = 0. Otherwise the generator form,
+        whose first equality row reads d_xx = 0 since every N_k has N_k,x = 0."""
+        if self.cohesion > 0:
+            return self.generator_cone()
+        f = self.f
+        A = np.array([[1.0, 0.0, 0.0], [0.0, 1.0 / f, -1.0], [0.0, 1.0 / f, 1.0]])
+        return ConicBlock(A=A, D=np.zeros((3, 0)), e=np.zeros(3), n_eq=1, n_lin=2)
+
+
+class Tresca(StrengthDomain):
+    """Plane-strain Tresca (von Mises in plane strain): √(((σ_x − σ_z)/2)² + τ²) <= k.
+
+    π(d) = k √((d_xx − d_zz)² + γ²) if d_xx + d_zz = 0 (isochoric), +inf otherwise.
+    """
+
+    def __init__(self, k: float):
+        self.k = check_range("k", k, 0.0, lo_open=True, unit="Pa")
+
+    def is_admissible(self, sigma, tol: float = 1e-9):
+        s = np.asarray(sigma, float)
+        q = np.hypot(0.5 * (s[..., 0] - s[..., 1]), s[..., 2])
+        return q <= self.k + tol * (self.k + _norm(s))
+
+    def support(self, d, rtol: float = 1e-9):
+        d = np.asarray(d, float)
+        ok = np.abs(d[..., 0] + d[..., 1]) <= rtol * (1.0 + _norm(d))
+        val = self.k * np.hypot(d[..., 0] - d[..., 1], d[..., 2])
+        return np.where(ok, val, np.inf)
+
+    def kinematic_cone(self) -> ConicBlock:
+        """d_xx + d_zz = 0;  (t, d_xx − d_zz, γ) ∈ SOC(3);  π = k t (one auxiliary t)."""
+        A = np.array([[1.0, 1.0, 0.0], [0.0, 0.0, 0.0], [1.0, -1.0, 0.0], [0.0, 0.0, 1.0]])
+        D = np.array([[0.0], [1.0], [0.0], [0.0]])
+        return ConicBlock(A=A, D=D, e=np.zeros(4), n_eq=1, soc=(3,), cy=np.array([self.k]))
+
+    def static_cone(self) -> ConicBlock:
+        """(k, (σ_x − σ_z)/2, τ) ∈ SOC(3)."""
+        A = np.array([[0.0, 0.0, 0.0], [0.5, -0.5, 0.0], [0.0, 0.0, 1.0]])
+        return ConicBlock(A=A, D=np.zeros((3, 0)), e=np.array([self.k, 0.0, 0.0]), soc=(3,))
+
+
+class MohrCoulomb(StrengthDomain):
+    """Plane-strain Mohr–Coulomb, tension positive: √(((σ_x − σ_z)/2)² + τ²) <= c cosφ − p sinφ,
+    p = (σ_x + σ_z)/2.
+
+    π(d) = c cotφ (d_xx + d_zz) if d_xx + d_zz >= sinφ √((d_xx − d_zz)² + γ²), +inf otherwise
+    (the supremum over p of p (tr d − sinφ |e|) + c cosφ |e| is reached at the apex p = c cotφ).
+    """
+
+    def __init__(self, cohesion: float, phi_deg: float):
+        self.cohesion = check_range("cohesion", cohesion, 0.0, lo_open=True, unit="Pa")
+        self.phi_deg = check_range("phi_deg", phi_deg, 0.0, 90.0, lo_open=True, hi_open=True,
+                                   unit="deg")
+        phi = np.radians(self.phi_deg)
+        self.sin, self.cos = float(np.sin(phi)), float(np.cos(phi))
+
+    def is_admissible(self, sigma, tol: float = 1e-9):
+        s = np.asarray(sigma, float)
+        q = np.hypot(0.5 * (s[..., 0] - s[..., 1]), s[..., 2])
+        p = 0.5 * (s[..., 0] + s[..., 1])
+        return q <= self.cohesion * self.cos - p * self.sin + tol * (self.cohesion + _norm(s))
+
+    def support(self, d, rtol: float = 1e-9):
+        d = np.asarray(d, float)
+        tr = d[..., 0] + d[..., 1]
+        ok = tr - self.sin * np.hypot(d[..., 0] - d[..., 1], d[..., 2]) >= -rtol * (1 + _norm(d))
+        return np.where(ok, self.cohesion * self.cos / self.sin * tr, np.inf)
+
+    def kinematic_cone(self) -> ConicBlock:
+        """(d_xx + d_zz, sinφ (d_xx − d_zz), sinφ γ) ∈ SOC(3);  π = c cotφ (d_xx + d_zz)."""
+        s = self.sin
+        A = np.array([[1.0, 1.0, 0.0], [s, -s, 0.0], [0.0, 0.0, s]])
+        cot = self.cos / self.sin
+        return ConicBlock(A=A, D=np.zeros((3, 0)), e=np.zeros(3), soc=(3,),
+                          cx=self.cohesion * cot * np.array([1.0, 1.0, 0.0]))
+
+    def static_cone(self) -> ConicBlock:
+        """(c cosφ − sinφ (σ_x + σ_z)/2, (σ_x − σ_z)/2, τ) ∈ SOC(3)."""
+        s = self.sin
+        A = np.array([[-0.5 * s, -0.5 * s, 0.0], [0.5, -0.5, 0.0], [0.0, 0.0, 1.0]])
+        return ConicBlock(A=A, D=np.zeros((3, 0)), e=np.array([self.cohesion * self.cos, 0, 0]),
+                          soc=(3,))
