@@ -158,7 +158,7 @@ def lam_max_II(H_over_b, L_over_b, tanpsi):
 
 
 # --------------------------------------------------------------------------- minimisation
-def _minimise(fun, lam_max, lam_min=0.5, n_grid=400, n_golden=60):
+def _minimise(fun, lam_max, lam_min=0.5, n_grid=160, n_golden=45):
     """Vectorised minimisation of fun(λ) over [lam_min, lam_max] for arrays of problems.
 
     A log-spaced grid locates the best cell, then golden-section search refines it. Returns
