@@ -1,0 +1,350 @@
+"""Plane meshes of the wall section (x–z) with gmsh, returned as meshio.Mesh with named parts.
+
+gmsh holds global state, so every use goes through ``gmsh_session()``, which always finalises
+and reports gmsh failures as MeshError. Geometry builders validate their input before gmsh
+starts (ParameterError naming the parameter).
+
+- ``polygon_mesh``: polygonal regions with named (boundary or interior) segments, unnamed
+  embedded lines the mesh must conform to, and local refinement around points and segments;
+  the generic builder behind the classical benchmarks (strip footing, vertical cut, block).
+- ``tsection``: the façade strip 0 <= x <= b and the transversal wall b <= x <= b + L,
+  z0 <= z <= H, conforming along the junction x = b (paper, Figure 1).
+
+The output mesh is the only mesh currency before scikit-fem (see ``homlimit.mesh``):
+points (n, 3) with z-coordinate 0 (the plane is x–z, stored as the first two columns);
+one cell block per physical group ("triangle" for regions, "line" for named segments);
+``cell_sets`` {name: [indices per block]}, ``cell_data["gmsh:physical"]`` and
+``cell_data["gmsh:geometrical"]``, and ``field_data`` {name: [tag, dim]}.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
+
+import meshio
+import numpy as np
+
+from .errors import MeshError, ParameterError, check_range
+
+__all__ = ["gmsh_session", "polygon_mesh", "tsection", "TSECTION_REGIONS",
+           "TSECTION_BOUNDARIES"]
+
+Point = tuple[float, float]
+Segment = tuple[Point, Point]
+
+TSECTION_REGIONS = ("facade", "wall")
+TSECTION_BOUNDARIES = ("base", "outer", "top", "end", "junction")
+
+
+@contextmanager
+def gmsh_session(name: str = "homlimit", verbosity: int = 0) -> Iterator:
+    """Open a gmsh session (yields the ``gmsh`` module); always finalised on exit.
+
+    Errors raised by gmsh itself are re-raised as MeshError; one session at a time.
+    """
+    import gmsh
+
+    if gmsh.isInitialized():
+        raise MeshError("a gmsh session is already open: gmsh holds global state, "
+                        "nest no sessions")
+    gmsh.initialize(readConfigFiles=False, interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 1 if verbosity > 0 else 0)
+        gmsh.option.setNumber("General.Verbosity", int(verbosity))
+        gmsh.option.setNumber("General.NumThreads", 1)     # reproducible meshes
+        gmsh.model.add(name)
+        yield gmsh
+    except Exception as exc:
+        if type(exc) is Exception:                        # gmsh's own error type
+            raise MeshError(f"gmsh failed while meshing {name!r}: {exc}") from exc
+        raise
+    finally:
+        gmsh.finalize()
+
+
+# ---------------------------------------------------------------------------------- checks
+
+def _point(name: str, p) -> Point:
+    try:
+        x, z = p
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} = {p!r} is not a point (x, z)") from None
+    return check_range(f"{name}.x", x, unit="m"), check_range(f"{name}.z", z, unit="m")
+
+
+def _segment(name: str, s) -> Segment:
+    try:
+        p, q = s
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} = {s!r} is not a segment ((x1, z1), (x2, z2))") from None
+    p, q = _point(f"{name}[0]", p), _point(f"{name}[1]", q)
+    if math.dist(p, q) == 0.0:
+        raise ParameterError(f"{name} = {s!r} has zero length: allowed two distinct points")
+    return p, q
+
+
+def _name(kind: str, n) -> str:
+    if not isinstance(n, str) or not n.strip():
+        raise ParameterError(f"{kind} name {n!r} is not a non-empty string")
+    return n
+
+
+def _polygon(name: str, pts) -> np.ndarray:
+    pts = [_point(f"{name}[{i}]", p) for i, p in enumerate(pts)]
+    P = np.array(pts, float)
+    if len(P) < 3:
+        raise ParameterError(f"{name} has {len(P)} vertices: allowed at least 3")
+    x, z = P[:, 0], P[:, 1]
+    area = 0.5 * np.sum(x * np.roll(z, -1) - np.roll(x, -1) * z)
+    if not abs(area) > 0.0:
+        raise ParameterError(f"{name} has zero area: allowed a simple polygon of positive area")
+    if np.any(np.hypot(*(P - np.roll(P, -1, axis=0)).T) == 0.0):
+        raise ParameterError(f"{name} repeats a vertex: allowed distinct consecutive vertices")
+    return P
+
+
+def _refinement(name: str, r, segment: bool):
+    try:
+        geo, size, radius = (r[0:2], r[2], r[3]) if segment else (r[0:2], r[2], r[3])
+    except (TypeError, IndexError):
+        kind = "((x1, z1), (x2, z2), size, radius)" if segment else "(x, z, size, radius)"
+        raise ParameterError(f"{name} = {r!r} is not {kind}") from None
+    geo = _segment(name, geo) if segment else _point(name, geo)
+    return (geo, check_range(f"{name}.size", size, 0.0, lo_open=True, unit="m"),
+            check_range(f"{name}.radius", radius, 0.0, lo_open=True, unit="m"))
+
+
+# ---------------------------------------------------------------------------------- builder
+
+def polygon_mesh(regions: Mapping[str, Sequence[Point]],
+                 boundaries: Mapping[str, Sequence[Segment]] | None = None,
+                 *, size: float,
+                 refine_points: Sequence = (),
+                 refine_segments: Sequence = (),
+                 embed_lines: Sequence[Segment] = (),
+                 name: str = "polygon",
+                 verbosity: int = 0) -> meshio.Mesh:
+    """Triangulate polygonal regions, conforming across shared edges.
+
+    regions:        {name: [(x, z), ...]} simple polygons (either orientation), not overlapping.
+    boundaries:     {name: [segment, ...]} named straight segments ((x1, z1), (x2, z2)); the
+                    mesh edges lying on them, on the outer boundary or inside (e.g. the
+                    junction between two regions), form the line group ``name``. Endpoints
+                    need not be polygon vertices: the boundary is split there ("footing" as
+                    part of a top edge). Parts outside every region are dropped.
+    size:           global element size [m].
+    refine_points:  [(x, z, size, radius)]: element size ``size`` within ``radius`` of the
+                    point, growing linearly to the global size over a further ``radius``.
+    refine_segments:[((x1, z1), (x2, z2), size, radius)], the same around a segment.
+    embed_lines:    unnamed segments the mesh must conform to (e.g. rays of a fan from a hinge
+                    on the boundary); they may end on, or cross, boundaries and each other.
+    Returns a meshio.Mesh (see the module docstring).
+    """
+    boundaries = {} if boundaries is None else boundaries
+    size = check_range("size", size, 0.0, lo_open=True, unit="m")
+    if not isinstance(regions, Mapping) or not regions:
+        raise ParameterError(f"regions = {regions!r}: allowed a non-empty mapping name -> polygon")
+    polys = {_name("region", k): _polygon(f"regions[{k!r}]", v) for k, v in regions.items()}
+    segs = {}
+    for k, v in boundaries.items():
+        _name("boundary", k)
+        if k in polys:
+            raise ParameterError(f"boundary name {k!r} is also a region name: allowed "
+                                 "distinct names")
+        v = [v] if len(v) == 2 and np.ndim(v[0]) == 1 else v
+        segs[k] = [_segment(f"boundaries[{k!r}][{i}]", s) for i, s in enumerate(v)]
+        if not segs[k]:
+            raise ParameterError(f"boundaries[{k!r}] is empty: allowed at least one segment")
+    rpts = [_refinement(f"refine_points[{i}]", r, False) for i, r in enumerate(refine_points)]
+    rsegs = [_refinement(f"refine_segments[{i}]", r, True) for i, r in enumerate(refine_segments)]
+    lines = [_segment(f"embed_lines[{i}]", s) for i, s in enumerate(embed_lines)]
+    allp = np.vstack(list(polys.values()))
+    extent = float(np.max(allp.max(0) - allp.min(0)))
+    check_range("size", size, 0.0, extent, lo_open=True, unit="m")
+    tol = 1e-9 * extent
+
+    with gmsh_session(name, verbosity) as gmsh:
+        occ = gmsh.model.occ
+        surf = []
+        for P in polys.values():
+            pt = [occ.addPoint(x, z, 0.0) for x, z in P]
+            cv = [occ.addLine(pt[i], pt[(i + 1) % len(pt)]) for i in range(len(pt))]
+            surf.append(occ.addPlaneSurface([occ.addCurveLoop(cv)]))
+        named = [(k, occ.addLine(occ.addPoint(*p, 0.0), occ.addPoint(*q, 0.0)))
+                 for k, ss in segs.items() for p, q in ss]
+        free = [occ.addLine(occ.addPoint(*p, 0.0), occ.addPoint(*q, 0.0)) for p, q in lines]
+        tools = [(1, c) for _, c in named] + [(1, c) for c in free]
+        _, out_map = occ.fragment([(2, s) for s in surf], tools, removeObject=True,
+                                  removeTool=True)
+        occ.synchronize()
+
+        # which new surfaces came from which region; every triangle must belong to one region
+        reg_surf = {k: sorted({t for d, t in m if d == 2})
+                    for k, m in zip(polys, out_map[:len(surf)])}
+        owners = [t for ts in reg_surf.values() for t in ts]
+        if len(owners) != len(set(owners)):
+            raise MeshError(f"regions {list(polys)} overlap: allowed disjoint polygons")
+        inside = _curves_in_surfaces(gmsh, owners)
+        outside = [(1, c) for d, c in gmsh.model.getEntities(1) if c not in inside]
+        if outside:                      # parts of named/embedded segments outside the domain
+            occ.remove(outside, recursive=True)
+            occ.synchronize()
+        bnd_curves = {}
+        for (k, _), m in zip(named, out_map[len(surf):len(surf) + len(named)]):
+            bnd_curves.setdefault(k, set()).update(t for d, t in m if d == 1 and t in inside)
+        for k, cs in bnd_curves.items():
+            if not cs:
+                raise MeshError(f"boundary {k!r}: none of its segments lies in or on the "
+                                f"regions {list(polys)}")
+
+        for k, ts in reg_surf.items():
+            gmsh.model.addPhysicalGroup(2, ts, name=k)
+        for k, cs in bnd_curves.items():
+            gmsh.model.addPhysicalGroup(1, sorted(cs), name=k)
+
+        _size_field(gmsh, size, rpts, rsegs)
+        gmsh.model.mesh.generate(2)
+        return _to_meshio(gmsh, tol)
+
+
+def _curves_in_surfaces(gmsh, surfaces) -> set[int]:
+    """Curves bounding or embedded in the given surfaces."""
+    cs = set()
+    for s in surfaces:
+        cs.update(abs(t) for d, t in gmsh.model.getBoundary([(2, s)], oriented=False) if d == 1)
+        cs.update(t for d, t in gmsh.model.mesh.getEmbedded(2, s) if d == 1)
+    return cs
+
+
+def _size_field(gmsh, size, rpts, rsegs):
+    """Background size: min(global, Threshold(distance) for every refinement).
+
+    Distances are MathEval expressions (gmsh's parser has abs and sqrt but no min/max, so
+    max(u, 0) is written (u + |u|)/2, and the clamp of t to [0, 1] as t⁺ − (t − 1)⁺).
+    """
+    fld = gmsh.model.mesh.field
+    parts = []
+
+    def threshold(expr, local, radius):
+        d = fld.add("MathEval")
+        fld.setString(d, "F", expr)
+        t = fld.add("Threshold")
+        fld.setNumber(t, "InField", d)
+        fld.setNumber(t, "SizeMin", min(local, size))
+        fld.setNumber(t, "SizeMax", size)
+        fld.setNumber(t, "DistMin", radius)
+        fld.setNumber(t, "DistMax", 2.0 * radius)
+        parts.append(t)
+
+    pos = "((({u}) + abs({u}))/2)"
+    for (x0, z0), local, radius in rpts:
+        threshold(f"sqrt((x - ({x0!r}))^2 + (y - ({z0!r}))^2)", local, radius)
+    for ((x1, z1), (x2, z2)), local, radius in rsegs:
+        dx, dz = x2 - x1, z2 - z1
+        t = f"((x - ({x1!r}))*({dx!r}) + (y - ({z1!r}))*({dz!r}))/({dx * dx + dz * dz!r})"
+        tc = f"({pos.format(u=t)} - {pos.format(u=t + ' - 1')})"
+        ex, ez = f"(x - ({x1!r}) - {tc}*({dx!r}))", f"(y - ({z1!r}) - {tc}*({dz!r}))"
+        threshold(f"sqrt({ex}^2 + {ez}^2)", local, radius)
+    const = fld.add("MathEval")
+    fld.setString(const, "F", repr(float(size)))
+    m = fld.add("Min")
+    fld.setNumbers(m, "FieldsList", parts + [const])
+    fld.setAsBackgroundMesh(m)
+    opt = gmsh.option
+    opt.setNumber("Mesh.MeshSizeFromPoints", 0)
+    opt.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    opt.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    opt.setNumber("Mesh.MeshSizeMax", size)
+    opt.setNumber("Mesh.Algorithm", 6)         # Frontal-Delaunay: well-shaped triangles
+
+
+def _to_meshio(gmsh, tol) -> meshio.Mesh:
+    """Physical groups of the current model as a meshio.Mesh (unused nodes dropped)."""
+    tags, xyz, _ = gmsh.model.mesh.getNodes()
+    xyz = xyz.reshape(-1, 3)
+    index = np.full(int(tags.max()) + 1, -1)
+    index[tags.astype(int)] = np.arange(len(tags))
+    blocks, names = [], {}
+    for dim, ptag in gmsh.model.getPhysicalGroups():
+        pname = gmsh.model.getPhysicalName(dim, ptag)
+        etype = 2 if dim == 2 else 1
+        conn, geo = [], []
+        for ent in gmsh.model.getEntitiesForPhysicalGroup(dim, ptag):
+            _, ntags = gmsh.model.mesh.getElementsByType(etype, int(ent))
+            c = index[ntags.astype(int)].reshape(-1, dim + 1)
+            conn.append(c)
+            geo.append(np.full(len(c), int(ent)))
+        conn = np.vstack(conn) if conn else np.zeros((0, dim + 1), int)
+        if len(conn) == 0:
+            raise MeshError(f"physical group {pname!r} received no elements")
+        blocks.append(("triangle" if dim == 2 else "line", conn, ptag, np.concatenate(geo)))
+        names[pname] = (ptag, dim)
+    # compact node numbering; counter-clockwise triangles
+    used = np.unique(np.concatenate([c.ravel() for _, c, _, _ in blocks]))
+    renum = np.full(len(xyz), -1)
+    renum[used] = np.arange(len(used))
+    pts = xyz[used].copy()
+    pts[:, 2] = 0.0
+    cells = []
+    for kind, c, _, _ in blocks:
+        c = renum[c]
+        if kind == "triangle":
+            a, b, d = pts[c[:, 0], :2], pts[c[:, 1], :2], pts[c[:, 2], :2]
+            cross = (b - a)[:, 0] * (d - a)[:, 1] - (b - a)[:, 1] * (d - a)[:, 0]
+            if np.any(np.abs(cross) <= tol * tol):
+                raise MeshError("gmsh produced a degenerate triangle")
+            c[cross < 0] = c[cross < 0][:, [0, 2, 1]]
+        cells.append(meshio.CellBlock(kind, c))
+    n = len(blocks)
+    cell_sets = {}
+    for i, (pname, (ptag, dim)) in enumerate(names.items()):
+        cell_sets[pname] = [np.arange(len(cells[j].data)) if j == i else np.zeros(0, int)
+                            for j in range(n)]
+    return meshio.Mesh(
+        pts, cells,
+        cell_data={"gmsh:physical": [np.full(len(c.data), b[2]) for c, b in zip(cells, blocks)],
+                   "gmsh:geometrical": [b[3] for b in blocks]},
+        field_data={k: np.array([t, d]) for k, (t, d) in names.items()},
+        cell_sets=cell_sets)
+
+
+# ---------------------------------------------------------------------------------- T-section
+
+def tsection(H: float, b: float, L: float, size: float, *,
+             size_junction: float | None = None, size_top: float | None = None,
+             radius_junction: float | None = None, radius_top: float | None = None,
+             z0: float = 0.0, embed_lines: Sequence[Segment] = (),
+             verbosity: int = 0) -> meshio.Mesh:
+    """Mesh of the x–z section: façade 0 <= x <= b, transversal wall b <= x <= b + L,
+    z0 <= z <= H (the failing part of height h = H − z0 when z0 > 0).
+
+    Regions "facade", "wall"; lines "base" (z = z0), "outer" (x = 0), "top" (z = H),
+    "end" (x = b + L) and the interior "junction" (x = b), shared by both regions.
+    Element size ``size``, refined to ``size_junction`` within ``radius_junction`` (default b)
+    of the junction and to ``size_top`` within ``radius_top`` (default b) of the façade's top
+    edge, growing linearly to ``size`` over a further radius. ``embed_lines``: segments the
+    mesh must conform to (see ``polygon_mesh``).
+    """
+    H = check_range("H", H, 0.0, lo_open=True, unit="m")
+    b = check_range("b", b, 0.0, lo_open=True, unit="m")
+    L = check_range("L", L, 0.0, lo_open=True, unit="m")
+    z0 = check_range("z0", z0, 0.0, H, hi_open=True, unit="m")
+    size = check_range("size", size, 0.0, min(H - z0, b + L), lo_open=True, unit="m")
+    refine = []
+    for what, s, r, seg in (("junction", size_junction, radius_junction, ((b, z0), (b, H))),
+                            ("top", size_top, radius_top, ((0.0, H), (b, H)))):
+        if r is not None:
+            r = check_range(f"radius_{what}", r, 0.0, lo_open=True, unit="m")
+        if s is not None:
+            s = check_range(f"size_{what}", s, 0.0, size, lo_open=True, unit="m")
+            refine.append((*seg, s, b if r is None else r))
+    x1 = b + L
+    regions = {"facade": [(0.0, z0), (b, z0), (b, H), (0.0, H)],
+               "wall": [(b, z0), (x1, z0), (x1, H), (b, H)]}
+    boundaries = {"base": [((0.0, z0), (x1, z0))], "outer": [((0.0, z0), (0.0, H))],
+                  "top": [((0.0, H), (x1, H))], "end": [((x1, z0), (x1, H))],
+                  "junction": [((b, z0), (b, H))]}
+    return polygon_mesh(regions, boundaries, size=size, refine_segments=refine,
+                        embed_lines=embed_lines, name="tsection", verbosity=verbosity)

@@ -1,0 +1,262 @@
+"""meshio.Mesh <-> scikit-fem MeshTri with named subdomains and boundaries; files; cache.
+
+- ``to_skfem(m)``: a skfem.MeshTri whose ``subdomains`` {name: element indices} come from the
+  triangle cell sets and ``boundaries`` {name: facet indices} from the line cell sets,
+  interior lines (the "junction") included.
+- ``from_skfem(mesh)``: back to meshio (for writing results on the mesh).
+- ``read(path)`` / ``write(mesh, path)``: any format meshio knows; the named sets survive
+  .msh (gmsh 2.2: physical groups), .vtu and .xdmf (one 0/1 cell array "set:<name>" per set).
+  Files are written whole or not at all (temporary file + os.replace); .xdmf is written with
+  inline XML data so that it is a single file.
+- ``cached(builder, **params)``: a mesh from ``homlimit.geometry`` generated once per set of
+  parameters and kept under ``meshes/cache/`` (or $HOMLIMIT_MESH_CACHE).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+import meshio
+import numpy as np
+
+from .errors import MeshError, ParameterError
+
+__all__ = ["to_skfem", "from_skfem", "read", "write", "cached", "cache_dir", "element_areas",
+           "quality"]
+
+_SET = "set:"
+
+
+# ---------------------------------------------------------------------------------- sets
+
+def _sets(m: meshio.Mesh) -> dict[str, list[np.ndarray]]:
+    """Named cell sets {name: [indices per cell block]}, from whichever encoding is present:
+    meshio cell_sets, our "set:<name>" 0/1 cell data, or gmsh physical tags + field_data."""
+    if m.cell_sets and any(sum(np.size(i) for i in v) for v in m.cell_sets.values()):
+        return {k: [np.asarray(i, int).ravel() for i in v] for k, v in m.cell_sets.items()}
+    out = {k[len(_SET):]: [np.flatnonzero(np.asarray(a).ravel()) for a in v]
+           for k, v in m.cell_data.items() if k.startswith(_SET)}
+    if out:
+        return out
+    phys = m.cell_data.get("gmsh:physical")
+    if phys is not None and m.field_data:
+        for k, (tag, dim) in ((k, np.asarray(v).ravel()[:2]) for k, v in m.field_data.items()):
+            want = "triangle" if dim == 2 else "line" if dim == 1 else None
+            out[k] = [np.flatnonzero((np.asarray(p).ravel() == tag)) if c.type == want
+                      else np.zeros(0, int) for c, p in zip(m.cells, phys)]
+    return out
+
+
+def _gather(m: meshio.Mesh, kind: str):
+    """All cells of one kind stacked, and each named set as indices into that stack."""
+    blocks = [(i, c.data) for i, c in enumerate(m.cells) if c.type == kind]
+    offs, n = {}, 0
+    for i, d in blocks:
+        offs[i] = n
+        n += len(d)
+    npn = {"triangle": 3, "line": 2}[kind]
+    data = np.vstack([d for _, d in blocks]) if blocks else np.zeros((0, npn), int)
+    sets = {}
+    for name, idx in _sets(m).items():
+        parts = [offs[i] + np.asarray(idx[i], int) for i in offs if i < len(idx) and len(idx[i])]
+        if parts:
+            sets[name] = np.unique(np.concatenate(parts))
+    return data.astype(np.int64), sets
+
+
+# ---------------------------------------------------------------------------------- skfem
+
+def to_skfem(m: meshio.Mesh):
+    """skfem.MeshTri of the triangles of ``m``, with ``subdomains`` and ``boundaries`` set.
+
+    Boundaries may be interior lines; every named line must be a mesh edge (else MeshError).
+    """
+    from skfem import MeshTri
+
+    pts = np.asarray(m.points, float)
+    if pts.ndim != 2 or pts.shape[1] not in (2, 3):
+        raise MeshError(f"points of shape {pts.shape}: expected (n, 2) or (n, 3)")
+    if pts.shape[1] == 3 and np.any(np.abs(pts[:, 2]) > 1e-12 * (1 + np.abs(pts).max())):
+        raise MeshError("the mesh is not plane: the third coordinate is not zero")
+    tri, subdomains = _gather(m, "triangle")
+    if len(tri) == 0:
+        raise MeshError("the mesh has no triangles")
+    key = np.sort(tri, axis=1)
+    if len(np.unique(key, axis=0)) != len(tri):
+        raise MeshError("the mesh repeats a triangle")
+    mesh = MeshTri(np.ascontiguousarray(pts[:, :2].T), np.ascontiguousarray(tri.T))
+    lines, line_sets = _gather(m, "line")
+    boundaries = {}
+    if line_sets:
+        facet = _edge_index(mesh.facets, lines)
+        for name, idx in line_sets.items():
+            boundaries[name] = np.unique(facet[idx])
+    return MeshTri(mesh.p, mesh.t, _boundaries=boundaries or None,
+                   _subdomains=subdomains or None)
+
+
+def _edge_index(facets: np.ndarray, lines: np.ndarray) -> np.ndarray:
+    """Index of each line (k, 2) among the mesh facets (2, nf); vectorised by sorted keys."""
+    n = int(max(facets.max(), lines.max(initial=0))) + 1
+    fk = np.sort(facets, axis=0)
+    fkey = fk[0].astype(np.int64) * n + fk[1]
+    lk = np.sort(lines, axis=1)
+    lkey = lk[:, 0] * n + lk[:, 1]
+    order = np.argsort(fkey)
+    pos = np.searchsorted(fkey[order], lkey)
+    pos = np.minimum(pos, len(order) - 1)
+    found = fkey[order][pos] == lkey
+    if not np.all(found):
+        raise MeshError(f"{np.count_nonzero(~found)} named line(s) are not edges of the mesh")
+    return order[pos]
+
+
+def from_skfem(mesh) -> meshio.Mesh:
+    """meshio.Mesh of a skfem MeshTri: one triangle block and one line block per boundary."""
+    pts = np.column_stack([mesh.p.T, np.zeros(mesh.p.shape[1])])
+    cells = [meshio.CellBlock("triangle", mesh.t.T.astype(np.int64))]
+    bnd = mesh.boundaries or {}
+    cells += [meshio.CellBlock("line", mesh.facets[:, np.asarray(ix)].T.astype(np.int64))
+              for ix in bnd.values()]
+    sets = {}
+    for k, ix in (mesh.subdomains or {}).items():
+        sets[k] = [np.asarray(ix, int)] + [np.zeros(0, int)] * len(bnd)
+    for j, k in enumerate(bnd):
+        sets[k] = [np.zeros(0, int) if i != j + 1 else np.arange(len(cells[j + 1].data))
+                   for i in range(len(cells))]
+    return meshio.Mesh(pts, cells, cell_sets=sets)
+
+
+# ---------------------------------------------------------------------------------- files
+
+def write(m: meshio.Mesh, path: str | os.PathLike) -> Path:
+    """Write ``m`` to ``path`` (format from the suffix) whole or not at all; named sets kept."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    sets = _sets(m)
+    if suffix == ".msh":
+        out, kw = _with_physical(m, sets), {"file_format": "gmsh22", "binary": False}
+    else:
+        data = {k: v for k, v in m.cell_data.items() if not k.startswith(_SET)}
+        for name, idx in sets.items():
+            cols = []
+            for c, i in zip(m.cells, idx):
+                a = np.zeros(len(c.data), np.int32)
+                a[np.asarray(i, int)] = 1
+                cols.append(a)
+            data[_SET + name] = cols
+        out = meshio.Mesh(m.points, m.cells, cell_data=data, field_data=m.field_data)
+        kw = {"data_format": "XML"} if suffix == ".xdmf" else {}
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        meshio.write(tmp, out, **kw)
+        os.replace(tmp, path)
+    except Exception as exc:
+        tmp.unlink(missing_ok=True)
+        if isinstance(exc, MeshError):
+            raise
+        raise MeshError(f"could not write mesh to {path}: {exc}") from exc
+    return path
+
+
+def _with_physical(m: meshio.Mesh, sets) -> meshio.Mesh:
+    """A copy in which every named set is its own cell block tagged by a physical group."""
+    if "gmsh:physical" in m.cell_data and m.field_data:
+        return m
+    cells, phys, fdata = [], [], {}
+    for tag, (name, idx) in enumerate(sets.items(), start=1):
+        for c, i in zip(m.cells, idx):
+            if len(i):
+                cells.append(meshio.CellBlock(c.type, c.data[np.asarray(i, int)]))
+                phys.append(np.full(len(i), tag))
+                fdata[name] = np.array([tag, 2 if c.type == "triangle" else 1])
+    return meshio.Mesh(m.points, cells, cell_data={"gmsh:physical": phys,
+                                                   "gmsh:geometrical": phys},
+                       field_data=fdata)
+
+
+def read(path: str | os.PathLike) -> meshio.Mesh:
+    """Read a mesh; its named sets are restored as ``cell_sets`` whatever the format."""
+    path = Path(path)
+    if not path.is_file():
+        raise ParameterError(f"path = {str(path)!r} is not an existing mesh file")
+    try:
+        m = meshio.read(path)
+    except Exception as exc:
+        raise MeshError(f"could not read mesh {path}: {exc}") from exc
+    sets = _sets(m)
+    data = {k: v for k, v in m.cell_data.items() if not k.startswith(_SET)}
+    return meshio.Mesh(m.points, m.cells, cell_data=data, field_data=m.field_data,
+                       cell_sets=sets)
+
+
+# ---------------------------------------------------------------------------------- cache
+
+def cache_dir() -> Path:
+    """$HOMLIMIT_MESH_CACHE, else meshes/cache/ next to the package's source tree (when the
+    package runs from a checkout), else ~/.cache/homlimit/meshes."""
+    env = os.environ.get("HOMLIMIT_MESH_CACHE")
+    if env:
+        return Path(env)
+    repo = Path(__file__).resolve().parent.parent
+    if (repo / "meshes").is_dir():
+        return repo / "meshes" / "cache"
+    return Path.home() / ".cache" / "homlimit" / "meshes"
+
+
+def cached(builder: str = "tsection", directory: str | os.PathLike | None = None,
+           **params) -> meshio.Mesh:
+    """The mesh ``homlimit.geometry.<builder>(**params)``, generated once and read afterwards.
+
+    The file name is a hash of the builder name, its parameters and the gmsh version.
+    """
+    from . import geometry
+
+    build = getattr(geometry, builder, None)
+    if builder not in ("tsection", "polygon_mesh") or build is None:
+        raise ParameterError(f"builder = {builder!r} is not a mesh builder: allowed "
+                             "'tsection', 'polygon_mesh'")
+    import gmsh
+
+    key = json.dumps({"builder": builder, "params": params, "gmsh": gmsh.__version__},
+                     sort_keys=True, default=_jsonable)
+    digest = hashlib.sha256(key.encode()).hexdigest()[:20]
+    path = Path(directory) if directory is not None else cache_dir()
+    path = path / f"{builder}-{digest}.msh"
+    if path.is_file():
+        return read(path)
+    m = build(**params)
+    write(m, path)
+    return read(path)
+
+
+def _jsonable(x):
+    if isinstance(x, np.ndarray | np.generic):
+        return x.tolist()
+    raise TypeError(f"mesh parameter {x!r} is not JSON-serialisable")
+
+
+# ---------------------------------------------------------------------------------- measures
+
+def element_areas(mesh) -> np.ndarray:
+    """Signed areas of the triangles of a skfem MeshTri (positive when counter-clockwise)."""
+    p, t = mesh.p, mesh.t
+    a, b, c = p[:, t[0]], p[:, t[1]], p[:, t[2]]
+    return 0.5 * ((b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0])
+
+
+def quality(mesh) -> dict:
+    """Element count, total area, smallest and largest angle [deg], edge-length range [m]."""
+    p, t = mesh.p, mesh.t
+    e = [p[:, t[(i + 2) % 3]] - p[:, t[(i + 1) % 3]] for i in range(3)]   # edge opposite i
+    ln = np.array([np.hypot(*v) for v in e])
+    cosang = np.array([-(e[(i + 1) % 3] * e[(i + 2) % 3]).sum(0)
+                       / (ln[(i + 1) % 3] * ln[(i + 2) % 3]) for i in range(3)])
+    ang = np.degrees(np.arccos(np.clip(cosang, -1, 1)))
+    return {"n_elements": int(t.shape[1]), "area": float(np.abs(element_areas(mesh)).sum()),
+            "min_angle_deg": float(ang.min()), "max_angle_deg": float(ang.max()),
+            "h_min": float(ln.min()), "h_max": float(ln.max())}
