@@ -1,0 +1,299 @@
+"""The three doors (console script, python -m, homlimit.run) on the embedded case, on case
+files and on broken case files: exit codes, messages, key numbers, files written and re-read.
+
+Key numbers are checked against references computed here, independently of homlimit:
+- mechanism I: eq. 7 with W(θ) built by quadrature of the friction power of eq. 8 (relative
+  velocity θ̇ z at height z) plus the linearised gravity work of eq. 10, maximised over θ;
+- mechanism II: eq. 7 with W(θ_m) = m g (r_G − z_G) (eq. 18), m, G and I_O of the façade strip
+  plus the wedge behind the crack tan ψ = √(cf/a) by exact polygon moments;
+- both minimised over λ = h/b (grid + bounded Brent);
+- Table 1's DEM columns typed in from the paper.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.optimize import minimize_scalar
+from test_report import assert_png
+from typer.testing import CliRunner
+
+import homlimit
+from homlimit import pipeline
+from homlimit.cli import app
+from homlimit.errors import SolverError
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+HOMLIMIT = Path(sys.executable).parent / "homlimit"   # the venv's console script
+G = 9.81
+
+
+# ----------------------------------------------------------------------------- references
+def ref_vg_I(lam, H, L, s, b, l, a, c, f, gamma=2000.0, g=G, nz=400, nth=1200):
+    """v̄_g of mechanism I (eq. 7) with W(θ) from the friction of eq. 8 by quadrature."""
+    h = lam * b
+    m = gamma * h * b * l
+    I_O = m * (h * h + b * b) / 3
+    zG = h / 2
+    th = np.linspace(0.0, 3.0 / lam, nth)
+    z = np.linspace(0.0, h, nz)
+    overlap = np.clip(c - th[:, None] * z[None, :], 0.0, None)     # c − u(z), u = θz
+    f_a = g * gamma * s * f * (h - z)[None, :] * overlap / a        # eq. 8
+    power = np.trapezoid(f_a * z[None, :], z, axis=1)               # per unit θ̇
+    W_f = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(th))])
+    W = m * g * (b / 2 * th - zG * th ** 2 / 2) + W_f               # linearised gravity
+    return I_O / (m * zG) * math.sqrt(2 * W.max() / I_O)
+
+
+def _polygon_moments(P):
+    x, y = P[:, 0], P[:, 1]
+    x1, y1 = np.roll(x, -1), np.roll(y, -1)
+    cr = x * y1 - x1 * y
+    return (cr.sum() / 2, ((x + x1) * cr).sum() / 6, ((y + y1) * cr).sum() / 6,
+            ((y * y + y * y1 + y1 * y1 + x * x + x * x1 + x1 * x1) * cr).sum() / 12)
+
+
+def ref_vg_II(lam, H, L, s, b, l, a, c, f, gamma=2000.0, g=G):
+    """v̄_g of mechanism II (eqs 7, 18): façade strip (length l) + wedge (thickness s)."""
+    h, t = lam * b, math.sqrt(c * f / a)
+    m = Sx = Sz = I_O = 0.0
+    for dens, P in ((gamma * l, [[0, 0], [b, 0], [b, h], [0, h]]),
+                    (gamma * s, [[b, 0], [b + h * t, h], [b, h]])):
+        A, sx, sz, ip = _polygon_moments(np.array(P, float))
+        m, Sx, Sz, I_O = m + dens * A, Sx + dens * sx, Sz + dens * sz, I_O + dens * ip
+    xG, zG = Sx / m, Sz / m
+    W = m * g * (math.hypot(xG, zG) - zG)
+    return I_O / (m * zG) * math.sqrt(2 * W / I_O)
+
+
+def ref_critical(fun, lam_max, n=40):
+    lams = np.linspace(lam_max / n, lam_max, n)
+    v = np.array([fun(x) for x in lams])
+    k = int(np.argmin(v))
+    r = minimize_scalar(fun, bounds=(lams[max(k - 1, 0)], lams[min(k + 1, n - 1)]),
+                        method="bounded", options={"xatol": 1e-6})
+    return (r.x, r.fun) if r.fun <= v[k] else (lams[k], v[k])
+
+
+def reference(H, L, s, b, l, a, c, f):
+    """Critical (λ, v̄_g/√(gb)) of mechanisms I and II, independently of homlimit."""
+    args = (H, L, s, b, l, a, c, f)
+    lam_I, v_I = ref_critical(lambda x: ref_vg_I(x, *args), H / b)
+    lam_max_II = min(H / b, L / b / math.sqrt(c * f / a))
+    lam_II, v_II = ref_critical(lambda x: ref_vg_II(x, *args), lam_max_II)
+    n = math.sqrt(G * b)
+    return {"lam_I": lam_I, "vnorm_I": v_I / n, "lam_II": lam_II, "vnorm_II": v_II / n}
+
+
+B1_ARGS = (9.0, 6.0, 0.5, 0.5, 6.0, 0.3, 0.2, 0.6)
+C4_ARGS = (9.0, 6.0, 0.5, 0.25, 2.5, 0.3, 0.2, 0.6)
+
+# Table 1 of the paper (DEM): test -> (lambda_v, vg (gb)^-1/2)
+DEM = {"B1": (13.8, 0.377), "B2": (13.6, 0.443), "B3": (11.7, 0.509), "B4": (15.6, 0.564),
+       "B5": (11.2, 0.720), "B6": (9.0, 0.846), "C1": (13.8, 0.598), "C2": (8.8, 0.775),
+       "C3": (7.5, 0.864), "C4": (10.8, 0.877), "C5": (8.0, 1.096), "C6": (5.4, 1.253)}
+
+
+@pytest.fixture(scope="module")
+def ref_B1():
+    return reference(*B1_ARGS)
+
+
+@pytest.fixture(scope="module")
+def ref_C4():
+    return reference(*C4_ARGS)
+
+
+def assert_closed_form(summary: dict, ref: dict):
+    """λ to 2e-3 (the minimum over λ is flat), v̄_g/√(gb) to 2e-5 relative."""
+    I, II = summary["mechanism_I"], summary["mechanism_II"]
+    assert I["lam"] == pytest.approx(ref["lam_I"], rel=2e-3)
+    assert I["vnorm"] == pytest.approx(ref["vnorm_I"], rel=2e-5)
+    assert II["lam"] == pytest.approx(ref["lam_II"], rel=2e-5)
+    assert II["vnorm"] == pytest.approx(ref["vnorm_II"], rel=2e-5)
+    b, g = summary["inputs"]["wall"]["b"], summary["inputs"]["wall"]["g"]
+    assert I["vg"] == pytest.approx(ref["vnorm_I"] * math.sqrt(g * b), rel=2e-5)
+
+
+def _sh(*args, cwd):
+    return subprocess.run([str(HOMLIMIT), *map(str, args)], capture_output=True, text=True,
+                          cwd=cwd, timeout=600)
+
+
+# ----------------------------------------------------------------------------- the doors
+def test_console_script_help(tmp_path):
+    r = _sh("--help", cwd=tmp_path)
+    assert r.returncode == 0
+    for cmd in ("run", "demo", "table1", "figure2", "crack-study", "mesh"):
+        assert cmd in r.stdout
+
+
+def test_console_script_runs_case_file_json(tmp_path, ref_C4):
+    """`homlimit run CASE --json`: pure JSON on stdout, numbers vs the references, files."""
+    case = EXAMPLES / "c4-closed-form" / "case.toml"
+    r = _sh("run", case, "--json", "--out", tmp_path / "out", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    s = json.loads(r.stdout)                      # nothing but JSON on stdout
+    assert r.stderr == ""                          # quiet under --json
+    assert s["homlimit_version"] == homlimit.__version__
+    assert s["inputs"]["wall"] == {"H": 9.0, "L": 6.0, "s": 0.5, "b": 0.25, "l": 2.5,
+                                   "gamma": 2000.0, "g": 9.81}
+    assert_closed_form(s, ref_C4)
+    assert s["derived"]["rho"] == pytest.approx(5.0) and s["derived"]["beta"] == pytest.approx(0.8)
+    assert s["dem_table1"]["test"] == "C4"
+    assert (s["dem_table1"]["lambda_v"], s["dem_table1"]["vg_norm"]) == DEM["C4"]
+    # the paper's finding: the closed-form prediction lies below the DEM value
+    assert s["critical"]["mechanism"] == "I" and s["critical"]["vnorm"] < DEM["C4"][1]
+    files = {k: Path(v) for k, v in s["files"].items()}
+    assert set(files) == {"summary_json", "vg_lambda_png"}
+    assert json.loads(files["summary_json"].read_text())["mechanism_I"] == s["mechanism_I"]
+    assert_png(files["vg_lambda_png"], (8 * 120, int(5.5 * 120)))
+
+
+def test_python_m_and_default_out_dir(tmp_path, ref_C4):
+    case = EXAMPLES / "c4-closed-form" / "case.toml"
+    r = subprocess.run([sys.executable, "-m", "homlimit", "run", str(case)],
+                       capture_output=True, text=True, cwd=tmp_path, timeout=600)
+    assert r.returncode == 0, r.stderr
+    out = tmp_path / "homlimit-out" / "C4"                  # default homlimit-out/CASE_NAME/
+    assert (out / "summary.json").is_file() and (out / "vg_lambda.png").is_file()
+    # the readable summary table carries the numbers (4 significant digits)
+    line_I = next(ln for ln in r.stdout.splitlines() if ln.startswith("I  detachment"))
+    assert float(line_I.split()[-1]) == pytest.approx(ref_C4["vnorm_I"], abs=6e-5)
+    assert "DEM, paper's Table 1" in r.stdout and "governing: I" in r.stdout
+    assert "[homlimit]" in r.stderr                          # progress goes to stderr
+
+
+def test_python_door_dict_and_path_agree(tmp_path, ref_B1):
+    case = {"name": "b1", "wall": {"H": 9, "L": 6, "s": 0.5, "b": 0.5, "l": 6},
+            "masonry": {"a": 0.3, "c": 0.2, "f": 0.6}, "analysis": {"fe": False}}
+    res = homlimit.run(case, out=tmp_path)
+    assert_closed_form(res.to_dict(), ref_B1)
+    assert res.files["summary_json"] == tmp_path / "summary.json"
+    assert homlimit.run(case, write=False).files == {}
+
+
+@pytest.mark.parametrize("example", sorted(p.name for p in EXAMPLES.iterdir() if p.is_dir()))
+def test_examples_match_golden(example):
+    """Every example case against its golden expected.json (closed-form numbers)."""
+    import dataclasses
+
+    from homlimit.config import load_case
+
+    golden_path = EXAMPLES / example / "expected.json"
+    assert golden_path.is_file(), f"missing golden file {golden_path}"  # never auto-created
+    golden = json.loads(golden_path.read_text())
+    cfg = load_case(EXAMPLES / example / "case.toml")
+    cfg = dataclasses.replace(cfg, analysis=dataclasses.replace(cfg.analysis, fe=False))
+    s = homlimit.run(cfg, write=False).to_dict()
+    assert s["case"] == golden["case"]
+    for key, rtol in golden["rtol"].items():
+        mech, name = ("mechanism_I", key[:-2]) if key.endswith("_I") else \
+            ("mechanism_II", key[:-3])
+        assert s[mech][name] == pytest.approx(golden[key], rel=rtol), key
+    assert s["dem_table1"]["lambda_v"] == golden["dem_table1"]["lam"]
+    assert s["dem_table1"]["vg_norm"] == golden["dem_table1"]["vnorm"]
+
+
+# ----------------------------------------------------------------------------- bad input
+BROKEN = {
+    "unknown key": ("[wall]\nH = 9\nL = 6\ns = 0.5\nb = 0.5\nl = 6\nheight = 3\n"
+                    "[masonry]\na = 0.3\nc = 0.2\nf = 0.6\n",
+                    "[wall] unknown key 'height': allowed H, L, s, b, l, gamma, g"),
+    "wrong type": ("[wall]\nH = 9\nL = 6\ns = 0.5\nb = '0.5'\nl = 6\n"
+                   "[masonry]\na = 0.3\nc = 0.2\nf = 0.6\n",
+                   "[wall] b = '0.5' has the wrong type: expected a number"),
+    "missing required": ("[wall]\nH = 9\nL = 6\ns = 0.5\nb = 0.5\nl = 6\n"
+                         "[masonry]\na = 0.3\nc = 0.2\n",
+                         "[masonry] f is missing"),
+    "out of range": ("[wall]\nH = 9\nL = 6\ns = 0.5\nb = 0.5\nl = 6\n"
+                     "[masonry]\na = 0.3\nc = 0.2\nf = -0.6\n",
+                     "[masonry] f = -0.6 is out of range: allowed 0 < f"),
+    "not TOML": ("[wall\n", "not valid TOML"),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(BROKEN))
+def test_broken_case_files_exit_2(tmp_path, kind):
+    text, message = BROKEN[kind]
+    case = tmp_path / "broken.toml"
+    case.write_text(text)
+    res = CliRunner().invoke(app, ["run", str(case), "--json", "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2, res.output
+    assert res.stdout == ""                                   # nothing on stdout
+    assert message in res.stderr and str(case) in res.stderr
+    assert "Traceback" not in res.stderr
+    assert not (tmp_path / "o").exists()                      # nothing computed or written
+
+
+def test_broken_case_file_console_script_lists_all_problems(tmp_path):
+    case = tmp_path / "many.toml"
+    case.write_text("[wall]\nH = -9\nL = 6\ns = 0.5\nb = true\n[masonry]\na = 0.3\nc = 0.2\n"
+                    "f = 0.6\nmortar = 1\n")
+    r = _sh("run", case, cwd=tmp_path)
+    assert r.returncode == 2 and r.stdout == ""
+    assert "4 problems" in r.stderr
+    for piece in ("[wall] H = -9.0 m is out of range: allowed 0 < H",
+                  "[wall] b = True has the wrong type", "[wall] l is missing",
+                  "[masonry] unknown key 'mortar'"):
+        assert piece in r.stderr
+    assert "Traceback" not in r.stderr
+    r = _sh("run", tmp_path / "absent.toml", cwd=tmp_path)
+    assert r.returncode == 2 and "cannot read the case file" in r.stderr
+
+
+def test_solver_failure_exits_3(tmp_path, monkeypatch):
+    def fail(config):
+        raise SolverError("Clarabel ended with status 'PrimalInfeasible'",
+                          status="PrimalInfeasible")
+
+    monkeypatch.setattr(pipeline, "_closed_form", fail)
+    res = CliRunner().invoke(app, ["run", str(EXAMPLES / "c4-closed-form" / "case.toml"),
+                                   "--out", str(tmp_path)])
+    assert res.exit_code == 3
+    assert res.stderr.splitlines()[-1] == ("homlimit: error: solver failed (PrimalInfeasible): "
+                                           "Clarabel ended with status 'PrimalInfeasible'")
+    assert "Traceback" not in res.stderr
+
+
+def test_bad_option_value_exits_2(tmp_path):
+    res = CliRunner().invoke(app, ["table1", "--fe", "--mesh-size", "-1", "--out",
+                                   str(tmp_path)])
+    assert res.exit_code == 2
+    assert "mesh_size = -1.0 m is out of range: allowed 0 < mesh_size" in res.stderr
+
+
+# ----------------------------------------------------------------------------- other commands
+def test_table1_json(tmp_path):
+    res = CliRunner().invoke(app, ["table1", "--json", "--out", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    rows = json.loads(res.stdout)
+    assert [r["test"] for r in rows] == list(DEM)
+    for r in rows:
+        assert {"test", "lam_I", "vnorm_I", "lam_II", "vnorm_II", "lam_dem",
+                "vnorm_dem"} <= set(r)
+        assert (r["lam_dem"], r["vnorm_dem"]) == DEM[r["test"]]
+        # the paper: mechanism I is critical, and below the DEM value, in every test
+        assert r["vnorm_I"] < r["vnorm_II"] and r["vnorm_I"] < r["vnorm_dem"]
+    row = {r["test"]: r for r in rows}
+    ref = reference(*B1_ARGS)
+    for k in ("vnorm_I", "vnorm_II", "lam_II"):
+        assert row["B1"][k] == pytest.approx(ref[k], rel=2e-5), k
+    assert row["B1"]["lam_I"] == pytest.approx(ref["lam_I"], rel=2e-3)
+    assert json.loads((tmp_path / "table1.json").read_text()) == rows
+    assert (tmp_path / "table1.csv").read_text().splitlines()[0].startswith("test,")
+
+
+def test_figure2_png(tmp_path):
+    res = CliRunner().invoke(app, ["figure2", "--json", "--out", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    path = Path(json.loads(res.stdout)["figure2_png"])
+    assert path == tmp_path / "figure2.png"
+    assert_png(path, (10 * 120, int(7.5 * 120)))

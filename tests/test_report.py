@@ -1,0 +1,127 @@
+"""Result files: atomic writers, JSON/CSV round trips, PNGs re-opened and inspected."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from homlimit import report
+
+
+def assert_png(path, size_px=None):
+    """The file is a PNG of the expected size (w, h) in pixels and is not blank."""
+    import matplotlib.image as mpimg
+
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    img = mpimg.imread(path)
+    h, w = img.shape[:2]
+    if size_px is not None:
+        assert (w, h) == size_px
+    rgb = img[..., :3].reshape(-1, 3)
+    colours = np.unique(np.round(rgb * 255).astype(int), axis=0)
+    assert len(colours) > 50, f"{path} looks blank ({len(colours)} colours)"
+    assert rgb.std() > 0.05
+
+
+def test_json_round_trip_with_numpy_and_non_finite(tmp_path):
+    data = {"a": np.float64(1.5), "n": np.int64(3), "v": np.arange(3.0), "bad": math.inf,
+            "nan": float("nan"), "flag": np.bool_(True), "nested": [{"x": (1, 2)}]}
+    p = report.write_json(tmp_path / "sub" / "r.json", data)
+    back = json.loads(p.read_text())
+    assert back == {"a": 1.5, "n": 3, "v": [0.0, 1.0, 2.0], "bad": None, "nan": None,
+                    "flag": True, "nested": [{"x": [1, 2]}]}
+
+
+def test_writes_are_whole_or_absent(tmp_path):
+    p = tmp_path / "r.json"
+    report.write_json(p, {"ok": 1})
+    with pytest.raises(TypeError):
+        report.write_json(p, {"bad": object()})   # fails while serialising
+    assert json.loads(p.read_text()) == {"ok": 1}  # the previous file is untouched
+
+    def crash(tmp):
+        tmp.write_bytes(b"half a picture")
+        raise RuntimeError("renderer died")
+
+    with pytest.raises(RuntimeError):
+        report.write_figure(tmp_path / "x.png", crash)
+    assert not (tmp_path / "x.png").exists()
+    assert sorted(f.name for f in tmp_path.iterdir()) == ["r.json"]  # no temporary left
+
+
+def test_csv_round_trip(tmp_path):
+    import csv
+
+    recs = [{"c_over_a": 0.5, "f": 0.3, "tanpsi": None}, {"c_over_a": 1.0, "f": 0.6,
+                                                          "tanpsi": 0.77}]
+    p = report.write_csv(tmp_path / "s.csv", recs)
+    rows = list(csv.DictReader(p.open()))
+    assert rows == [{"c_over_a": "0.5", "f": "0.3", "tanpsi": ""},
+                    {"c_over_a": "1.0", "f": "0.6", "tanpsi": "0.77"}]
+
+
+def test_vtu_round_trip(tmp_path):
+    import meshio
+
+    pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+    m = meshio.Mesh(pts, [("triangle", np.array([[0, 1, 2], [1, 3, 2]]))],
+                    point_data={"velocity": pts[:, :2] * 2},
+                    cell_data={"region": [np.array([1, 2])]})
+    p = report.write_vtu(tmp_path / "m.vtu", m)
+    back = meshio.read(p)
+    np.testing.assert_array_equal(back.points, pts)
+    np.testing.assert_array_equal(back.point_data["velocity"], pts[:, :2] * 2)
+    np.testing.assert_array_equal(back.cell_data["region"][0], [1, 2])
+
+
+def test_format_table_aligns_columns():
+    t = report.format_table(["name", "x"], [["I", 0.36968996], ["II", None]], title="T")
+    lines = t.splitlines()
+    assert lines[0] == "T"
+    assert lines[3].split() == ["I", "0.3697"]
+    assert lines[4].split() == ["II", "–"]
+    assert len({len(line) for line in lines[1:]}) == 1
+
+
+def test_mesh_and_mechanism_pictures(tmp_path):
+    """plot_mesh and plot_mechanism on a small hand-made two-region mesh."""
+    import meshio
+
+    from homlimit import plots
+    from homlimit.params import Case
+
+    x, z = np.meshgrid(np.linspace(0, 1.5, 7), np.linspace(0, 3, 9))
+    pts = np.column_stack([x.ravel(), z.ravel(), 0 * x.ravel()])
+    k = np.arange(6 * 8).reshape(8, 6) + np.arange(8)[:, None]
+    tri = np.concatenate([np.column_stack([k.ravel(), k.ravel() + 1, k.ravel() + 7]),
+                          np.column_stack([k.ravel() + 1, k.ravel() + 8, k.ravel() + 7])])
+    cx = pts[tri, 0].mean(axis=1)
+    mesh = meshio.Mesh(pts, [("triangle", tri), ("line", np.array([[0, 1], [1, 2]]))],
+                       cell_sets={"facade": [np.flatnonzero(cx < 0.5), np.array([], int)],
+                                  "wall": [np.flatnonzero(cx >= 0.5), np.array([], int)],
+                                  "base": [np.array([], int), np.array([0, 1])]})
+    pts_, tri_, region, names = plots.triangle_regions(mesh)
+    assert names == ["facade", "wall"] and len(tri_) == len(tri)
+    assert np.count_nonzero(region == 0) == np.count_nonzero(cx < 0.5)
+    p = plots.plot_mesh(tmp_path / "mesh.png", mesh, title="case T")
+    assert_png(p, (7 * plots.DPI, int(7.5 * plots.DPI)))
+    vel = np.column_stack([-(pts[:, 1]), pts[:, 0]]) * (pts[:, 1] > 1)[:, None]
+    case = Case()
+    p = plots.plot_mechanism(tmp_path / "mech.png", {
+        "points": pts, "triangles": tri, "velocity": vel, "hinge": (0.0, 1.0),
+        "crack": np.array([[0.5, 1.0], [1.5, 2.5]]),
+        "crack_edges": [np.array([[0.5, 1.0], [1.0, 2.8]])]}, case, title="case T")
+    assert_png(p, (int(7.5 * plots.DPI), 8 * plots.DPI))
+
+
+def test_crack_study_picture(tmp_path):
+    from homlimit import plots
+
+    recs = [{"c_over_a": ca, "f": f, "tanpsi_fe": math.sqrt(ca * f) * 1.05, "facade": fac}
+            for ca in (0.5, 1.0, 2.0) for f in (0.3, 0.6, 0.9)
+            for fac in ("homogenised", "bed-joints")]
+    p = plots.plot_crack_study(tmp_path / "study.png", recs)
+    assert_png(p, (7 * plots.DPI, 6 * plots.DPI))
