@@ -1,0 +1,392 @@
+"""Limit-analysis problems: mesh + strength domains + supports + loads, solver-agnostic.
+
+A ``Problem`` says what is to be bounded, not how: a kinematic (upper-bound) or a static
+(lower-bound) program can consume the same object. The factories follow cvxpy's test
+factories: each returns a problem whose docstring carries the model and the literature value.
+
+Meshes are structured "crossed" meshes (every rectangle cut by its two diagonals into four
+triangles, which avoids the locking of incompressible P2 fields on one-diagonal meshes),
+graded geometrically towards singular points. Any skfem ``MeshTri`` with named
+``subdomains`` and ``boundaries`` can be used instead (``dataclasses.replace(problem, mesh=m)``).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+from skfem import MeshTri
+
+from . import strength
+from .errors import ParameterError, check_range
+from .params import Case
+
+__all__ = [
+    "Problem",
+    "Rigid",
+    "crossed_mesh",
+    "graded",
+    "prandtl",
+    "vertical_cut",
+    "mohr_coulomb_footing",
+    "free_block",
+    "t_section",
+    "PRANDTL",
+    "VERTICAL_CUT_LB",
+    "VERTICAL_CUT_UB",
+    "mohr_coulomb_nc",
+]
+
+PRANDTL = 2.0 + math.pi          # q_u / k of a strip footing on weightless Tresca soil
+VERTICAL_CUT_LB = 3.7752         # γH/k, best lower bound (Kammoun, Pastor, Smaoui & Pastor 2010)
+VERTICAL_CUT_UB = 3.7776         # γH/k, best upper bound (same reference)
+
+
+def mohr_coulomb_nc(phi_deg: float) -> float:
+    """Prandtl–Reissner N_c = (N_q − 1) cot φ, N_q = e^{π tan φ} tan²(45° + φ/2) (exact)."""
+    phi = math.radians(check_range("phi_deg", phi_deg, 0.0, 90.0, lo_open=True, hi_open=True))
+    nq = math.exp(math.pi * math.tan(phi)) * math.tan(math.pi / 4 + phi / 2) ** 2
+    return (nq - 1.0) / math.tan(phi)
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What a limit analysis bounds, per unit out-of-plane thickness, SI units.
+
+    mesh           skfem MeshTri with named ``subdomains`` (regions) and ``boundaries``
+    domains        region → strength domain (``homlimit.strength``); regions cover every
+                   triangle exactly once
+    supports       boundary → "fixed" (both velocity components zero), "x" or "z" (one zero)
+    interfaces     boundary → strength domain of a joint between the body and a fixed ground
+                   (the velocity jump across it is tested by that domain)
+    live_body      region → body force (f_x, f_z) [N/m³] scaled by the load multiplier λ
+    live_traction  boundary → traction (t_x, t_z) [N/m²] scaled by λ
+    dead_body      region → body force [N/m³] kept constant (e.g. self-weight)
+    dead_traction  boundary → traction [N/m²] kept constant
+    reference      literature value of λ, if any; ``bounds`` its known (lower, upper) bracket
+    meta           free-form facts about the set-up (geometry, mesh time, ...)
+    """
+
+    name: str
+    mesh: MeshTri
+    domains: Mapping[str, object]
+    supports: Mapping[str, str] = field(default_factory=dict)
+    interfaces: Mapping[str, object] = field(default_factory=dict)
+    live_body: Mapping[str, tuple] = field(default_factory=dict)
+    live_traction: Mapping[str, tuple] = field(default_factory=dict)
+    dead_body: Mapping[str, tuple] = field(default_factory=dict)
+    dead_traction: Mapping[str, tuple] = field(default_factory=dict)
+    reference: float | None = None
+    bounds: tuple[float, float] | None = None
+    meta: Mapping[str, object] = field(default_factory=dict)
+
+    def __post_init__(self):
+        subs = self.mesh.subdomains or {}
+        bnds = self.mesh.boundaries or {}
+        for kind, names, have in (("region", self.domains, subs),
+                                  ("region", self.live_body, subs),
+                                  ("region", self.dead_body, subs),
+                                  ("boundary", self.supports, bnds),
+                                  ("boundary", self.interfaces, bnds),
+                                  ("boundary", self.live_traction, bnds),
+                                  ("boundary", self.dead_traction, bnds)):
+            for name in names:
+                if name not in have:
+                    raise ParameterError(f"{kind} = {name!r} is out of range: the mesh has "
+                                         f"{kind}s {sorted(have)}")
+        count = np.zeros(self.mesh.t.shape[1], int)
+        for name in self.domains:
+            count[subs[name]] += 1
+        if np.any(count != 1):
+            raise ParameterError(f"domains = {sorted(self.domains)} is out of range: the regions "
+                                 f"must cover each of the {count.size} triangles exactly once "
+                                 f"({np.sum(count == 0)} uncovered, {np.sum(count > 1)} twice)")
+        if not (self.live_body or self.live_traction):
+            raise ParameterError("live loads = {} is out of range: at least one live body force "
+                                 "or traction is needed to define the multiplier")
+
+    @property
+    def n_triangles(self) -> int:
+        return int(self.mesh.t.shape[1])
+
+
+class Rigid(strength.StrengthDomain):
+    """An infinitely strong, rigid material: π(d) = 0 if d = 0, +inf otherwise; G = R³.
+
+    Adapter for rigid blocks (e.g. the free-standing block): kinematic cone d = 0.
+    """
+
+    def is_admissible(self, sigma, tol: float = 1e-9):
+        return np.ones(np.shape(sigma)[:-1], bool)
+
+    def support(self, d, rtol: float = 1e-9):
+        d = np.asarray(d, float)
+        return np.where(np.all(np.abs(d) <= rtol, axis=-1), 0.0, np.inf)
+
+    def kinematic_cone(self) -> strength.ConicBlock:
+        return strength.ConicBlock(A=np.eye(3), D=np.zeros((3, 0)), e=np.zeros(3), n_eq=3)
+
+    def static_cone(self) -> strength.ConicBlock:
+        return strength.ConicBlock(A=np.zeros((0, 3)), D=np.zeros((0, 0)), e=np.zeros(0))
+
+
+# ---------------------------------------------------------------------------------------------
+# structured graded meshes
+# ---------------------------------------------------------------------------------------------
+
+def graded(lo: float, hi: float, h_min: float, h_max: float, foci=(), breaks=(),
+           growth: float = 1.15) -> np.ndarray:
+    """Coordinates from lo to hi with spacing min(h_max, h_min + (growth − 1)·distance to foci).
+
+    Every focus and break is a coordinate; without foci the spacing is h_max.
+    """
+    if not (hi > lo and 0 < h_min <= h_max and growth >= 1.0):
+        raise ParameterError(f"graded(lo={lo}, hi={hi}, h_min={h_min}, h_max={h_max}, "
+                             f"growth={growth}) is out of range: allowed lo < hi, "
+                             f"0 < h_min <= h_max, growth >= 1")
+    foci = np.asarray(sorted(foci), float)
+    stops = np.unique(np.r_[lo, hi, foci, np.asarray(breaks, float)])
+    stops = stops[(stops >= lo) & (stops <= hi)]
+
+    def size(x):
+        if foci.size == 0:
+            return h_max
+        return min(h_max, h_min + (growth - 1.0) * np.min(np.abs(x - foci)))
+
+    out = [np.array([lo])]
+    for a, b in zip(stops[:-1], stops[1:]):
+        # march from both ends towards the middle so both ends see their own size
+        xs_a, xs_b = [a], [b]
+        while xs_b[-1] - xs_a[-1] > 1e-12 * (hi - lo):
+            ha, hb = size(xs_a[-1]), size(xs_b[-1])
+            if xs_b[-1] - xs_a[-1] <= max(ha, hb) * 1.0001:
+                break
+            if ha <= hb:
+                xs_a.append(xs_a[-1] + ha)
+            else:
+                xs_b.append(xs_b[-1] - hb)
+        gap = xs_b[-1] - xs_a[-1]
+        if gap < 0.5 * min(size(xs_a[-1]), size(xs_b[-1])):
+            # a sliver in the middle: drop the nearer marched point, the gap grows to < 1.5 h
+            if len(xs_a) > 1:
+                xs_a.pop()
+            elif len(xs_b) > 1:
+                xs_b.pop()
+        seg = np.r_[xs_a, xs_b[::-1]]
+        out.append(seg[1:])
+    return np.concatenate(out)
+
+
+def crossed_mesh(xs: np.ndarray, zs: np.ndarray, keep=None) -> MeshTri:
+    """Tensor grid xs × zs, each cell split by its diagonals into 4 triangles.
+
+    ``keep(xc, zc)`` (cell centres, arrays) selects the cells to mesh (default: all).
+    """
+    xs, zs = np.asarray(xs, float), np.asarray(zs, float)
+    nx, nz = xs.size - 1, zs.size - 1
+    X, Z = np.meshgrid(xs, zs, indexing="ij")
+    vid = np.arange(X.size).reshape(nx + 1, nz + 1)
+    xc, zc = np.meshgrid(0.5 * (xs[1:] + xs[:-1]), 0.5 * (zs[1:] + zs[:-1]), indexing="ij")
+    mask = np.ones((nx, nz), bool) if keep is None else np.asarray(keep(xc, zc), bool)
+    cid = X.size + np.arange(nx * nz).reshape(nx, nz)
+    p00, p10, p11, p01 = vid[:-1, :-1], vid[1:, :-1], vid[1:, 1:], vid[:-1, 1:]
+    t = np.concatenate([np.stack([a[mask], b[mask], cid[mask]])
+                        for a, b in ((p00, p10), (p10, p11), (p11, p01), (p01, p00))], axis=1)
+    p = np.c_[np.stack([X.ravel(), Z.ravel()]), np.stack([xc.ravel(), zc.ravel()])]
+    used = np.unique(t)
+    renum = np.full(p.shape[1], -1)
+    renum[used] = np.arange(used.size)
+    return MeshTri(np.ascontiguousarray(p[:, used]), np.ascontiguousarray(renum[t]))
+
+
+def _near(a, b, tol):
+    return np.abs(a - b) < tol
+
+
+# ---------------------------------------------------------------------------------------------
+# classical benchmarks
+# ---------------------------------------------------------------------------------------------
+
+def prandtl(h_min: float = 0.01, h_max: float = 0.25, growth: float = 1.25,
+            k: float = 1.0, width: float = 4.5, depth: float = 3.0) -> Problem:
+    """Prandtl strip footing on a weightless Tresca half-space (plane strain), half-domain.
+
+    Footing of width B = 2 (half-width 1) loaded by a uniform pressure q on 0 <= x <= 1 of the
+    surface z = 0; symmetry on x = 0 (v_x = 0); soil 0 <= x <= ``width``, −``depth`` <= z <= 0,
+    fixed on its bottom and far side. Tresca cohesion k. The multiplier is q/k.
+    Reference (Prandtl 1920; exact): q_u/k = 2 + π ≈ 5.1416; an upper bound is never below it.
+    The mesh is graded towards the footing edge (1, 0).
+    """
+    k = check_range("k", k, 0.0, lo_open=True, unit="Pa")
+    t0 = time.perf_counter()
+    xs = graded(0.0, width, h_min, h_max, foci=(1.0,), growth=growth)
+    zs = graded(-depth, 0.0, h_min, h_max, foci=(0.0,), growth=growth)
+    tol = 1e-9
+    m = crossed_mesh(xs, zs).with_boundaries({
+        "footing": lambda x: _near(x[1], 0.0, tol) & (x[0] < 1.0),
+        "symmetry": lambda x: _near(x[0], 0.0, tol),
+        "bottom": lambda x: _near(x[1], -depth, tol),
+        "far": lambda x: _near(x[0], width, tol),
+    }).with_subdomains({"soil": lambda x: x[0] > -1.0})
+    return Problem(
+        name="prandtl", mesh=m, domains={"soil": strength.Tresca(k)},
+        supports={"symmetry": "x", "bottom": "fixed", "far": "fixed"},
+        live_traction={"footing": (0.0, -k)}, reference=PRANDTL, bounds=(PRANDTL, math.inf),
+        meta={"mesh_time": time.perf_counter() - t0, "k": k})
+
+
+def vertical_cut(h_min: float = 0.01, h_max: float = 0.1, growth: float = 1.25,
+                 H: float = 1.0, k: float = 1.0) -> Problem:
+    """Vertical cut of height H in a Tresca soil (cohesion k, unit weight γ), plane strain.
+
+    Soil: 0 <= x <= 2.5 H above the toe level (0 <= z <= H, cut face x = 0) and
+    −1.5 H <= x <= 2.5 H, −H <= z <= 0 below it; fixed on the bottom and both far sides. The
+    self-weight is the live load, a unit weight k/H, so the multiplier is the stability number γH/k.
+    Reference (Kammoun, Pastor, Smaoui & Pastor 2010): 3.7752 <= γH/k <= 3.7776; the classical
+    one-wedge upper bound is 3.83. The mesh is graded towards the toe (0, 0) and the crest (0, H).
+    """
+    H = check_range("H", H, 0.0, lo_open=True, unit="m")
+    k = check_range("k", k, 0.0, lo_open=True, unit="Pa")
+    t0 = time.perf_counter()
+    xs = graded(-1.5 * H, 2.5 * H, h_min * H, h_max * H, foci=(0.0,), growth=growth)
+    zs = graded(-H, H, h_min * H, h_max * H, foci=(0.0, H), growth=growth)
+    tol = 1e-9 * H
+    m = crossed_mesh(xs, zs, keep=lambda xc, zc: (xc > 0) | (zc < 0)).with_boundaries({
+        "bottom": lambda x: _near(x[1], -H, tol),
+        "sides": lambda x: _near(x[0], -1.5 * H, tol) | _near(x[0], 2.5 * H, tol),
+    }).with_subdomains({"soil": lambda x: x[0] > -np.inf})
+    return Problem(
+        name="vertical_cut", mesh=m, domains={"soil": strength.Tresca(k)},
+        supports={"bottom": "fixed", "sides": "fixed"},
+        live_body={"soil": (0.0, -k / H)},  # λ k/H is the critical unit weight γ
+        reference=VERTICAL_CUT_UB, bounds=(VERTICAL_CUT_LB, VERTICAL_CUT_UB),
+        meta={"mesh_time": time.perf_counter() - t0, "H": H, "k": k,
+              "multiplier": "γH/k"})
+
+
+def mohr_coulomb_footing(phi_deg: float = 30.0, h_min: float = 0.02, h_max: float = 0.6,
+                         growth: float = 1.2, cohesion: float = 1.0) -> Problem:
+    """Strip footing (half-width 1) on a weightless Mohr–Coulomb soil, half-domain.
+
+    Same set-up as ``prandtl`` on a larger box (0 <= x <= 14, −7 <= z <= 0): the log-spiral
+    mechanism of φ = 30° reaches x ≈ 9.6. The multiplier is q/c = N_c.
+    Reference (Prandtl–Reissner, exact): N_c = (N_q − 1) cot φ = 30.14 at φ = 30°.
+    """
+    phi_deg = check_range("phi_deg", phi_deg, 0.0, 60.0, lo_open=True, unit="deg")
+    cohesion = check_range("cohesion", cohesion, 0.0, lo_open=True, unit="Pa")
+    t0 = time.perf_counter()
+    width, depth = 14.0, 7.0
+    xs = graded(0.0, width, h_min, h_max, foci=(1.0,), growth=growth)
+    zs = graded(-depth, 0.0, h_min, h_max, foci=(0.0,), growth=growth)
+    tol = 1e-9
+    m = crossed_mesh(xs, zs).with_boundaries({
+        "footing": lambda x: _near(x[1], 0.0, tol) & (x[0] < 1.0),
+        "symmetry": lambda x: _near(x[0], 0.0, tol),
+        "bottom": lambda x: _near(x[1], -depth, tol),
+        "far": lambda x: _near(x[0], width, tol),
+    }).with_subdomains({"soil": lambda x: x[0] > -1.0})
+    nc = mohr_coulomb_nc(phi_deg)
+    return Problem(
+        name="mohr_coulomb_footing", mesh=m,
+        domains={"soil": strength.MohrCoulomb(cohesion, phi_deg)},
+        supports={"symmetry": "x", "bottom": "fixed", "far": "fixed"},
+        live_traction={"footing": (0.0, -cohesion)}, reference=nc, bounds=(nc, math.inf),
+        meta={"mesh_time": time.perf_counter() - t0, "phi_deg": phi_deg})
+
+
+def free_block(b: float = 0.5, h: float = 3.0, f: float = 0.6, gamma: float = 2000.0,
+               g: float = 9.81, n_b: int = 2, interior: str = "rigid") -> Problem:
+    """A free-standing façade strip (width b, height h) on a bed joint to the ground.
+
+    The base z = 0 is a dry bed joint (``BedJoints(f)``) to a fixed ground; the strip is
+    ``interior`` = "rigid" (one block: ``Rigid``) or "bedjoints" (a continuum of bed joints,
+    ``BedJoints(f)``, i.e. thin full-width courses). Self-weight γg is the dead load, a
+    horizontal body force −x proportional to it the live load.
+    Reference (rigid-block statics): the block tilts about its outer toe at λ = b/h, provided
+    b/h < f (otherwise it slides first, at λ = f). The bed-joint continuum is weaker: its thin
+    courses bend freely, and its multiplier lies below b/h (docs/kinematic.md).
+    """
+    b = check_range("b", b, 0.0, lo_open=True, unit="m")
+    h = check_range("h", h, 0.0, lo_open=True, unit="m")
+    f = check_range("f", f, 0.0, lo_open=True)
+    n_b = int(check_range("n_b", n_b, 1))
+    if interior not in ("rigid", "bedjoints"):
+        raise ParameterError(f"interior = {interior!r} is out of range: allowed "
+                             f"('rigid', 'bedjoints')")
+    t0 = time.perf_counter()
+    dx = b / n_b
+    xs = np.linspace(0.0, b, n_b + 1)
+    zs = np.linspace(0.0, h, max(2, int(round(h / dx))) + 1)
+    tol = 1e-9 * h
+    m = crossed_mesh(xs, zs).with_boundaries({"base": lambda x: _near(x[1], 0.0, tol)}) \
+        .with_subdomains({"facade": lambda x: x[0] > -np.inf})
+    w = gamma * g
+    lam = min(b / h, f)
+    return Problem(
+        name="free_block", mesh=m,
+        domains={"facade": Rigid() if interior == "rigid" else strength.BedJoints(f)},
+        interfaces={"base": strength.BedJoints(f)},
+        live_body={"facade": (-w, 0.0)}, dead_body={"facade": (0.0, -w)},
+        reference=lam, bounds=(lam, lam) if interior == "rigid" else (0.0, lam),
+        meta={"mesh_time": time.perf_counter() - t0, "b": b, "h": h, "f": f,
+              "interior": interior})
+
+
+# ---------------------------------------------------------------------------------------------
+# the masonry T-section
+# ---------------------------------------------------------------------------------------------
+
+FACADE_DOMAINS = ("homogenised", "bedjoints")
+
+
+def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
+              h: float = 0.25, n_b: int = 4, growth: float = 1.15,
+              h_far: float | None = None) -> Problem:
+    """The façade strip + transversal wall of the paper in the section plane x–z.
+
+    Façade 0 <= x <= b (region "facade", density ρ·γ with ρ = l/s, the paper's 2D reduction),
+    transversal wall b <= x <= b + L (region "wall", density γ), both from z0 to H; base z = z0
+    fixed. Dead load: self-weight; live load: a horizontal body force towards −x (outwards)
+    equal to the weight on both regions, so the multiplier is the collapse acceleration a/g.
+    Wall domain: ``Homogenised(a, c, f)`` (eq. 15). Façade domain: "homogenised" (default; the
+    same eq. 15, as the prototype) or "bedjoints" (``BedJoints(f)``: a façade cut across its
+    thickness shows bed joints only). Boundaries: "base", "outer" (x = 0), "top", "end"
+    (x = b + L). Mesh: n_b columns across the façade, spacing h in z, and in the wall a spacing
+    growing from b/n_b at the junction to h (or ``h_far``) at rate ``growth``.
+    Reference: the prototype's hinge + fan mechanism (docs/kinematic.md); no closed form.
+    """
+    w, mas = case.wall, case.masonry
+    z0 = check_range("z0", z0, 0.0, w.H, hi_open=True, unit="m")
+    h = check_range("h", h, 0.0, w.H - z0, lo_open=True, unit="m")
+    n_b = int(check_range("n_b", n_b, 1))
+    if facade not in FACADE_DOMAINS:
+        raise ParameterError(f"facade = {facade!r} is out of range: allowed {FACADE_DOMAINS}")
+    t0 = time.perf_counter()
+    b, L, H = w.b, w.L, w.H
+    h_far = h if h_far is None else check_range("h_far", h_far, 0.0, lo_open=True, unit="m")
+    xs = np.r_[np.linspace(0.0, b, n_b + 1)[:-1],
+               graded(b, b + L, min(b / n_b, h_far), max(b / n_b, h_far), foci=(b,),
+                      growth=growth)]
+    zs = np.linspace(z0, H, max(2, int(math.ceil((H - z0) / h))) + 1)
+    tol = 1e-9 * H
+    m = crossed_mesh(xs, zs).with_boundaries({
+        "base": lambda x: _near(x[1], z0, tol),
+        "outer": lambda x: _near(x[0], 0.0, tol),
+        "top": lambda x: _near(x[1], H, tol),
+        "end": lambda x: _near(x[0], b + L, tol),
+    }).with_subdomains({"facade": lambda x: x[0] < b, "wall": lambda x: x[0] > b})
+    wg = w.gamma * w.g
+    wf = w.rho * wg
+    fac = (strength.Homogenised(mas.a, mas.c, mas.f) if facade == "homogenised"
+           else strength.BedJoints(mas.f))
+    return Problem(
+        name=f"t_section[{case.name}]", mesh=m,
+        domains={"facade": fac, "wall": strength.Homogenised(mas.a, mas.c, mas.f)},
+        supports={"base": "fixed"},
+        live_body={"facade": (-wf, 0.0), "wall": (-wg, 0.0)},
+        dead_body={"facade": (0.0, -wf), "wall": (0.0, -wg)},
+        meta={"mesh_time": time.perf_counter() - t0, "case": case.as_dict(), "z0": z0,
+              "facade": facade})

@@ -1,0 +1,93 @@
+"""The result of a kinematic limit analysis: multiplier, mechanism, powers, duals, timings."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["KinematicSolution"]
+
+
+@dataclass(frozen=True)
+class KinematicSolution:
+    """Collapse multiplier and mechanism of ``solve_kinematic`` (per unit thickness, SI).
+
+    multiplier      λ⁺ = D(u) − P_dead(u) at the optimum, with P_live(u) = 1 (an upper bound)
+    u               global P2 DOF vector of the velocity field (``operators.p2_basis`` numbering)
+    velocity        nodal velocities at the mesh vertices, shape (n_vertices, 2)
+    dissipation     dissipation per triangle (area × mean of its vertex values) [W/m]
+    interface_dissipation  dissipation per facet of every interface boundary [W/m]
+    strain_rate     strain rate (d_xx, d_zz, γ_xz) at the 3 vertices of each triangle, (nel, 3, 3)
+    intensity       strain-rate intensity per triangle: mean over vertices of
+                    √(d_xx² + d_zz² + γ_xz²/2) [1/s]
+    stress          stress estimate (σ_x, σ_z, τ_xz) at the 3 vertices of each triangle from the
+                    duals of the cone constraints, (nel, 3, 3) [Pa]; None if not available
+    live_power, dead_power   P_live(u) (= 1) and P_dead(u) [W/m]
+    primal_objective, dual_objective, gap   as reported by the conic solver
+    status, solver  solver status string and name
+    times           seconds per stage: mesh, assembly, build, solve, total
+    sizes           triangles, dofs, free unknowns, variables, constraint rows, nonzeros
+    """
+
+    multiplier: float
+    u: np.ndarray
+    velocity: np.ndarray
+    dissipation: np.ndarray
+    interface_dissipation: dict
+    strain_rate: np.ndarray
+    intensity: np.ndarray
+    stress: np.ndarray | None
+    live_power: float
+    dead_power: float
+    primal_objective: float
+    dual_objective: float
+    gap: float
+    status: str
+    solver: str
+    times: dict = field(default_factory=dict)
+    sizes: dict = field(default_factory=dict)
+    mesh: object = None
+    regions: dict = field(default_factory=dict)
+
+    @property
+    def total_dissipation(self) -> float:
+        return float(self.dissipation.sum()
+                     + sum(np.sum(v) for v in self.interface_dissipation.values()))
+
+    def to_meshio(self):
+        """meshio.Mesh (triangles) with point data "velocity" and cell data "dissipation",
+        "intensity", "region" (index into sorted region names) and "stress" (mean per triangle)."""
+        import meshio
+
+        m = self.mesh
+        pts = np.c_[m.p.T, np.zeros(m.p.shape[1])]
+        vel = np.c_[self.velocity, np.zeros(len(self.velocity))]
+        region = np.full(m.t.shape[1], -1, int)
+        for i, name in enumerate(sorted(self.regions)):
+            region[self.regions[name]] = i
+        cell_data = {"dissipation": [self.dissipation], "intensity": [self.intensity],
+                     "region": [region]}
+        if self.stress is not None:
+            cell_data["stress"] = [self.stress.mean(axis=1)]
+        return meshio.Mesh(pts, [("triangle", m.t.T)], point_data={"velocity": vel},
+                           cell_data=cell_data)
+
+    def write_vtu(self, path: str | os.PathLike) -> str:
+        """Write ``to_meshio()`` to a .vtu file, whole or not at all (temp file + os.replace)."""
+        import meshio
+
+        path = os.fspath(path)
+        d = os.path.dirname(os.path.abspath(path))
+        fd, tmp = tempfile.mkstemp(suffix=".vtu", dir=d)
+        os.close(fd)
+        try:
+            meshio.write(tmp, self.to_meshio(), file_format="vtu")
+            os.replace(tmp, path)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.remove(tmp)
+            raise
+        return path
