@@ -99,7 +99,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "size_junction": Key(float, 0.0, "m", lo=0.0,
                              doc="size along the façade–wall junction (0: half of `size`)"),
         "size_top": Key(float, 0.0, "m", lo=0.0,
-                        doc="size along the top of the façade (0: same as `size`)"),
+                        doc="size along the top of the façade (0: no refinement, `size`)"),
     },
     "analysis": {
         "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),
@@ -269,11 +269,14 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
         except ParameterError as e:  # cross-key checks of params.Case (a <= H, 2c <= L)
             problems.append(f"[wall]/[masonry] {e}")
     if case is not None:
-        span = min(case.wall.H, case.wall.b + case.wall.L)
-        for key in ("size", "size_junction", "size_top"):
-            if values["mesh"][key] >= span:
-                problems.append(f"[mesh] {key} = {values['mesh'][key]!r} m is out of range: "
-                                f"allowed {key} < min(H, b + L) = {span:g} m")
+        mesh, span = values["mesh"], min(case.wall.H, case.wall.b + case.wall.L)
+        if mesh["size"] > span:
+            problems.append(f"[mesh] size = {mesh['size']!r} m is out of range: "
+                            f"allowed 0 < size <= min(H, b + L) = {span:g} m")
+        for key in ("size_junction", "size_top"):
+            if mesh[key] > mesh["size"]:
+                problems.append(f"[mesh] {key} = {mesh[key]!r} m is out of range: "
+                                f"allowed 0 <= {key} <= size = {mesh['size']:g} m")
     if problems:
         raise ConfigError(source, [p.strip() for p in problems])
     return CaseConfig(case=case, mesh=MeshConfig(**values["mesh"]),

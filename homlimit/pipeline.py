@@ -227,8 +227,16 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool) -> tuple[dict, di
 
 
 def _mesh(config: CaseConfig):
-    """The T-section mesh of the case as a meshio.Mesh (seam: homlimit.geometry)."""
-    raise HomlimitError("meshing is not available yet in this build (homlimit.geometry)")
+    """The T-section mesh of the case as a meshio.Mesh (seam: homlimit.geometry.tsection)."""
+    from .geometry import tsection
+
+    w, m = config.case.wall, config.mesh
+    return tsection(w.H, w.b, w.L, m.size, **_mesh_refinements(m))
+
+
+def _mesh_refinements(m) -> dict:
+    """[mesh] size_junction / size_top as tsection keywords (0: half of size / no refinement)."""
+    return {"size_junction": m.size_junction or 0.5 * m.size, "size_top": m.size_top or None}
 
 
 def _fe_table_columns(case: Case, mesh_size: float, verbose: bool) -> dict:
@@ -282,8 +290,7 @@ def mesh_case(config: CaseConfig, out: Path) -> dict:
              "mesh_png": plots.plot_mesh(out / "mesh.png", m, title=f"case {config.name}")}
     return {"case": config.name, "n_triangles": int(len(tri)), "n_nodes": int(len(m.points)),
             "regions": {n: int(np.count_nonzero(region == k)) for k, n in enumerate(names)},
-            "mesh": {"size": config.mesh.size, "size_junction": config.mesh.size_junction,
-                     "size_top": config.mesh.size_top},
+            "mesh": {"size": config.mesh.size, **_mesh_refinements(config.mesh)},
             "files": {k: str(v) for k, v in files.items()}}
 
 

@@ -81,7 +81,7 @@ def plot_mesh(path: str | Path, mesh, title: str = "") -> Path:
     from matplotlib.collections import LineCollection
 
     pts, tri, region, names = triangle_regions(mesh)
-    fig, ax = plt.subplots(figsize=(7, 7.5))
+    fig, ax = plt.subplots(figsize=(9, 7.5))
     colours = plt.get_cmap("Pastel1")
     ax.tripcolor(pts[:, 0], pts[:, 1], tri, facecolors=region.astype(float),
                  cmap=colours, vmin=0, vmax=8, edgecolors="0.35", linewidth=0.2)
@@ -94,11 +94,12 @@ def plot_mesh(path: str | Path, mesh, title: str = "") -> Path:
         ax.add_collection(lc)
         handles.append(plt.Line2D([], [], color=line_colours(k), lw=2.5))
         labels.append(f"boundary {name}")
-    ax.legend(handles, labels, loc="upper right", fontsize=8, framealpha=0.9)
+    ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m] (from the façade's outer face into the building)")
     ax.set_ylabel("z [m]")
     ax.set_title(f"{title}: mesh, {len(tri)} triangles, {len(pts)} nodes".lstrip(": "))
+    fig.tight_layout()
     return _save(fig, path)
 
 

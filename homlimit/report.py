@@ -21,7 +21,8 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["atomic_path", "format_table", "to_jsonable", "write_csv", "write_json",
-           "write_figure", "write_text", "write_vtu"]
+           "region_tags", "write_figure", "write_text",
+           "write_vtu"]
 
 
 @contextmanager
@@ -91,12 +92,45 @@ def write_csv(path: str | Path, records: Iterable[Mapping], columns: list[str] |
     return write_text(path, buf.getvalue())
 
 
+def region_tags(mesh) -> list[np.ndarray]:
+    """Per cell block, the 1-based index of the named triangle set holding each cell (0: none).
+
+    The order of the sets is that of ``mesh.cell_sets`` restricted to sets holding triangles
+    (for a T-section: 1 = facade, 2 = wall)."""
+    sets = {k: v for k, v in (mesh.cell_sets or {}).items() if not k.startswith("gmsh:")}
+    tags = [np.zeros(len(c.data), np.int32) for c in mesh.cells]
+    k = 0
+    for name, idx in sets.items():
+        hits = [(j, np.asarray(i, int)) for j, i in enumerate(idx)
+                if j < len(mesh.cells) and mesh.cells[j].type == "triangle" and np.size(i)]
+        if hits:
+            k += 1
+            for j, i in hits:
+                tags[j][i] = k
+    return tags
+
+
 def write_vtu(path: str | Path, mesh) -> Path:
-    """Write a meshio.Mesh as VTU (XML, readable by ParaView and meshio), atomically."""
+    """Write a meshio.Mesh as VTU for ParaView, atomically, without modifying ``mesh``.
+
+    Point and cell data are kept; named sets become 0/1 cell data "set:<name>" (the encoding
+    ``homlimit.mesh.read`` restores as cell_sets) and an integer cell field "region"
+    (see ``region_tags``)."""
     import meshio
 
+    data = {k: list(v) for k, v in mesh.cell_data.items()}
+    sets = {k: v for k, v in (mesh.cell_sets or {}).items() if not k.startswith("gmsh:")}
+    if sets:
+        data["region"] = region_tags(mesh)
+        for name, idx in sets.items():
+            cols = [np.zeros(len(c.data), np.int32) for c in mesh.cells]
+            for j, i in enumerate(idx[:len(cols)]):
+                cols[j][np.asarray(i, int)] = 1
+            data[f"set:{name}"] = cols
+    copy = meshio.Mesh(mesh.points, mesh.cells, point_data=dict(mesh.point_data),
+                       cell_data=data, field_data=dict(mesh.field_data))
     with atomic_path(path) as tmp:
-        meshio.write(tmp, mesh, file_format="vtu")
+        meshio.write(tmp, copy, file_format="vtu")
     return Path(path)
 
 

@@ -297,3 +297,31 @@ def test_figure2_png(tmp_path):
     path = Path(json.loads(res.stdout)["figure2_png"])
     assert path == tmp_path / "figure2.png"
     assert_png(path, (10 * 120, int(7.5 * 120)))
+
+
+def test_mesh_command_writes_vtu_and_png(tmp_path):
+    case = tmp_path / "coarse.toml"
+    case.write_text("name = 'coarse'\n[wall]\nH = 9\nL = 6\ns = 0.5\nb = 0.5\nl = 6\n"
+                    "[masonry]\na = 0.3\nc = 0.2\nf = 0.6\n[mesh]\nsize = 0.8\n")
+    r = _sh("mesh", case, "--json", "--out", tmp_path / "m", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    info = json.loads(r.stdout)
+    assert info["regions"]["facade"] + info["regions"]["wall"] == info["n_triangles"] > 0
+    assert info["mesh"] == {"size": 0.8, "size_junction": 0.4, "size_top": None}
+    import meshio
+
+    from homlimit.mesh import read
+
+    raw = meshio.read(info["files"]["mesh_vtu"])
+    tri = np.concatenate([c.data for c in raw.cells if c.type == "triangle"])
+    p = raw.points[tri]
+    area = 0.5 * np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+                        - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+    assert area.sum() == pytest.approx(9.0 * (0.5 + 6.0), rel=1e-12)   # H (b + L)
+    region = np.concatenate([d for d, c in zip(raw.cell_data["region"], raw.cells)
+                             if c.type == "triangle"])
+    assert np.count_nonzero(region == 1) == info["regions"]["facade"]
+    assert np.count_nonzero(region == 2) == info["regions"]["wall"]
+    back = read(info["files"]["mesh_vtu"])
+    assert {"facade", "wall", "base", "outer", "top", "end", "junction"} <= set(back.cell_sets)
+    assert_png(Path(info["files"]["mesh_png"]), (9 * 120, int(7.5 * 120)))

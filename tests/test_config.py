@@ -127,8 +127,12 @@ def test_missing_required_section_and_cross_checks(tmp_path):
     assert "a <= H = 9 m" in str(info.value)
     with pytest.raises(ConfigError) as info:
         load_case({**B1, "mesh": {"size": 20.0}})
-    assert "size = 20.0 m is out of range: allowed size < min(H, b + L) = 6.5 m" \
+    assert "size = 20.0 m is out of range: allowed 0 < size <= min(H, b + L) = 6.5 m" \
         in str(info.value)
+    with pytest.raises(ConfigError) as info:
+        load_case({**B1, "mesh": {"size": 0.5, "size_junction": 0.6}})
+    assert "[mesh] size_junction = 0.6 m is out of range: allowed 0 <= size_junction <= size " \
+        "= 0.5 m" in str(info.value)
 
 
 def test_unreadable_and_malformed_files(tmp_path):

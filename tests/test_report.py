@@ -77,6 +77,27 @@ def test_vtu_round_trip(tmp_path):
     np.testing.assert_array_equal(back.cell_data["region"][0], [1, 2])
 
 
+def test_vtu_keeps_named_sets_and_region_tags(tmp_path):
+    from homlimit.mesh import read
+
+    pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+    cells = [("line", np.array([[0, 1]])), ("triangle", np.array([[0, 1, 2], [1, 3, 2]]))]
+    sets = {"base": [np.array([0]), np.array([], int)],
+            "facade": [np.array([], int), np.array([1])],
+            "wall": [np.array([], int), np.array([0])]}
+    import meshio
+
+    m = meshio.Mesh(pts, cells, point_data={"speed": np.arange(4.0)}, cell_sets=sets)
+    p = report.write_vtu(tmp_path / "m.vtu", m)
+    assert set(m.cell_sets) == set(sets) and not m.cell_data      # the input is untouched
+    raw = meshio.read(p)
+    np.testing.assert_array_equal(raw.cell_data["region"][1], [2, 1])   # wall = 2, facade = 1
+    np.testing.assert_array_equal(raw.point_data["speed"], np.arange(4.0))
+    back = read(p)                                      # homlimit.mesh restores the sets
+    assert {k: [list(i) for i in v] for k, v in back.cell_sets.items()} == \
+        {k: [list(i) for i in v] for k, v in sets.items()}
+
+
 def test_format_table_aligns_columns():
     t = report.format_table(["name", "x"], [["I", 0.36968996], ["II", None]], title="T")
     lines = t.splitlines()
@@ -107,7 +128,7 @@ def test_mesh_and_mechanism_pictures(tmp_path):
     assert names == ["facade", "wall"] and len(tri_) == len(tri)
     assert np.count_nonzero(region == 0) == np.count_nonzero(cx < 0.5)
     p = plots.plot_mesh(tmp_path / "mesh.png", mesh, title="case T")
-    assert_png(p, (7 * plots.DPI, int(7.5 * plots.DPI)))
+    assert_png(p, (9 * plots.DPI, int(7.5 * plots.DPI)))
     vel = np.column_stack([-(pts[:, 1]), pts[:, 0]]) * (pts[:, 1] > 1)[:, None]
     case = Case()
     p = plots.plot_mechanism(tmp_path / "mech.png", {
