@@ -243,10 +243,11 @@ def _jsonable(x):
 # ---------------------------------------------------------------------------------- measures
 
 def element_areas(mesh) -> np.ndarray:
-    """Signed areas of the triangles of a skfem MeshTri (positive when counter-clockwise)."""
+    """Areas of the triangles of a skfem MeshTri (which sorts each element's node indices, so
+    their orientation is not kept)."""
     p, t = mesh.p, mesh.t
     a, b, c = p[:, t[0]], p[:, t[1]], p[:, t[2]]
-    return 0.5 * ((b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0])
+    return 0.5 * np.abs((b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0])
 
 
 def quality(mesh) -> dict:
@@ -257,6 +258,6 @@ def quality(mesh) -> dict:
     cosang = np.array([-(e[(i + 1) % 3] * e[(i + 2) % 3]).sum(0)
                        / (ln[(i + 1) % 3] * ln[(i + 2) % 3]) for i in range(3)])
     ang = np.degrees(np.arccos(np.clip(cosang, -1, 1)))
-    return {"n_elements": int(t.shape[1]), "area": float(np.abs(element_areas(mesh)).sum()),
+    return {"n_elements": int(t.shape[1]), "area": float(element_areas(mesh).sum()),
             "min_angle_deg": float(ang.min()), "max_angle_deg": float(ang.max()),
             "h_min": float(ln.min()), "h_max": float(ln.max())}
