@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -181,20 +182,106 @@ class _Polyhedral(StrengthDomain):
         return ConicBlock(A=A, D=D, e=np.zeros(3 + m), n_eq=3, n_lin=m, cy=self.rhs)
 
 
+def _micro_field_rows(a, c, f, C, T):
+    """The static micro field behind eq. 15, as linear rows over z = (σ_x, σ_z, τ, u, w) <= r.
+
+    Piecewise-constant stresses in a running-bond cell (blocks 2c × a): bed joints carry
+    (σ_z − w, τ + u) on one half of a block and (σ_z + w, τ − u) on the other; head joints
+    carry (σ_h, τ_h). Block equilibrium gives σ_x = σ_h − (c/a) u (horizontal force through
+    the staggered cell) and τ_h = τ − (c/a) w (moment). Every joint obeys |τ_j| + fσ_j <= C,
+    σ_j <= T.
+    """
+    k = c / a
+    rows = []
+    for s in (1.0, -1.0):
+        rows += [([0, f, s, s, -f], C), ([0, f, s, -s, f], C),       # bed joint, two halves
+                 ([f, 0, s, f * k, -s * k], C)]                      # head joint (σ_h, τ_h)
+    rows += [([0, 1, 0, 0, -1], T), ([0, 1, 0, 0, 1], T), ([1, 0, 0, k, 0], T)]
+    return np.array([r for r, _ in rows], float), np.array([v for _, v in rows], float)
+
+
+def _eliminate(A, b, j):
+    """Fourier–Motzkin: project {A z <= b} along coordinate j (then drop redundant rows)."""
+    pos, neg = np.flatnonzero(A[:, j] > 1e-13), np.flatnonzero(A[:, j] < -1e-13)
+    zer = np.flatnonzero(np.abs(A[:, j]) <= 1e-13)
+    P, Q = np.meshgrid(pos, neg, indexing="ij")
+    P, Q = P.ravel(), Q.ravel()
+    wp, wq = -A[Q, j][:, None], A[P, j][:, None]
+    A2 = np.vstack([A[zer], wp * A[P] + wq * A[Q]])
+    b2 = np.concatenate([b[zer], wp[:, 0] * b[P] + wq[:, 0] * b[Q]])
+    return _prune(np.delete(A2, j, axis=1), b2)
+
+
+def _prune(A, b):
+    """Normalised, de-duplicated, irredundant rows of {A z <= b} (one LP per row, HiGHS)."""
+    from scipy.optimize import linprog
+
+    n = np.abs(A).max(axis=1)
+    keep = n > 1e-12
+    if np.any(~keep & (b < -1e-12)):
+        raise ValueError("empty polyhedron")
+    A, b = A[keep] / n[keep, None], b[keep] / n[keep]
+    _, first = np.unique(np.round(np.column_stack([A, b]), 10), axis=0, return_index=True)
+    A, b = A[np.sort(first)], b[np.sort(first)]
+    i = 0
+    while i < len(A):
+        rest = np.arange(len(A)) != i
+        res = linprog(-A[i], A_ub=A[rest], b_ub=b[rest], bounds=(None, None), method="highs")
+        if res.status == 0 and -res.fun <= b[i] + 1e-9 * (1.0 + abs(b[i])):
+            A, b = A[rest], b[rest]
+        else:
+            i += 1
+    return A, b
+
+
+@lru_cache(maxsize=64)
+def _cohesive_rows(a, c, f, C, T):
+    """Facets of (micro-field domain) + cone(eq. 15), rows parallel to N_1..N_4 first (scaled
+    like them), the others normalised to a largest coefficient of 1. Cached: a few LPs."""
+    eq15 = _eq15(a, c, f)
+    A, b = _micro_field_rows(a, c, f, C, T)
+    for _ in range(2):                                 # eliminate u, w
+        A, b = _eliminate(A, b, 3)
+    # Minkowski sum with the eq. 15 cone: σ = σ1 + σ2, A σ1 <= b, N σ2 <= 0; eliminate σ2
+    Z = np.zeros((len(eq15), 3))
+    A, b = np.vstack([np.hstack([A, -A]), np.hstack([Z, eq15])]), np.concatenate([b, 0 * eq15[:, 0]])
+    for _ in range(3):
+        A, b = _eliminate(A, b, 3)
+    rows, rhs, used = [], [], np.zeros(len(A), bool)
+    for N in eq15:
+        for i, Ai in enumerate(A):
+            s = np.abs(N).max() / np.abs(Ai).max()
+            if not used[i] and np.allclose(Ai * s, N, atol=1e-9):
+                rows.append(N)
+                rhs.append(b[i] * s)
+                used[i] = True
+    order = np.lexsort(np.column_stack([A, b])[~used].T[::-1])
+    rows += list(A[~used][order])
+    rhs += list(b[~used][order])
+    return tuple(map(tuple, rows)), tuple(rhs)
+
+
+def _eq15(a, c, f):
+    """Normals N_k of eq. 15: ±τ + fσ_z <= 0, (a/c)σ_x + fσ_z ± (1 + fa/c)τ <= 0."""
+    k = a / c
+    return np.array([(0.0, f, 1.0), (0.0, f, -1.0), (k, f, 1.0 + f * k), (k, f, -(1.0 + f * k))])
+
+
 class Homogenised(_Polyhedral):
     """Running-bond masonry homogenised (de Buhan & de Felice 1997), paper eq. 15.
 
     Blocks of height a and length 2c, rigid and infinitely strong; joints with Coulomb friction
-    f, cohesion C (``cohesion``, Pa) and tensile cut-off T (``tension``, Pa; at most the Coulomb
-    apex C/f, so T only acts when C > 0). With C = T = 0 this is eq. 15:
+    f, cohesion C (``cohesion``, Pa) and a tensile cut-off T (``tension``, Pa): a joint carries
+    (σ_n, τ) with |τ| + fσ_n <= C and σ_n <= T (T beyond the Coulomb apex C/f, or T without C,
+    has no effect). With C = 0 this is eq. 15 as printed:
         N_k·σ <= 0,  N_1,2 = (0, f, ±1),  N_3,4 = (a/c, f, ±(1 + f a/c)).
-    With cohesion, the micro stress field that proves eq. 15 (head joints free of shear and
-    carrying σ_h <= T_h = min(T, C/f); bed-joint normal stresses σ_z ∓ (a/c)τ on the two halves
-    of a block; bed shears τ ± Δ) gives, for c/a >= f,
-        ±τ + fσ_z <= C,
-        (a/c)σ_x + fσ_z ± (1 + fa/c)τ <= C + (a/c) T_h,
-        σ_z ± (a/c)τ <= T_h          (only when T_h < C/f: the bed joints' tension cut-off).
-    This is a static (inner) estimate of the cohesive homogenised domain, exact for C = T = 0.
+    With C > 0, G is the set of macroscopic stresses carried by the piecewise-constant micro
+    field of the static proof of eq. 15 (``_micro_field_rows``), plus the cone of eq. 15
+    (Minkowski sum: the true domain is convex and contains both); its facets are computed by
+    Fourier–Motzkin elimination. For c/a >= f and T >= C/f this gives
+        ±τ + fσ_z <= C,   (a/c)σ_x + fσ_z ± (1 + fa/c)τ <= C + (a/c)(C/f);
+    a lower T adds facets (σ_z <= T among them). It is a static (inner) estimate of the cohesive
+    homogenised domain, equal to eq. 15 for C = 0.
     """
 
     def __init__(self, a: float, c: float, f: float, cohesion: float = 0.0,
@@ -204,20 +291,16 @@ class Homogenised(_Polyhedral):
         self.f = check_range("f", f, 0.0, lo_open=True)
         self.cohesion = check_range("cohesion", cohesion, 0.0, unit="Pa")
         self.tension = check_range("tension", tension, 0.0, unit="Pa")
-        a, c, f, C = self.a, self.c, self.f, self.cohesion
-        k = a / c
-        Th = min(self.tension, C / f)
-        rows = [(0.0, f, 1.0), (0.0, f, -1.0), (k, f, 1.0 + f * k), (k, f, -(1.0 + f * k))]
-        rhs = [C, C, C + k * Th, C + k * Th]
-        if C > 0 and Th < C / f:
-            rows += [(0.0, 1.0, k), (0.0, 1.0, -k)]
-            rhs += [Th, Th]
-        self.normals = np.array(rows)
-        self.rhs = np.array(rhs)
+        if self.cohesion == 0.0:
+            self.normals, self.rhs = _eq15(self.a, self.c, self.f), np.zeros(4)
+        else:
+            rows, rhs = _cohesive_rows(self.a, self.c, self.f, self.cohesion,
+                                       min(self.tension, self.cohesion / self.f))
+            self.normals, self.rhs = np.array(rows), np.array(rhs)
 
     @property
     def dry(self) -> bool:
-        """True without cohesion and tension: G is a cone and π is 0 or +inf."""
+        """True without cohesion: G is the cone of eq. 15 and π is 0 or +inf."""
         return self.cohesion == 0.0
 
     @property
@@ -233,14 +316,14 @@ class Homogenised(_Polyhedral):
         return _polyhedral_support(self.normals, self.rhs, d)
 
     def kinematic_cone(self) -> ConicBlock:
-        """Facet form F d >= 0 when there are four facets; π is then linear on the cone.
+        """Facet form F d >= 0 when G has the four facets of eq. 15; π is then linear on it.
 
         With r_1 = r_2 = C and r_3 = r_4 = R, π = C(μ_1 + μ_2) + R(μ_3 + μ_4)
         = C (d_zz/f − (c/a) d_xx) + R (c/a) d_xx, whatever the split of the μ's: cx·d with
-        cx = ((R − C) c/a, C/f, 0), and cx = 0 in the dry case. With the tension cut-off rows
-        the generator form (``generator_cone``) is used.
+        cx = ((R − C) c/a, C/f, 0), and cx = 0 in the dry case. Otherwise (a tension cut-off,
+        or c/a < f) the generator form (``generator_cone``) is used.
         """
-        if len(self.rhs) != 4:
+        if len(self.rhs) != 4 or self.rhs[0] != self.rhs[1] or self.rhs[2] != self.rhs[3]:
             return self.generator_cone()
         C, R, k = self.rhs[0], self.rhs[2], self.c / self.a
         return ConicBlock(A=self.facets, D=np.zeros((4, 0)), e=np.zeros(4), n_lin=4,

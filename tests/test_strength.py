@@ -101,37 +101,61 @@ def test_homogenised_jump_test():
 # ----------------------------------------------------------------- homogenised, cohesive
 
 def micro_field_lp(a, c, f, C, T):
-    """Macro σ admissible iff the micro field of the docstring exists: variables
-    z = (σ_x, σ_z, τ, σ_h, u, w), τ_A,B = τ ± u, σ_A,B = σ_z ∓ w, τ_h = τ − (c/a) w = 0,
-    σ_x = σ_h − (c/a) u; joints: |τ_j| + fσ_j <= C, σ_j <= T.  Returns (A_ub, b_ub, A_eq, b_eq)."""
+    """Brute-force description of the cohesive domain: σ = σ1 + σ2 with σ2 in the eq. 15 cone
+    and σ1 carried by piecewise-constant joint stresses of a running-bond cell.
+
+    Variables z = (σ (3), σ2 (3), σ_h, τ_h, τ_A, τ_B, σ_A, σ_B). Cell statics (blocks 2c × a):
+    σ1_x = σ_h − (c/a)(τ_A − τ_B)/2, τ1 = (τ_A + τ_B)/2, σ1_z = (σ_A + σ_B)/2 and block moment
+    τ_h = τ1 − (c/(2a))(σ_B − σ_A). Joints: |τ_j| + fσ_j <= C, σ_j <= T.
+    Returns (A_ub, b_ub, A_eq, b_eq) over the 12 variables (σ first)."""
     k = c / a
+    n = 12
+    SX, SZ, TU, S2X, S2Z, T2, SH, TH, TA, TB, SA, SB = range(n)
     rows, rhs = [], []
-    for s in (1, -1):                         # bed A: ±(τ + u) + f(σ_z − w) <= C
-        rows.append([0, f, s, 0, s, -f]); rhs.append(C)
-    for s in (1, -1):                         # bed B: ±(τ − u) + f(σ_z + w) <= C
-        rows.append([0, f, s, 0, -s, f]); rhs.append(C)
-    rows += [[0, 1, 0, 0, 0, -1], [0, 1, 0, 0, 0, 1]]; rhs += [T, T]    # bed tension
-    rows += [[0, 0, 0, f, 0, 0], [0, 0, 0, 1, 0, 0]]; rhs += [C, T]     # head: fσ_h <= C, σ_h <= T
-    A_eq = np.array([[1, 0, 0, -1, k, 0],      # σ_x − σ_h + k u = 0
-                     [0, 0, 1, 0, 0, -k]])     # τ_h = τ − k w = 0
-    return np.array(rows, float), np.array(rhs, float), A_eq, np.zeros(2)
+
+    def row(**coef):
+        r = np.zeros(n)
+        for key, v in coef.items():
+            r[globals_ix[key]] += v
+        return r
+    globals_ix = dict(SX=SX, SZ=SZ, TU=TU, S2X=S2X, S2Z=S2Z, T2=T2, SH=SH, TH=TH, TA=TA, TB=TB,
+                      SA=SA, SB=SB)
+    for t, sg in (("TA", "SA"), ("TB", "SB"), ("TH", "SH")):
+        for s in (1, -1):
+            rows.append(row(**{t: s, sg: f})); rhs.append(C)
+        rows.append(row(**{sg: 1})); rhs.append(T)
+    for N in eq15_rows(a, c, f):                   # σ2 in the eq. 15 cone
+        rows.append(row(S2X=N[0], S2Z=N[1], T2=N[2])); rhs.append(0.0)
+    eqs = [row(SX=1, S2X=-1, SH=-1, TA=k / 2, TB=-k / 2),      # σ1_x
+           row(TU=1, T2=-1, TA=-0.5, TB=-0.5),                  # τ1
+           row(SZ=1, S2Z=-1, SA=-0.5, SB=-0.5),                 # σ1_z
+           row(TH=1, TU=-1, T2=1, SB=k / 2, SA=-k / 2)]         # moment of a block
+    return np.array(rows), np.array(rhs, float), np.array(eqs), np.zeros(len(eqs))
 
 
-@pytest.mark.parametrize("C,T", [(1e4, 0.0), (1e4, 5e3), (1e4, 1e6), (0.0, 5e3)])
-def test_homogenised_cohesive_support_matches_micro_field(C, T):
+@pytest.mark.parametrize("a,c,f,C,T", [
+    (A_, C_, F_, 1e4, 0.0), (A_, C_, F_, 1e4, 5e3), (A_, C_, F_, 1e4, 1e6), (A_, C_, F_, 0.0, 5e3),
+    (0.3, 0.1, 0.9, 1e4, 1e6), (0.3, 0.1, 0.9, 1e4, 2e3)])
+def test_homogenised_cohesive_support_matches_micro_field(a, c, f, C, T):
     rng = np.random.default_rng(3)
-    h = Homogenised(A_, C_, F_, cohesion=C, tension=T)
-    A_ub, b_ub, A_eq, b_eq = micro_field_lp(A_, C_, F_, C, T)
-    d = np.vstack([random_d(rng, 60), cone_points(rng, 60, eq15_rows(A_, C_, F_))])
+    h = Homogenised(a, c, f, cohesion=C, tension=T)
+    A_ub, b_ub, A_eq, b_eq = micro_field_lp(a, c, f, C, T)
+    d = np.vstack([random_d(rng, 50), cone_points(rng, 50, eq15_rows(a, c, f))])
     pi = h.support(d)
-    ref = np.array([lp_max(di, A_ub, b_ub, n_extra=3, A_eq=A_eq, b_eq=b_eq) for di in d])
+    ref = np.array([lp_max(di, A_ub, b_ub, n_extra=9, A_eq=A_eq, b_eq=b_eq) for di in d])
     np.testing.assert_array_equal(np.isinf(pi), np.isinf(ref))
     fin = np.isfinite(ref)
-    assert fin.sum() >= 60
+    assert fin.sum() >= 50
     np.testing.assert_allclose(pi[fin], ref[fin], rtol=1e-7, atol=1e-6 * max(C, 1.0))
-    # and π matches the LP over the domain's own rows (support = LP dual)
-    ref2 = np.array([lp_max(di, h.normals, h.rhs) for di in d])
-    np.testing.assert_allclose(pi[fin], ref2[fin], rtol=1e-7, atol=1e-6 * max(C, 1.0))
+
+
+def test_homogenised_cohesive_closed_form():
+    """c/a >= f, T >= C/f: ±τ + fσ_z <= C, (a/c)σ_x + fσ_z ± (1 + fa/c)τ <= C + (a/c)(C/f)."""
+    C = 2e4
+    h = Homogenised(A_, C_, F_, cohesion=C, tension=1e9)
+    np.testing.assert_allclose(h.normals, eq15_rows(A_, C_, F_))
+    np.testing.assert_allclose(h.rhs, [C, C, C + A_ / C_ * C / F_, C + A_ / C_ * C / F_])
+    assert not h.dry and Homogenised(A_, C_, F_, tension=5.0).dry
 
 
 # ----------------------------------------------------------------- bed joints
