@@ -95,11 +95,12 @@ SCHEMA: dict[str, dict[str, Key]] = {
     },
     "mesh": {
         "size": Key(float, 0.25, "m", **_POS,
-                    doc="target triangle size away from the refinements"),
-        "size_junction": Key(float, 0.0, "m", lo=0.0,
-                             doc="size along the façade–wall junction (0: half of `size`)"),
-        "size_top": Key(float, 0.0, "m", lo=0.0,
-                        doc="size along the top of the façade (0: no refinement, `size`)"),
+                    doc="element spacing along z, and in the wall far from the junction "
+                        "(homlimit.problems.t_section h)"),
+        "n_b": Key(int, 4, "", lo=1, hi=64, doc="element columns across the façade thickness"),
+        "growth": Key(float, 1.15, "", lo=1.0, hi=2.0,
+                      doc="growth rate of the column widths in the wall, from b/n_b at the "
+                          "junction up to size"),
     },
     "analysis": {
         "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),
@@ -108,14 +109,15 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "lam_points": Key(int, 200, "", lo=10, hi=100000,
                           doc="points of the v̄_g(λ) curves over 0 < λ <= H/b"),
         "fe": Key(bool, True, doc="finite-element kinematic mechanism, crack and impulse"),
-        "facade": Key(str, "homogenised", choices=("homogenised", "bed-joints"),
+        "facade": Key(str, "homogenised", choices=("homogenised", "bedjoints"),
                       doc="strength domain of the façade in the FE model (eq. 15, or bed "
                           "joints only)"),
         "heights": Key(int, 5, "", lo=1, hi=200,
                        doc="collapse heights h tried by the FE impulse scan (eq. 7 minimised "
                            "over λ)"),
-        "tol": Key(float, 1e-8, "", lo=0.0, hi=1e-2, lo_open=True,
-                   doc="conic solver tolerance (Clarabel gap and feasibility)"),
+        "tol": Key(float, 0.0, "", lo=0.0, hi=1e-2,
+                   doc="Clarabel gap and feasibility tolerance (0: the solver default of "
+                       "homlimit.kinematic.SolverOptions)"),
     },
     "output": {
         "dir": Key(str, "", doc="output folder (empty: homlimit-out/<name>/; --out overrides)"),
@@ -131,11 +133,11 @@ TOP_LEVEL = {"name": Key(str, "", doc="case name, used in titles and the output 
 
 @dataclass(frozen=True)
 class MeshConfig:
-    """[mesh]: sizes of the T-section triangulation [m]; 0 means 'derived from size'."""
+    """[mesh]: the T-section triangulation of ``homlimit.problems.t_section``."""
 
     size: float = 0.25
-    size_junction: float = 0.0
-    size_top: float = 0.0
+    n_b: int = 4
+    growth: float = 1.15
 
 
 @dataclass(frozen=True)
@@ -148,7 +150,7 @@ class AnalysisConfig:
     fe: bool = True
     facade: str = "homogenised"
     heights: int = 5
-    tol: float = 1e-8
+    tol: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -269,14 +271,10 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
         except ParameterError as e:  # cross-key checks of params.Case (a <= H, 2c <= L)
             problems.append(f"[wall]/[masonry] {e}")
     if case is not None:
-        mesh, span = values["mesh"], min(case.wall.H, case.wall.b + case.wall.L)
-        if mesh["size"] > span:
-            problems.append(f"[mesh] size = {mesh['size']!r} m is out of range: "
+        size, span = values["mesh"]["size"], min(case.wall.H, case.wall.b + case.wall.L)
+        if size > span:
+            problems.append(f"[mesh] size = {size!r} m is out of range: "
                             f"allowed 0 < size <= min(H, b + L) = {span:g} m")
-        for key in ("size_junction", "size_top"):
-            if mesh[key] > mesh["size"]:
-                problems.append(f"[mesh] {key} = {mesh[key]!r} m is out of range: "
-                                f"allowed 0 <= {key} <= size = {mesh['size']:g} m")
     if problems:
         raise ConfigError(source, [p.strip() for p in problems])
     return CaseConfig(case=case, mesh=MeshConfig(**values["mesh"]),

@@ -217,26 +217,100 @@ def _closed_form(config: CaseConfig) -> tuple[Any, Any, dict]:
 
 
 def _fe(config: CaseConfig, progress: Progress, verbose: bool) -> tuple[dict, dict]:
-    """The finite-element mechanism, crack and impulse (seam: geometry, kinematic, crack, ...).
+    """The finite-element mechanism, its crack and its collapse ground velocity.
 
+    Seams: homlimit.problems.t_section (the problem), homlimit.kinematic.solve_kinematic
+    (the upper bound), homlimit.rigidfit.measure_mechanism (the failing body),
+    homlimit.crack.fan_edges (the crack and its edges), homlimit.fe_impulse (v̄_g).
     Returns (plain data for the summary, artifacts for the writers: ``mesh`` the meshio mesh,
     ``mechanism`` a meshio mesh with the fields, ``plot`` the drawing data).
     """
-    raise HomlimitError("the finite-element analysis is not available yet in this build "
-                        "(set [analysis] fe = false)")
+    from .crack import fan_edges
+    from .fe_impulse import p2_nodes
+    from .kinematic import SolverOptions, solve_kinematic
+    from .mesh import from_skfem
+    from .rigidfit import measure_mechanism
+
+    case, an = config.case, config.analysis
+    w = case.wall
+    with progress.stage("meshing the T-section"):
+        problem = _problem(config)
+    n_tri = problem.n_triangles
+    options = SolverOptions(tol=an.tol or None, verbose=verbose)
+    with progress.stage("kinematic limit analysis", f"{n_tri} triangles, P2"):
+        sol = solve_kinematic(problem, options)
+    with progress.stage("rigid fit and crack"):
+        dens = {"facade": w.rho * w.gamma, "wall": w.gamma}
+        X, V, el, rho = p2_nodes(sol, dens)
+        mm = measure_mechanism(X, V, el, density=rho)
+        edges = fan_edges(X, el, mm, w.b, z_top=w.H)
+    fe = {
+        "multiplier": sol.multiplier, "dual_objective": sol.dual_objective, "gap": sol.gap,
+        "status": sol.status, "n_triangles": n_tri, "sizes": sol.sizes, "times": sol.times,
+        "facade": an.facade, "hinge": list(mm.fit.O), "omega": mm.fit.omega,
+        "mechanism": mm.kind, "explained": mm.explained, "block_share": mm.block_share,
+        "tanpsi": None if edges is None else edges.T_mid,
+        "tanpsi_uncertainty": None if edges is None else edges.dT,
+        "tanpsi_edges": None if edges is None else [edges.T1, edges.T2],
+        "sqrt_cf_a": case.alpha, "f": case.masonry.f,
+        "c_over_a": case.masonry.c / case.masonry.a,
+    }
+    fe.update(_fe_impulse(config, progress, verbose))
+    crack = None if edges is None else edges.lines[0.5].points
+    crack_edges = [] if edges is None else [edges.lines[lv].points for lv in
+                                            (min(edges.lines), max(edges.lines))]
+    mech = _mechanism_mesh(sol, mm, crack)
+    plot = {"points": sol.mesh.p.T, "triangles": sol.mesh.t.T, "velocity": sol.velocity,
+            "hinge": mm.fit.O, "crack": crack, "crack_edges": crack_edges}
+    return fe, {"mesh": from_skfem(problem.mesh), "mechanism": mech, "plot": plot}
+
+
+def _mechanism_mesh(sol, mm, crack):
+    """The solution's meshio mesh plus the block participation and label per triangle and,
+    as a line block, the detected crack (the 50 % participation line)."""
+    import meshio
+
+    m = sol.to_meshio()
+    cells = [meshio.CellBlock("triangle", m.cells[0].data)]
+    data = {k: [np.asarray(v[0], float)] for k, v in m.cell_data.items()}
+    data["participation"] = [np.asarray(mm.participation, float)]
+    data["label"] = [np.asarray(mm.label, float)]
+    pts = m.points
+    if crack is not None and len(crack) > 1:
+        k0 = len(pts)
+        pts = np.vstack([pts, np.c_[crack, np.zeros(len(crack))]])
+        cells.append(meshio.CellBlock("line", np.c_[np.arange(len(crack) - 1),
+                                                    np.arange(1, len(crack))] + k0))
+        for k, v in data.items():
+            pad = np.full((len(crack) - 1,) + v[0].shape[1:], np.nan)
+            v.append(pad)
+        data["crack"] = [np.zeros(len(cells[0].data)), np.ones(len(crack) - 1)]
+    pdata = {k: np.vstack([v, np.zeros((len(pts) - len(v),) + v.shape[1:])])
+             for k, v in m.point_data.items()}
+    return meshio.Mesh(pts, cells, point_data=pdata, cell_data=data)
+
+
+def _fe_impulse(config: CaseConfig, progress: Progress, verbose: bool) -> dict:
+    """The FE body's collapse ground velocity over a scan of collapse heights (seam:
+    homlimit.fe_impulse)."""
+    return {}
+
+
+def _problem(config: CaseConfig, z0: float = 0.0):
+    """The FE T-section problem of the case (seam: homlimit.problems.t_section)."""
+    from .problems import t_section
+
+    m = config.mesh
+    return t_section(config.case, z0=z0, facade=config.analysis.facade, h=m.size, n_b=m.n_b,
+                     growth=m.growth)
 
 
 def _mesh(config: CaseConfig):
-    """The T-section mesh of the case as a meshio.Mesh (seam: homlimit.geometry.tsection)."""
-    from .geometry import tsection
+    """The T-section mesh the FE analysis uses, as a meshio.Mesh with named regions and
+    boundaries (seam: homlimit.mesh.from_skfem)."""
+    from .mesh import from_skfem
 
-    w, m = config.case.wall, config.mesh
-    return tsection(w.H, w.b, w.L, m.size, **_mesh_refinements(m))
-
-
-def _mesh_refinements(m) -> dict:
-    """[mesh] size_junction / size_top as tsection keywords (0: half of size / no refinement)."""
-    return {"size_junction": m.size_junction or 0.5 * m.size, "size_top": m.size_top or None}
+    return from_skfem(_problem(config).mesh)
 
 
 def _fe_table_columns(case: Case, mesh_size: float, verbose: bool) -> dict:
@@ -290,7 +364,8 @@ def mesh_case(config: CaseConfig, out: Path) -> dict:
              "mesh_png": plots.plot_mesh(out / "mesh.png", m, title=f"case {config.name}")}
     return {"case": config.name, "n_triangles": int(len(tri)), "n_nodes": int(len(m.points)),
             "regions": {n: int(np.count_nonzero(region == k)) for k, n in enumerate(names)},
-            "mesh": {"size": config.mesh.size, **_mesh_refinements(config.mesh)},
+            "mesh": {"size": config.mesh.size, "n_b": config.mesh.n_b,
+                     "growth": config.mesh.growth},
             "files": {k: str(v) for k, v in files.items()}}
 
 

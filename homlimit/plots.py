@@ -146,8 +146,8 @@ def plot_vg_lambda(path: str | Path, curves: dict, mech_I, mech_II, *, fe: dict 
 
 
 def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
-    """The FE collapse mechanism: velocity magnitude, the deformed shape, the detected crack,
-    and the lines of slope tan ψ = √(cf/a) (eq. 16) and tan ψ = f from the hinge.
+    """The FE collapse mechanism: velocity magnitude and directions, the detected crack, and
+    the lines of slope tan ψ = √(cf/a) (eq. 16), f and c/a from the hinge.
 
     ``data``: points (n, 2), triangles (m, 3), velocity (n, 2) at the points; optional
     ``crack`` (k, 2) polyline, ``crack_edges`` list of polylines, ``hinge`` (x, z).
@@ -157,16 +157,18 @@ def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
     tri = np.asarray(data["triangles"])
     v = np.asarray(data["velocity"])[:, :2]
     speed = np.hypot(v[:, 0], v[:, 1])
-    fig, ax = plt.subplots(figsize=(7.5, 8))
-    tpc = ax.tripcolor(pts[:, 0], pts[:, 1], tri, speed, shading="gouraud", cmap="viridis")
-    fig.colorbar(tpc, ax=ax, shrink=0.7,
-                 label="velocity magnitude |u| [m/s per unit rate, normalised]")
-    # deformed outline: points displaced by a small multiple of the velocity
     vmax = float(speed.max()) or 1.0
-    span = float(np.ptp(pts[:, 1]))
-    scale = 0.08 * span / vmax
-    ax.triplot(pts[:, 0] + scale * v[:, 0], pts[:, 1] + scale * v[:, 1], tri,
-               color="w", lw=0.15, alpha=0.5)
+    fig, ax = plt.subplots(figsize=(7.5, 8))
+    tpc = ax.tripcolor(pts[:, 0], pts[:, 1], tri, speed / vmax, shading="gouraud",
+                       cmap="viridis", vmin=0.0, vmax=1.0)
+    fig.colorbar(tpc, ax=ax, shrink=0.7, label="velocity magnitude |u| / max |u| [-]")
+    # velocity directions on a coarse grid of nodes
+    span = float(max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1])))
+    cell = np.floor(pts / (span / 18)).astype(int)
+    _, pick = np.unique(cell, axis=0, return_index=True)
+    pick = pick[speed[pick] > 0.05 * vmax]
+    ax.quiver(pts[pick, 0], pts[pick, 1], v[pick, 0], v[pick, 1], color="w", alpha=0.8,
+              angles="xy", scale_units="xy", scale=vmax / (span / 18), width=0.003)
     w = case.wall
     hinge = data.get("hinge")
     x0, z0 = (w.b, 0.0) if hinge is None else (float(hinge[0]), float(hinge[1]))
@@ -175,13 +177,15 @@ def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
     for k, poly in enumerate(data.get("crack_edges") or []):
         poly = np.asarray(poly)
         ax.plot(poly[:, 0], poly[:, 1], ":", color="orange", lw=2,
-                label="fan edges (detected)" if k == 0 else None)
+                label="10 % and 90 % participation lines" if k == 0 else None)
     if data.get("crack") is not None:
         c = np.asarray(data["crack"])
         ax.plot(c[:, 0], c[:, 1], "-", color="r", lw=2.5, label="detected crack (mid-line)")
     top = w.H - z0
-    for slope, style, lab in ((case.alpha, "--", f"tan ψ = √(cf/a) = {case.alpha:.3f}"),
-                              (case.masonry.f, "-.", f"tan ψ = f = {case.masonry.f:.3f}")):
+    c_a = case.masonry.c / case.masonry.a
+    for slope, style, lab in ((case.alpha, "--", f"tan ψ = √(cf/a) = {case.alpha:.3f} (eq. 16)"),
+                              (case.masonry.f, "-.", f"tan ψ = f = {case.masonry.f:.3f}"),
+                              (c_a, ":", f"tan ψ = c/a = {c_a:.3f}")):
         t = np.array([0.0, top])
         ax.plot(x0 + slope * t, z0 + t, style, color="w", lw=1.8, label=lab)
     ax.set_xlim(float(pts[:, 0].min()), float(pts[:, 0].max()))

@@ -106,7 +106,7 @@ def test_every_problem_is_reported_at_once(tmp_path):
         "[masonry] f = True has the wrong type",                    # bool is not a number
         "[mesh] size = 0.0 m is out of range: allowed 0 < size",
         "[analysis] facade = 'concrete' is not allowed: allowed one of 'homogenised', "
-        "'bed-joints'",
+        "'bedjoints'",
         "[analysis] heights = 2.5 has the wrong type: expected an integer",
     ]
     for piece in expected:
@@ -130,9 +130,10 @@ def test_missing_required_section_and_cross_checks(tmp_path):
     assert "size = 20.0 m is out of range: allowed 0 < size <= min(H, b + L) = 6.5 m" \
         in str(info.value)
     with pytest.raises(ConfigError) as info:
-        load_case({**B1, "mesh": {"size": 0.5, "size_junction": 0.6}})
-    assert "[mesh] size_junction = 0.6 m is out of range: allowed 0 <= size_junction <= size " \
-        "= 0.5 m" in str(info.value)
+        load_case({**B1, "mesh": {"n_b": 0, "growth": 3.0}})
+    assert "[mesh] n_b = 0 is out of range: allowed 1 <= n_b and n_b <= 64" in str(info.value)
+    assert "[mesh] growth = 3.0 is out of range: allowed 1 <= growth and growth <= 2" \
+        in str(info.value)
 
 
 def test_unreadable_and_malformed_files(tmp_path):
