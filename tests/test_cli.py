@@ -323,5 +323,5 @@ def test_mesh_command_writes_vtu_and_png(tmp_path):
     assert np.count_nonzero(region == 1) == info["regions"]["facade"]
     assert np.count_nonzero(region == 2) == info["regions"]["wall"]
     back = read(info["files"]["mesh_vtu"])
-    assert {"facade", "wall", "base", "outer", "top", "end", "junction"} <= set(back.cell_sets)
+    assert {"facade", "wall", "base", "outer", "top", "end"} <= set(back.cell_sets)
     assert_png(Path(info["files"]["mesh_png"]), (9 * 120, int(7.5 * 120)))
