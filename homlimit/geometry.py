@@ -316,6 +316,7 @@ def tsection(H: float, b: float, L: float, size: float, *,
              size_junction: float | None = None, size_top: float | None = None,
              radius_junction: float | None = None, radius_top: float | None = None,
              z0: float = 0.0, embed_lines: Sequence[Segment] = (),
+             refine_points: Sequence = (), refine_segments: Sequence = (),
              verbosity: int = 0) -> meshio.Mesh:
     """Mesh of the x–z section: façade 0 <= x <= b, transversal wall b <= x <= b + L,
     z0 <= z <= H (the failing part of height h = H − z0 when z0 > 0).
@@ -325,7 +326,8 @@ def tsection(H: float, b: float, L: float, size: float, *,
     Element size ``size``, refined to ``size_junction`` within ``radius_junction`` (default b)
     of the junction and to ``size_top`` within ``radius_top`` (default b) of the façade's top
     edge, growing linearly to ``size`` over a further radius. ``embed_lines``: segments the
-    mesh must conform to (see ``polygon_mesh``).
+    mesh must conform to, e.g. rays from a hinge (0, z_h) on the outer face; ``refine_points``
+    (x, z, size, radius) and ``refine_segments``: more local refinement (see ``polygon_mesh``).
     """
     H = check_range("H", H, 0.0, lo_open=True, unit="m")
     b = check_range("b", b, 0.0, lo_open=True, unit="m")
@@ -346,5 +348,7 @@ def tsection(H: float, b: float, L: float, size: float, *,
     boundaries = {"base": [((0.0, z0), (x1, z0))], "outer": [((0.0, z0), (0.0, H))],
                   "top": [((0.0, H), (x1, H))], "end": [((x1, z0), (x1, H))],
                   "junction": [((b, z0), (b, H))]}
-    return polygon_mesh(regions, boundaries, size=size, refine_segments=refine,
-                        embed_lines=embed_lines, name="tsection", verbosity=verbosity)
+    return polygon_mesh(regions, boundaries, size=size,
+                        refine_segments=refine + list(refine_segments),
+                        refine_points=refine_points, embed_lines=embed_lines, name="tsection",
+                        verbosity=verbosity)

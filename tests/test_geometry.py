@@ -125,6 +125,21 @@ def test_embedded_rays_from_a_hinge_on_the_outer_face():
     assert np.min(np.hypot(m.p[0], m.p[1] - zh)) < 1e-12
 
 
+@pytest.mark.parametrize("rays", [
+    [((0.0, 0.0), (B + L, H))],                                # toe to the far top corner
+    [((0.0, 0.0), (B + 3.0, H)), ((0.0, 0.0), (B + L, 4.0))],   # a fan from the toe
+    [((B, 2.0), (B, 5.0))],                                    # on the junction itself
+    [((0.0, 1.0), (0.0, 4.0))],                                # on the outer face
+    [((0.0, 2.0), (4.0, H)), ((0.0, 6.0), (B + L, 3.0))]])     # two rays crossing
+def test_embedded_lines_on_corners_boundaries_and_crossings(rays):
+    m = to_skfem(tsection(H, B, L, 0.5, embed_lines=rays, refine_points=[(0.0, 0.0, 0.1, 0.3)]))
+    for p, q in rays:
+        assert covered_length(m, p, q) == pytest.approx(math.dist(p, q), rel=1e-9)
+    assert element_areas(m).sum() == pytest.approx(H * (B + L), rel=1e-12)
+    assert set(m.boundaries) == {"base", "outer", "top", "end", "junction"}
+    assert facet_lengths(m, m.boundaries["junction"]).sum() == pytest.approx(H, rel=1e-12)
+
+
 def test_polygon_prandtl_footing_and_point_refinement():
     W, D, Bf = 5.0, 5.0, 1.0
     m = to_skfem(polygon_mesh(
