@@ -45,7 +45,7 @@ def _sets(m: meshio.Mesh) -> dict[str, list[np.ndarray]]:
     if phys is not None and m.field_data:
         for k, (tag, dim) in ((k, np.asarray(v).ravel()[:2]) for k, v in m.field_data.items()):
             want = "triangle" if dim == 2 else "line" if dim == 1 else None
-            out[k] = [np.flatnonzero((np.asarray(p).ravel() == tag)) if c.type == want
+            out[k] = [np.flatnonzero(np.asarray(p).ravel() == tag) if c.type == want
                       else np.zeros(0, int) for c, p in zip(m.cells, phys)]
     return out
 

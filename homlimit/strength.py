@@ -244,7 +244,8 @@ def _cohesive_rows(a, c, f, C, T):
         A, b = _eliminate(A, b, 3)
     # Minkowski sum with the eq. 15 cone: σ = σ1 + σ2, A σ1 <= b, N σ2 <= 0; eliminate σ2
     Z = np.zeros((len(eq15), 3))
-    A, b = np.vstack([np.hstack([A, -A]), np.hstack([Z, eq15])]), np.concatenate([b, 0 * eq15[:, 0]])
+    A = np.vstack([np.hstack([A, -A]), np.hstack([Z, eq15])])
+    b = np.concatenate([b, np.zeros(len(eq15))])
     for _ in range(3):
         A, b = _eliminate(A, b, 3)
     rows, rhs, used = [], [], np.zeros(len(A), bool)

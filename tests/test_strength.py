@@ -13,15 +13,15 @@ import pytest
 from scipy.optimize import linprog
 
 from homlimit.errors import ParameterError
-from homlimit.strength import (BedJoints, ConicBlock, Homogenised, MohrCoulomb, Tresca,
-                               jump_strain)
+from homlimit.strength import BedJoints, ConicBlock, Homogenised, MohrCoulomb, Tresca, jump_strain
 
 A_, C_, F_ = 0.3, 0.2, 0.6  # Table 1, B1 (c/a = 0.667 >= f)
 
 
 def eq15_rows(a, c, f):
     """Eq. 15 as printed: ±τ + fσ_z <= 0, (a/c)σ_x ± (fa/c + 1)τ + fσ_z <= 0."""
-    return np.array([[0, f, 1], [0, f, -1], [a / c, f, f * a / c + 1], [a / c, f, -(f * a / c + 1)]])
+    k = a / c
+    return np.array([[0, f, 1], [0, f, -1], [k, f, f * k + 1], [k, f, -(f * k + 1)]])
 
 
 def lp_max(d, A_ub, b_ub, box=None, n_extra=0, A_eq=None, b_eq=None):
@@ -109,23 +109,20 @@ def micro_field_lp(a, c, f, C, T):
     τ_h = τ1 − (c/(2a))(σ_B − σ_A). Joints: |τ_j| + fσ_j <= C, σ_j <= T.
     Returns (A_ub, b_ub, A_eq, b_eq) over the 12 variables (σ first)."""
     k = c / a
-    n = 12
-    SX, SZ, TU, S2X, S2Z, T2, SH, TH, TA, TB, SA, SB = range(n)
-    rows, rhs = [], []
+    names = ("SX", "SZ", "TU", "S2X", "S2Z", "T2", "SH", "TH", "TA", "TB", "SA", "SB")
 
     def row(**coef):
-        r = np.zeros(n)
+        r = np.zeros(len(names))
         for key, v in coef.items():
-            r[globals_ix[key]] += v
+            r[names.index(key)] += v
         return r
-    globals_ix = dict(SX=SX, SZ=SZ, TU=TU, S2X=S2X, S2Z=S2Z, T2=T2, SH=SH, TH=TH, TA=TA, TB=TB,
-                      SA=SA, SB=SB)
+    rows, rhs = [], []
     for t, sg in (("TA", "SA"), ("TB", "SB"), ("TH", "SH")):
-        for s in (1, -1):
-            rows.append(row(**{t: s, sg: f})); rhs.append(C)
-        rows.append(row(**{sg: 1})); rhs.append(T)
+        rows += [row(**{t: 1, sg: f}), row(**{t: -1, sg: f}), row(**{sg: 1})]
+        rhs += [C, C, T]
     for N in eq15_rows(a, c, f):                   # σ2 in the eq. 15 cone
-        rows.append(row(S2X=N[0], S2Z=N[1], T2=N[2])); rhs.append(0.0)
+        rows.append(row(S2X=N[0], S2Z=N[1], T2=N[2]))
+        rhs.append(0.0)
     eqs = [row(SX=1, S2X=-1, SH=-1, TA=k / 2, TB=-k / 2),      # σ1_x
            row(TU=1, T2=-1, TA=-0.5, TB=-0.5),                  # τ1
            row(SZ=1, S2Z=-1, SA=-0.5, SB=-0.5),                 # σ1_z
@@ -256,13 +253,14 @@ def block_value(block: ConicBlock, x: np.ndarray):
         return float(block.cx @ x) if ok else np.inf
     y = cp.Variable(block.n_aux)
     z = block.A @ x + block.e + block.D @ y
-    cons, r = [], 0
-    if block.n_eq:
-        cons.append(z[r:r + block.n_eq] == 0); r += block.n_eq
-    if block.n_lin:
-        cons.append(z[r:r + block.n_lin] >= 0); r += block.n_lin
+    ne, nl = block.n_eq, block.n_lin
+    cons = [z[:ne] == 0] if ne else []
+    if nl:
+        cons.append(z[ne:ne + nl] >= 0)
+    r = ne + nl
     for q in block.soc:
-        cons.append(cp.SOC(z[r], z[r + 1:r + q])); r += q
+        cons.append(cp.SOC(z[r], z[r + 1:r + q]))
+        r += q
     prob = cp.Problem(cp.Minimize(block.cy @ y), cons)
     prob.solve(solver=cp.CLARABEL)
     if prob.status in ("infeasible", "infeasible_inaccurate"):
