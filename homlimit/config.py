@@ -95,12 +95,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
     },
     "mesh": {
         "size": Key(float, 0.25, "m", **_POS,
-                    doc="element spacing along z, and in the wall far from the junction "
-                        "(homlimit.problems.t_section h)"),
-        "n_b": Key(int, 4, "", lo=1, hi=64, doc="element columns across the façade thickness"),
-        "growth": Key(float, 1.15, "", lo=1.0, hi=2.0,
-                      doc="growth rate of the column widths in the wall, from b/n_b at the "
-                          "junction up to size"),
+                    doc="element spacing of the T-section mesh along z, and in the wall far "
+                        "from the junction (homlimit.problems.t_section h; 4 columns across "
+                        "the façade, graded towards the junction)"),
     },
     "analysis": {
         "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),
@@ -112,9 +109,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "facade": Key(str, "homogenised", choices=("homogenised", "bedjoints"),
                       doc="strength domain of the façade in the FE model (eq. 15, or bed "
                           "joints only)"),
-        "heights": Key(int, 5, "", lo=1, hi=200,
-                       doc="collapse heights h tried by the FE impulse scan (eq. 7 minimised "
-                           "over λ)"),
+        "heights": Key(int, 6, "", lo=1, hi=200,
+                       doc="collapse heights h tried by the FE impulse scan, evenly from H/4 to "
+                           "H (v̄_g of eq. 7 minimised over λ = h/b)"),
         "tol": Key(float, 0.0, "", lo=0.0, hi=1e-2,
                    doc="Clarabel gap and feasibility tolerance (0: the solver default of "
                        "homlimit.kinematic.SolverOptions)"),
@@ -136,8 +133,6 @@ class MeshConfig:
     """[mesh]: the T-section triangulation of ``homlimit.problems.t_section``."""
 
     size: float = 0.25
-    n_b: int = 4
-    growth: float = 1.15
 
 
 @dataclass(frozen=True)
@@ -149,7 +144,7 @@ class AnalysisConfig:
     lam_points: int = 200
     fe: bool = True
     facade: str = "homogenised"
-    heights: int = 5
+    heights: int = 6
     tol: float = 0.0
 
 

@@ -300,9 +300,7 @@ def _problem(config: CaseConfig, z0: float = 0.0):
     """The FE T-section problem of the case (seam: homlimit.problems.t_section)."""
     from .problems import t_section
 
-    m = config.mesh
-    return t_section(config.case, z0=z0, facade=config.analysis.facade, h=m.size, n_b=m.n_b,
-                     growth=m.growth)
+    return t_section(config.case, z0=z0, facade=config.analysis.facade, h=config.mesh.size)
 
 
 def _mesh(config: CaseConfig):
@@ -364,8 +362,7 @@ def mesh_case(config: CaseConfig, out: Path) -> dict:
              "mesh_png": plots.plot_mesh(out / "mesh.png", m, title=f"case {config.name}")}
     return {"case": config.name, "n_triangles": int(len(tri)), "n_nodes": int(len(m.points)),
             "regions": {n: int(np.count_nonzero(region == k)) for k, n in enumerate(names)},
-            "mesh": {"size": config.mesh.size, "n_b": config.mesh.n_b,
-                     "growth": config.mesh.growth},
+            "mesh": {"size": config.mesh.size},
             "files": {k: str(v) for k, v in files.items()}}
 
 

@@ -130,9 +130,10 @@ def test_missing_required_section_and_cross_checks(tmp_path):
     assert "size = 20.0 m is out of range: allowed 0 < size <= min(H, b + L) = 6.5 m" \
         in str(info.value)
     with pytest.raises(ConfigError) as info:
-        load_case({**B1, "mesh": {"n_b": 0, "growth": 3.0}})
-    assert "[mesh] n_b = 0 is out of range: allowed 1 <= n_b and n_b <= 64" in str(info.value)
-    assert "[mesh] growth = 3.0 is out of range: allowed 1 <= growth and growth <= 2" \
+        load_case({**B1, "analysis": {"heights": 0, "tol": 0.5}})
+    assert "[analysis] heights = 0 is out of range: allowed 1 <= heights and heights <= 200" \
+        in str(info.value)
+    assert "[analysis] tol = 0.5 is out of range: allowed 0 <= tol and tol <= 0.01" \
         in str(info.value)
 
 
