@@ -12,8 +12,8 @@ Hinge + fan (unit rotation rate, hinge at (0, z0) on the façade's outer face, �
 - block  x <= T1 ζ:            v = (−ζ, x)        (rigid rotation about the hinge)
 - fan    T1 ζ <= x <= T2 ζ:    v = (−1, T1) (T2 ζ − x)/(T2 − T1)   (affine)
 - fixed  x >= T2 ζ or ζ <= 0:  v = 0.
-The fan's uniform strain rate is d = (1, T1 T2, −(T1 + T2))/(T2 − T1) (d_xx, d_zz, γ_xz), and the
-cone of eq. 15 (d_xx >= 0, d_zz >= f(c/a) d_xx, |γ_xz| <= d_zz/f + f d_xx) admits it iff
+The fan's uniform strain rate is d = (1, T1 T2, −(T1 + T2))/(T2 − T1) (d_xx, d_zz, γ_xz), and
+the cone of eq. 15 (d_xx >= 0, d_zz >= f(c/a) d_xx, |γ_xz| <= d_zz/f + f d_xx) admits it iff
 
     T1 T2 >= cf/a   and   (T1 − f)(T2 − f) >= 0.
 

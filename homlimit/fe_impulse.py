@@ -3,16 +3,49 @@
 Glue between the kinematic solver (``homlimit.kinematic``), the rigid fit (``rigidfit``), the
 crack measurement (``crack``), the closed-form hinge + fan (``fan``) and the impulse criterion
 (``impulse``, eqs 4–7).
+
+One-degree-of-freedom generalisation of eqs 4–7. The FE mechanism is a shape φ(x) = v(x)/ω
+(unit rotation rate of the fitted block about O). With q the block's rotation angle and the
+whole structure moving as q φ relative to the ground:
+- kinetic energy ½ M q̇², generalised mass M = ∫ρ|φ|² dA (for a rigid body M = I_O);
+- the impulse v_g (ground moving +x, the structure's inertia pushing −x) gives
+  M q̇0 = v_g ∫ρ(−φ_x) dA  (eq. 4; for a rigid body ∫ρ(−φ_x) = m z_G);
+- restoring work W(q): the block (the elements the rigid fit explains) rotates by q about O
+  exactly, W_b = m_b g (x_G sin q + z_G cos q − z_G); every other moving element (a fan, a
+  smeared crack) is carried to first order, W_r = q g ∫_rest ρ φ_z (the fan's dilatant lift);
+- the mechanism tips over when the block's G passes over the vertical through O,
+  q_m = atan(x_G/z_G), where W_b = m_b g (r_G − z_G) (eq. 18). (The linearised W_r never stops
+  growing, so W itself has no peak: a fan's dilatant lift is bounded in real masonry by the
+  block size, which the homogenised model does not see.)
+- collapse when ½ M q̇0² >= W(q_m), whence (eq. 7)
+
+      v̄_g = √(2 W(q_m) M) / ∫ρ(−φ_x) dA.
+
+What this neglects: the fan's geometry change at finite rotation (its lift is linearised,
+and its share of M and W is reported), any dissipation (none in the homogenised model), and
+a change of mechanism during the motion. For a rigid mechanism (no deforming zone) it is eq. 7
+with eq. 18 exactly. ``fe_body`` gives the other bracket: the rigid body bounded by the 50 %
+participation line, fed to eq. 7 + eq. 18 (fan mass split at its mid-line, fan lift ignored).
 """
 
 from __future__ import annotations
 
+import dataclasses
+import math
+
 import numpy as np
 from skfem import Basis, ElementTriP2
 
-from .errors import check_range
+from .body import RigidBody
+from .crack import fan_edges
+from .errors import ParameterError, check_range
+from .fan import optimise_fan
+from .impulse import collapse_velocity
+from .params import Case
+from .rigidfit import measure_mechanism, p2_energy
 
-__all__ = ["p2_nodes"]
+__all__ = ["p2_nodes", "ray_conforming_mesh", "GeneralisedImpulse", "generalised_impulse",
+           "fe_body", "analyse", "fe_mechanism", "h_scan"]
 
 
 def p2_nodes(solution, densities: dict | None = None):
@@ -30,10 +63,13 @@ def p2_nodes(solution, densities: dict | None = None):
 
 
 def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
-                        h_hinge: float | None = None):
-    """A T-section mesh (gmsh, unstructured) whose edges contain the rays x = T (z − z_hinge)
-    from the hinge (0, z_hinge) on the façade's outer face, one per slope T, and the façade /
-    wall interface x = b. Returns a scikit-fem MeshTri with the boundaries ("base", "outer",
+                        h_hinge: float | None = None, x_apex: float = 0.0,
+                        extra_lines=()):
+    """A T-section mesh (gmsh, unstructured) whose edges contain the rays
+    x − x_apex = T (z − z_hinge) from (x_apex, z_hinge) (default: the hinge on the façade's
+    outer face; x_apex = b: mechanism II's crack from the inner corner), one per slope T, and
+    the façade / wall interface x = b; extra_lines: more segments ((x0, z0), (x1, z1)) for the
+    mesh to contain (e.g. mechanism II's bed-joint crack under the façade). Returns a scikit-fem MeshTri with the boundaries ("base", "outer",
     "top", "end") and subdomains ("facade", "wall") of ``problems.t_section``.
 
     This is the adapter the conforming-mesh checks use until ``geometry.tsection`` offers
@@ -57,11 +93,14 @@ def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
         occ = gmsh.model.occ
         r1 = occ.addRectangle(0, z0, 0, b, H - z0)
         r2 = occ.addRectangle(b, z0, 0, L, H - z0)
-        ph = occ.addPoint(0, z_hinge, 0)
+        x_apex = check_range("x_apex", x_apex, 0.0, b, unit="m")
+        ph = occ.addPoint(x_apex, z_hinge, 0)
         lines = []
         for T in slopes:
-            ze = min(H, z_hinge + (b + L) / T)
-            lines.append(occ.addLine(ph, occ.addPoint(T * (ze - z_hinge), ze, 0)))
+            ze = min(H, z_hinge + (b + L - x_apex) / T)
+            lines.append(occ.addLine(ph, occ.addPoint(x_apex + T * (ze - z_hinge), ze, 0)))
+        for (xa, za), (xb, zb) in extra_lines:
+            lines.append(occ.addLine(occ.addPoint(xa, za, 0), occ.addPoint(xb, zb, 0)))
         occ.fragment([(2, r1), (2, r2)], [(1, ln) for ln in lines])
         occ.synchronize()
         gmsh.option.setNumber("Mesh.MeshSizeMax", h)
@@ -70,7 +109,7 @@ def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
         f = gmsh.model.mesh.field
         fd = f.add("Distance")
         hinge = [t for d, t in gmsh.model.getEntities(0)
-                 if np.allclose(gmsh.model.getValue(0, t, []), [0, z_hinge, 0])]
+                 if np.allclose(gmsh.model.getValue(0, t, []), [x_apex, z_hinge, 0])]
         f.setNumbers(fd, "PointsList", hinge)
         ft = f.add("Threshold")
         f.setNumber(ft, "InField", fd)
@@ -99,3 +138,169 @@ def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
         "top": lambda x: np.abs(x[1] - H) < tol,
         "end": lambda x: np.abs(x[0] - (b + L)) < tol,
     }).with_subdomains({"facade": lambda x: x[0] < b, "wall": lambda x: x[0] > b})
+
+
+def _p2_integral(elements, area, density, F):
+    """∫ρ F dA of a P2 scalar field per element (vertex functions integrate to 0, edge ones to
+    A/3)."""
+    Fe = np.asarray(F, float)[np.asarray(elements, int)]
+    return np.asarray(density, float) * area * Fe[:, 3:].sum(axis=1) / 3.0
+
+
+@dataclasses.dataclass(frozen=True)
+class GeneralisedImpulse:
+    """The one-degree-of-freedom impulse criterion of a mechanism shape φ (module docstring).
+
+    M [kg m²], Pi = ∫ρ(−φ_x) [kg m], W_m [J] restoring work at the tipping angle q_m [rad],
+    vg [m/s];
+    block: the rigid block's RigidBody (None if no element is rigid); M_rest_share,
+    W_rest_share: the deforming part's shares of M and of W(q_m).
+    """
+
+    M: float
+    Pi: float
+    W_m: float
+    q_m: float
+    vg: float
+    block: RigidBody | None
+    M_rest_share: float
+    W_rest_share: float
+
+
+def generalised_impulse(X, V, elements, density, mm, g: float = 9.81,
+                        block: np.ndarray | None = None) -> GeneralisedImpulse:
+    """v̄_g of the P2 mechanism (X, V, elements, density) with its fit ``mm`` (eqs 4–7
+    generalised; see the module docstring). ``block``: element mask of the rigid block
+    (default: elements whose nodes the rigid fit all explains)."""
+    g = check_range("g", g, 0.0, lo_open=True, unit="m/s^2")
+    el = np.asarray(elements, int)
+    phi = np.asarray(V, float) / mm.fit.omega
+    rho = np.broadcast_to(np.asarray(density, float), (len(el),))
+    e1, e2 = X[el[:, 1]] - X[el[:, 0]], X[el[:, 2]] - X[el[:, 0]]
+    area = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    blk = (mm.label == 1) if block is None else np.asarray(block, bool)
+    e = p2_energy(el, area, rho, phi)
+    M = float(e.sum())
+    Pi = float(_p2_integral(el, area, rho, -phi[:, 0]).sum())
+    rest = ~blk & (mm.label != 0)
+    lift_rest = g * float(_p2_integral(el[rest], area[rest], rho[rest], phi[:, 1]).sum())
+    body = None
+    if blk.any():
+        body = RigidBody.from_triangles(X, el[blk, :3], rho[blk], O=mm.fit.O)
+
+    if body is None or body.x_G <= 0:
+        raise ParameterError("block = None is out of range: the mechanism has no rigid block "
+                             "with a restoring lever (x_G > 0), allowed a block about O")
+    # the block tips over when G passes over the vertical through O (eq. 18)
+    q_m = math.atan2(body.x_G, body.z_G)
+    W_b = body.m * g * (body.r_G - body.z_G)
+    W_m = W_b + q_m * lift_rest
+    vg = math.sqrt(2.0 * W_m * M) / Pi
+    M_b = body.I_O if body is not None else 0.0
+    return GeneralisedImpulse(M, Pi, W_m, q_m, vg, body, 1.0 - M_b / M,
+                              q_m * lift_rest / W_m)
+
+
+def fe_body(X, elements, density, mm, level: float = 0.5) -> RigidBody:
+    """The rigid body bounded by the ``level`` participation line: the triangles whose mean
+    participation is at least ``level``, about the fitted O, integrated exactly."""
+    el = np.asarray(elements, int)
+    part = np.nan_to_num(mm.participation, nan=1.0)  # elements at O belong to the body
+    sel = (part >= level) & (mm.label != 0)
+    rho = np.broadcast_to(np.asarray(density, float), (len(el),))
+    return RigidBody.from_triangles(X, el[sel, :3], rho[sel], O=mm.fit.O)
+
+
+def analyse(case: Case, mesh_size: float = 0.25, facade: str = "homogenised", z0: float = 0.0,
+            mesh=None, options=None) -> dict:
+    """FE mechanism of the part above z0 (base fixed at z0): multiplier, rigid fit, crack,
+    mechanism type, body and v̄_g. Returns plain data (see ``fe_mechanism`` for the keys)."""
+    from .kinematic import SolverOptions, solve_kinematic
+    from .problems import t_section
+
+    w = case.wall
+    prob = t_section(case, z0=z0, facade=facade, h=mesh_size)
+    if mesh is not None:
+        prob = dataclasses.replace(prob, mesh=mesh)
+    sol = solve_kinematic(prob, options or SolverOptions())
+    X, V, el, rho = p2_nodes(sol, {"facade": case.rho * w.gamma * w.s,
+                                   "wall": w.gamma * w.s})
+    mm = measure_mechanism(X, V, el, rho)
+    fe = fan_edges(X, el, mm, w.b, z_top=w.H) if mm.kind != "distributed" else None
+    if mm.kind == "distributed":
+        kind = "distributed"
+    elif fe is None or fe.sharp:
+        kind = "rigid"
+    else:
+        kind = "hinge+fan"
+    out = {"multiplier_fe": sol.multiplier, "z0": z0, "facade": facade,
+           "mesh_size": mesh_size, "n_triangles": int(prob.n_triangles),
+           "O": tuple(mm.fit.O), "omega": mm.fit.omega, "mechanism_fe": kind,
+           "explained": mm.explained, "block_share": mm.block_share,
+           "interior_share": mm.interior_share, "h": w.H - mm.fit.O[1],
+           "lam_fe": (w.H - mm.fit.O[1]) / w.b,
+           "tanpsi_fe": fe.T_mid if fe else math.nan,
+           "dtanpsi_fe": fe.dT if fe else math.nan,
+           "tanpsi_fe_edges": (fe.T1, fe.T2) if fe else (math.nan, math.nan),
+           "solve_time": sol.times.get("total", math.nan)}
+    if fe is not None and fe.sharp:
+        out["tanpsi_fe_edges"] = (fe.T_mid, fe.T_mid)
+    try:
+        gi = generalised_impulse(X, V, el, rho, mm, g=w.g)
+        body50 = fe_body(X, el, rho, mm)
+        v_rigid = collapse_velocity(body50, g=w.g)
+        out.update({"vg_generalised": gi.vg, "vg_rigid50": v_rigid,
+                    "M_rest_share": gi.M_rest_share, "W_rest_share": gi.W_rest_share,
+                    "body50": dataclasses.asdict(body50)})
+        vg = v_rigid if kind == "rigid" else gi.vg
+        out["vg_fe"] = vg
+        out["vg_method"] = ("eq. 7 + eq. 18, body bounded by the 50 % line" if kind == "rigid"
+                            else "one-DOF generalisation of eqs 4-7 (fe_impulse docstring)")
+    except ParameterError as exc:
+        out.update({"vg_fe": math.nan, "vg_method": f"not available: {exc}"})
+    out["vnorm_fe"] = out["vg_fe"] / math.sqrt(w.g * w.b)
+    return out
+
+
+def h_scan(case: Case, lams=None, mesh_size: float = 0.25, facade: str = "homogenised",
+           options=None) -> list[dict]:
+    """``analyse`` on the part above z0 = H − h for h = λ b, λ in ``lams`` (default: 8 values
+    from 0.25 H/b to H/b). Each record has the analysed h_part and the mechanism's own h."""
+    w = case.wall
+    if lams is None:
+        lams = np.linspace(0.25, 1.0, 8) * w.H / w.b
+    recs = []
+    for lam in lams:
+        hp = check_range("lam", lam, 0.0, w.H / w.b, lo_open=True) * w.b
+        r = analyse(case, mesh_size, facade, z0=max(0.0, w.H - hp), options=options)
+        r["h_part"] = hp
+        recs.append(r)
+    return recs
+
+
+def fe_mechanism(case: Case, mesh_size: float = 0.25, facade: str = "homogenised",
+                 lams=None, options=None, verbose: bool = False) -> dict:
+    """The FE columns of Table 1 for ``case``: the h-scan's minimum of v̄_g.
+
+    Keys: lam_fe (critical λ = h/b, h from the base of the analysed part to the top... the
+    mechanism's hinge height: h = H − z_O), vnorm_fe (v̄_g/√(g b)), vg_fe [m/s], tanpsi_fe
+    (the 50 % participation line), tanpsi_fe_edges (block side, fixed side), mechanism_fe
+    ("rigid", "hinge+fan", "distributed"), multiplier_fe, h, O, omega, vg_method, scan (all
+    records), and the closed-form hinge + fan of the whole wall for comparison (fan_*).
+    """
+    recs = h_scan(case, lams, mesh_size, facade, options)
+    ok = [r for r in recs if np.isfinite(r["vg_fe"])]
+    if not ok:
+        raise ParameterError(f"facade = {facade!r}: no analysed height gave a v̄_g (see the "
+                             "scan's vg_method)")
+    best = dict(min(ok, key=lambda r: r["vg_fe"]))
+    best["scan"] = [{k: r[k] for k in ("h_part", "h", "multiplier_fe", "vnorm_fe",
+                                        "mechanism_fe", "tanpsi_fe")} for r in recs]
+    opt = optimise_fan(case, facade=facade)
+    best.update({"fan_multiplier": opt.lam, "fan_z0": opt.z0, "fan_T1": opt.T1,
+                 "fan_T2": opt.T2, "fan_admissible": opt.admissible})
+    if verbose:
+        for r in best["scan"]:
+            print(f"  h_part = {r['h_part']:.2f} m: h = {r['h']:.2f} m, "
+                  f"v/sqrt(gb) = {r['vnorm_fe']:.3f}, {r['mechanism_fe']}")
+    return best

@@ -1,4 +1,4 @@
-"""The failing body of a velocity field: best-fitting rigid motion and how rigidly each part follows it.
+"""The failing body of a velocity field: the best-fitting rigid motion and how parts follow it.
 
 A rigid rotation of rate ω about O = (x_O, z_O) has the velocity
 
@@ -45,7 +45,8 @@ _M_P2 = np.array([[6, -1, -1, 0, -4, 0],
 class RigidFit:
     """Rigid rotation of rate ω [1/s] about O (x, z) [m] fitted to the explained nodes.
 
-    block: nodes the rigid motion explains (and that move); fixed: nodes at rest;
+    block: nodes the rigid motion explains, closer to it than to rest (slow ones near O
+    included); fixed: the other nodes at rest (|v| <= rtol max|v|);
     rms: RMS residual over the block nodes [m/s]; vmax: max |v| [m/s]; n_iter: iterations.
     """
 
@@ -102,7 +103,7 @@ def fit_rigid(X: np.ndarray, V: np.ndarray, rtol: float = 0.02, max_iter: int = 
     sel = speed >= 0.5 * vmax
     if sel.sum() < 2:
         sel = speed >= np.sort(speed)[-2]
-    n_first = None
+    n_first, tol_ok = None, rtol * vmax
     it = 0
     # tighten the acceptance tolerance by decades: nodes of a deforming zone next to the block
     # pass a loose tolerance and bias the fit; stop when the block would lose half its nodes
@@ -119,16 +120,21 @@ def fit_rigid(X: np.ndarray, V: np.ndarray, rtol: float = 0.02, max_iter: int = 
             cur = new
         if new.sum() < 3 or (n_first is not None and new.sum() < 0.5 * n_first):
             break
-        sel, n_first = new, n_first or int(new.sum())
+        sel, n_first, tol_ok = new, n_first or int(new.sum()), tol
     p = _lstsq(X[sel], V[sel])
     vr = np.stack([p[0] - p[2] * X[:, 1], p[1] + p[2] * X[:, 0]], axis=1)
+    # the block: every node the fit explains and that is closer to v_R than to rest (slow
+    # nodes near O included); at rest: the other nodes slower than the tolerance
+    resid = np.linalg.norm(V - vr, axis=1)
+    block = (resid <= tol_ok) & (resid <= np.maximum(speed, 1e-12 * vmax))
     om = float(p[2])
     if om == 0.0:
         raise ParameterError("omega = 0 is out of range: the fitted motion is a translation, "
                              "allowed omega != 0 (a rotation about a finite centre)")
     res = np.linalg.norm(V[sel] - vr[sel], axis=1)
-    return RigidFit(O=(float(-p[1] / om), float(p[0] / om)), omega=om, block=sel,
-                    fixed=~moving, rms=float(np.sqrt(np.mean(res ** 2))), vmax=vmax, n_iter=it)
+    return RigidFit(O=(float(-p[1] / om), float(p[0] / om)), omega=om, block=block,
+                    fixed=~moving & ~block, rms=float(np.sqrt(np.mean(res ** 2))), vmax=vmax,
+                    n_iter=it)
 
 
 def p2_energy(elements: np.ndarray, area: np.ndarray, density: np.ndarray,
@@ -162,7 +168,7 @@ class MechanismMeasures:
     """How a velocity field splits into a rigid block, a fixed part and the rest.
 
     fit: the RigidFit. Energies are ∫ρ|v|² [kg m²/s² per unit thickness, i.e. 2 × kinetic].
-    explained: 1 − (∫ρ|v − v̂|² over block and fixed elements + ∫ρ|v|² over the others) / ∫ρ|v|²,
+    explained: 1 − (∫ρ|v − v̂|² on block and fixed elements + ∫ρ|v|² on the others) / ∫ρ|v|²,
     v̂ = v_R on block nodes and 0 at rest: the share of the energy the rigid fit explains;
     block_share: energy of the block elements over the total; deforming_share: energy of the
     other elements (neither block nor at rest: a smeared crack, a fan, a second body).
