@@ -106,9 +106,10 @@ def _polygon(name: str, pts) -> np.ndarray:
 
 
 def _refinement(name: str, r, segment: bool):
+    """(point or segment, size, radius) from (x, z, size, radius) or (p, q, size, radius)."""
     try:
-        geo, size, radius = (r[0:2], r[2], r[3]) if segment else (r[0:2], r[2], r[3])
-    except (TypeError, IndexError):
+        geo, size, radius = r[0:2], r[2], r[3]
+    except (TypeError, IndexError, KeyError):
         kind = "((x1, z1), (x2, z2), size, radius)" if segment else "(x, z, size, radius)"
         raise ParameterError(f"{name} = {r!r} is not {kind}") from None
     geo = _segment(name, geo) if segment else _point(name, geo)

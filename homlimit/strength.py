@@ -279,8 +279,9 @@ class Homogenised(_Polyhedral):
     With C > 0, G is the set of macroscopic stresses carried by the piecewise-constant micro
     field of the static proof of eq. 15 (``_micro_field_rows``), plus the cone of eq. 15
     (Minkowski sum: the true domain is convex and contains both); its facets are computed by
-    Fourier–Motzkin elimination. For c/a >= f and T >= C/f this gives
-        ±τ + fσ_z <= C,   (a/c)σ_x + fσ_z ± (1 + fa/c)τ <= C + (a/c)(C/f);
+    Fourier–Motzkin elimination. For T >= C/f this gives
+        ±τ + fσ_z <= C,   (a/c)σ_x + fσ_z ± (1 + fa/c)τ <= C + (a/c)(C/f),
+    the eq. 15 cone translated to the apex σ* = (C/f, C/f, 0): π(d) = (C/f)(d_xx + d_zz);
     a lower T adds facets (σ_z <= T among them). It is a static (inner) estimate of the cohesive
     homogenised domain, equal to eq. 15 for C = 0.
     """
@@ -321,12 +322,16 @@ class Homogenised(_Polyhedral):
 
         With r_1 = r_2 = C and r_3 = r_4 = R, π = C(μ_1 + μ_2) + R(μ_3 + μ_4)
         = C (d_zz/f − (c/a) d_xx) + R (c/a) d_xx, whatever the split of the μ's: cx·d with
-        cx = ((R − C) c/a, C/f, 0), and cx = 0 in the dry case. Otherwise (a tension cut-off,
-        or c/a < f) the generator form (``generator_cone``) is used.
+        cx = ((R − C) c/a, C/f, 0), and cx = 0 in the dry case. Otherwise (a tension cut-off
+        below C/f adds facets) the generator form (``generator_cone``) is used.
         """
-        if len(self.rhs) != 4 or self.rhs[0] != self.rhs[1] or self.rhs[2] != self.rhs[3]:
+        r = self.rhs
+        four = (self.normals.shape == (4, 3)
+                and np.allclose(self.normals, _eq15(self.a, self.c, self.f), rtol=1e-12)
+                and np.isclose(r[0], r[1], rtol=1e-12) and np.isclose(r[2], r[3], rtol=1e-12))
+        if not four:
             return self.generator_cone()
-        C, R, k = self.rhs[0], self.rhs[2], self.c / self.a
+        C, R, k = 0.5 * (r[0] + r[1]), 0.5 * (r[2] + r[3]), self.c / self.a
         return ConicBlock(A=self.facets, D=np.zeros((4, 0)), e=np.zeros(4), n_lin=4,
                           cx=np.array([(R - C) * k, C / self.f, 0.0]))
 
