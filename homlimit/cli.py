@@ -149,8 +149,7 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
            = 0.25):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
     from . import report
-    from .pipeline import Progress
-    from .pipeline import table1_records
+    from .pipeline import Progress, table1_records
 
     out = out or Path("homlimit-out") / "table1"
     with _stdout_quiet(as_json) as stdout:
@@ -196,8 +195,7 @@ def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOp
                 = False):
     """The crack-angle study: the FE crack slope over a grid of c/a and f, beside √(cf/a)."""
     from . import plots, report
-    from .pipeline import Progress
-    from .pipeline import crack_study_records
+    from .pipeline import Progress, crack_study_records
 
     out = out or Path("homlimit-out") / "crack-study"
     with _stdout_quiet(as_json) as stdout:

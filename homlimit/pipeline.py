@@ -398,8 +398,9 @@ def _write(result: Result, out: Path, progress: Progress) -> dict[str, Path]:
     return files
 
 
-def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *, out: str | Path | None = None,
-        write: bool = True, progress: bool | Progress = False, verbose: bool = False) -> Result:
+def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
+        out: str | Path | None = None, write: bool = True, progress: bool | Progress = False,
+        verbose: bool = False) -> Result:
     """Run the case: validate, closed forms, FE (if asked), write files to ``out``.
 
     ``path_or_dict``: a TOML case file, a dict of the same shape, a CaseConfig, or None for the

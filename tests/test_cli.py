@@ -36,7 +36,8 @@ G = 9.81
 
 
 # ----------------------------------------------------------------------------- references
-def ref_vg_I(lam, H, L, s, b, l, a, c, f, gamma=2000.0, g=G, nz=400, nth=1200):
+def ref_vg_I(lam, H, L, s, b, l, a, c, f,  # noqa: E741 (the paper's symbols)
+             gamma=2000.0, g=G, nz=400, nth=1200):
     """v̄_g of mechanism I (eq. 7) with W(θ) from the friction of eq. 8 by quadrature."""
     h = lam * b
     m = gamma * h * b * l
@@ -60,7 +61,7 @@ def _polygon_moments(P):
             ((y * y + y * y1 + y1 * y1 + x * x + x * x1 + x1 * x1) * cr).sum() / 12)
 
 
-def ref_vg_II(lam, H, L, s, b, l, a, c, f, gamma=2000.0, g=G):
+def ref_vg_II(lam, H, L, s, b, l, a, c, f, gamma=2000.0, g=G):  # noqa: E741 (paper's)
     """v̄_g of mechanism II (eqs 7, 18): façade strip (length l) + wedge (thickness s)."""
     h, t = lam * b, math.sqrt(c * f / a)
     m = Sx = Sz = I_O = 0.0
@@ -82,7 +83,7 @@ def ref_critical(fun, lam_max, n=40):
     return (r.x, r.fun) if r.fun <= v[k] else (lams[k], v[k])
 
 
-def reference(H, L, s, b, l, a, c, f):
+def reference(H, L, s, b, l, a, c, f):  # noqa: E741 (the paper's symbols)
     """Critical (λ, v̄_g/√(gb)) of mechanisms I and II, independently of homlimit."""
     args = (H, L, s, b, l, a, c, f)
     lam_I, v_I = ref_critical(lambda x: ref_vg_I(x, *args), H / b)
@@ -113,13 +114,13 @@ def ref_C4():
 
 def assert_closed_form(summary: dict, ref: dict):
     """λ to 2e-3 (the minimum over λ is flat), v̄_g/√(gb) to 2e-5 relative."""
-    I, II = summary["mechanism_I"], summary["mechanism_II"]
-    assert I["lam"] == pytest.approx(ref["lam_I"], rel=2e-3)
-    assert I["vnorm"] == pytest.approx(ref["vnorm_I"], rel=2e-5)
+    m1, II = summary["mechanism_I"], summary["mechanism_II"]
+    assert m1["lam"] == pytest.approx(ref["lam_I"], rel=2e-3)
+    assert m1["vnorm"] == pytest.approx(ref["vnorm_I"], rel=2e-5)
     assert II["lam"] == pytest.approx(ref["lam_II"], rel=2e-5)
     assert II["vnorm"] == pytest.approx(ref["vnorm_II"], rel=2e-5)
     b, g = summary["inputs"]["wall"]["b"], summary["inputs"]["wall"]["g"]
-    assert I["vg"] == pytest.approx(ref["vnorm_I"] * math.sqrt(g * b), rel=2e-5)
+    assert m1["vg"] == pytest.approx(ref["vnorm_I"] * math.sqrt(g * b), rel=2e-5)
 
 
 def _sh(*args, cwd):

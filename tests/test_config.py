@@ -8,8 +8,14 @@ from pathlib import Path
 import pytest
 
 from homlimit import pipeline
-from homlimit.config import (SCHEMA, CaseConfig, ConfigError, default_case, load_case,
-                             schema_markdown)
+from homlimit.config import (
+    SCHEMA,
+    CaseConfig,
+    ConfigError,
+    default_case,
+    load_case,
+    schema_markdown,
+)
 from homlimit.errors import ParameterError
 
 ROOT = Path(__file__).resolve().parents[1]
