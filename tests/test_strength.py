@@ -147,12 +147,18 @@ def test_homogenised_cohesive_support_matches_micro_field(a, c, f, C, T):
 
 
 def test_homogenised_cohesive_closed_form():
-    """c/a >= f, T >= C/f: ±τ + fσ_z <= C, (a/c)σ_x + fσ_z ± (1 + fa/c)τ <= C + (a/c)(C/f)."""
+    """T >= C/f: ±τ + fσ_z <= C, (a/c)σ_x + fσ_z ± (1 + fa/c)τ <= C + (a/c)(C/f)."""
     C = 2e4
     h = Homogenised(A_, C_, F_, cohesion=C, tension=1e9)
     np.testing.assert_allclose(h.normals, eq15_rows(A_, C_, F_))
     np.testing.assert_allclose(h.rhs, [C, C, C + A_ / C_ * C / F_, C + A_ / C_ * C / F_])
     assert not h.dry and Homogenised(A_, C_, F_, tension=5.0).dry
+    # i.e. eq. 15 moved to the apex σ* = (C/f, C/f, 0): π(d) = σ*·d on the cone (any c/a)
+    rng = np.random.default_rng(11)
+    for a, c, f in [(A_, C_, F_), (0.3, 0.1, 0.9)]:
+        d = cone_points(rng, 100, eq15_rows(a, c, f))
+        hc = Homogenised(a, c, f, cohesion=C, tension=1e9)
+        np.testing.assert_allclose(hc.support(d), C / f * (d[:, 0] + d[:, 1]), rtol=1e-9)
 
 
 # ----------------------------------------------------------------- bed joints
