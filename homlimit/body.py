@@ -56,7 +56,8 @@ class RigidBody:
         return self.I_O / self.m
 
     @classmethod
-    def from_triangles(cls, points, triangles, density, O=(0.0, 0.0)) -> RigidBody:
+    def from_triangles(cls, points, triangles, density,
+                       O=(0.0, 0.0)) -> RigidBody:  # noqa: E741 (the paper's O)
         """The rigid body made of linear triangles with per-triangle densities, rotating about O.
 
         points (n_points, 2) in the section frame [m]; triangles (n_tri, 3) vertex indices;
@@ -83,7 +84,8 @@ class RigidBody:
         return cls(m=m, x_G=float(rho @ Sx) / m, z_G=float(rho @ Sz) / m, I_O=float(rho @ J))
 
 
-def triangle_moments(points: np.ndarray, triangles: np.ndarray, O=(0.0, 0.0)):
+def triangle_moments(points: np.ndarray, triangles: np.ndarray,
+                     O=(0.0, 0.0)):  # noqa: E741 (the paper's O)
     """Exact area, first and polar second moments about O of linear triangles (vectorised).
 
     For a triangle of area A with vertices p_1, p_2, p_3 (relative to O):

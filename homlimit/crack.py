@@ -111,11 +111,11 @@ class FanEdges:
         return (self.T1, self.T2)
 
 
-def _wall_mask(X, sub, b, O, r_min):
+def _wall_mask(X, sub, b, hinge, r_min):
     """Sub-triangles in the transversal wall, above O and farther than r_min from it."""
     c = X[sub].mean(axis=1)
-    r = np.hypot(c[:, 0] - O[0], c[:, 1] - O[1])
-    return (c[:, 0] > b) & (c[:, 1] > O[1]) & (r > r_min)
+    r = np.hypot(c[:, 0] - hinge[0], c[:, 1] - hinge[1])
+    return (c[:, 0] > b) & (c[:, 1] > hinge[1]) & (r > r_min)
 
 
 def crack_line(X: np.ndarray, elements: np.ndarray, mm: MechanismMeasures, b: float,
@@ -139,9 +139,9 @@ def crack_line(X: np.ndarray, elements: np.ndarray, mm: MechanismMeasures, b: fl
     p = mm.node_participation
     e1, e2 = X[sub[:, 1]] - X[sub[:, 0]], X[sub[:, 2]] - X[sub[:, 0]]
     h_sub = np.sqrt(np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]))  # √(2 area)
-    O = mm.fit.O
+    hinge = mm.fit.O
     r0 = 4.0 * float(np.median(h_sub)) if r_min is None else float(r_min)
-    keep = _wall_mask(X, sub, b, O, r0)
+    keep = _wall_mask(X, sub, b, hinge, r0)
     pts, own = level_crossings(X, sub[keep], p, level)
     if len(pts) < 4:
         return None

@@ -69,8 +69,9 @@ def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
     x − x_apex = T (z − z_hinge) from (x_apex, z_hinge) (default: the hinge on the façade's
     outer face; x_apex = b: mechanism II's crack from the inner corner), one per slope T, and
     the façade / wall interface x = b; extra_lines: more segments ((x0, z0), (x1, z1)) for the
-    mesh to contain (e.g. mechanism II's bed-joint crack under the façade). Returns a scikit-fem MeshTri with the boundaries ("base", "outer",
-    "top", "end") and subdomains ("facade", "wall") of ``problems.t_section``.
+    mesh to contain (e.g. mechanism II's bed-joint crack under the façade). Returns a
+    scikit-fem MeshTri with the boundaries ("base", "outer", "top", "end") and subdomains
+    ("facade", "wall") of ``problems.t_section``.
 
     This is the adapter the conforming-mesh checks use until ``geometry.tsection`` offers
     embedded lines; h_hinge: element size at the hinge (default h/4).

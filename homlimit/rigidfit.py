@@ -50,7 +50,7 @@ class RigidFit:
     rms: RMS residual over the block nodes [m/s]; vmax: max |v| [m/s]; n_iter: iterations.
     """
 
-    O: tuple[float, float]
+    O: tuple[float, float]  # noqa: E741 (the paper's rotation centre)
     omega: float
     block: np.ndarray
     fixed: np.ndarray

@@ -5,9 +5,17 @@ import pytest
 from scipy.optimize import nnls
 
 from homlimit.errors import ParameterError
-from homlimit.fan import (fan_admissible, fan_multiplier, fan_participation, fan_strain_rate,
-                          fan_velocity, optimise_fan, optimise_wedge, wedge_admissible,
-                          wedge_multiplier)
+from homlimit.fan import (
+    fan_admissible,
+    fan_multiplier,
+    fan_participation,
+    fan_strain_rate,
+    fan_velocity,
+    optimise_fan,
+    optimise_wedge,
+    wedge_admissible,
+    wedge_multiplier,
+)
 from homlimit.mechanisms import geometry_II
 from homlimit.params import Case, Masonry, Wall
 

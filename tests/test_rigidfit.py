@@ -20,28 +20,29 @@ def _area(X, el):
     return 0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
 
 
-def _rot(X, O, om):
-    return om * np.stack([-(X[:, 1] - O[1]), X[:, 0] - O[0]], axis=1)
+def _rot(X, centre, om):
+    return om * np.stack([-(X[:, 1] - centre[1]), X[:, 0] - centre[0]], axis=1)
 
 
 def test_prescribed_rigid_rotation_is_recovered_to_solver_precision():
     rng = np.random.default_rng(0)
     X = rng.uniform(-2, 5, size=(300, 2))
-    O, om = (0.3, 2.0), 0.7
-    fit = fit_rigid(X, _rot(X, O, om))
+    centre, om = (0.3, 2.0), 0.7
+    fit = fit_rigid(X, _rot(X, centre, om))
     assert fit.omega == pytest.approx(om, rel=1e-12)
-    np.testing.assert_allclose(fit.O, O, rtol=0, atol=1e-11)
+    np.testing.assert_allclose(fit.O, centre, rtol=0, atol=1e-11)
     assert fit.rms < 1e-12
-    assert fit.block.sum() == np.sum(np.linalg.norm(_rot(X, O, om), axis=1) > 0.02 * fit.vmax)
+    assert fit.block.sum() == np.sum(np.linalg.norm(_rot(X, centre, om), axis=1)
+                                     > 0.02 * fit.vmax)
 
 
 def test_block_behind_a_crack_and_fixed_part():
     X, el, _ = _p2_mesh()
-    O = (0.0, 1.0)
-    moving = X[:, 0] < 0.6 * (X[:, 1] - O[1])  # block left of a ray from the hinge
-    V = np.where(moving[:, None], _rot(X, O, 1.0), 0.0)
+    hinge = (0.0, 1.0)
+    moving = X[:, 0] < 0.6 * (X[:, 1] - hinge[1])  # block left of a ray from the hinge
+    V = np.where(moving[:, None], _rot(X, hinge, 1.0), 0.0)
     mm = measure_mechanism(X, V, el)
-    np.testing.assert_allclose(mm.fit.O, O, atol=1e-12)
+    np.testing.assert_allclose(mm.fit.O, hinge, atol=1e-12)
     assert mm.fit.omega == pytest.approx(1.0, rel=1e-12)
     assert mm.kind == "rigid"
     assert mm.block_share > 0.5
