@@ -62,14 +62,16 @@ class Progress:
         """Iterate ``items`` with a one-line text progress bar."""
         items = list(items)
         n = len(items)
+        tty = self.enabled and getattr(self.stream, "isatty", lambda: False)()
+        cr, end = ("\r", "") if tty else ("", "\n")   # redraw one line on a terminal only
         for k, item in enumerate(items):
             if self.enabled:
                 done = int(30 * k / max(n, 1))
-                print(f"\r[homlimit] {label} [{'#' * done}{'.' * (30 - done)}] {k}/{n}",
-                      end="", file=self.stream, flush=True)
+                print(f"{cr}[homlimit] {label} [{'#' * done}{'.' * (30 - done)}] {k}/{n}",
+                      end=end, file=self.stream, flush=True)
             yield item
         if self.enabled:
-            print(f"\r[homlimit] {label} [{'#' * 30}] {n}/{n}", file=self.stream, flush=True)
+            print(f"{cr}[homlimit] {label} [{'#' * 30}] {n}/{n}", file=self.stream, flush=True)
 
 
 @dataclass
@@ -139,7 +141,7 @@ class Result:
                          f"II diagonal crack tanψ={m.tanpsi:.3f} (eqs 17-20)")
                 rows.append([label, m.lam, m.h, m.vg, m.vnorm])
         if self.fe:
-            rows.append([f"FE kinematic, {self.fe.get('mechanism', '?')} (eq. 7)",
+            rows.append([f"FE kinematic, {self.fe.get('critical_mechanism', '?')} (eq. 7)",
                          self.fe.get("lam"), self.fe.get("h"), self.fe.get("vg"),
                          self.fe.get("vnorm")])
         if self.dem:
@@ -163,14 +165,22 @@ class Result:
         return "\n".join(out)
 
     def _fe_lines(self) -> str:
-        fe = self.fe
-        lines = [f"FE: multiplier lambda_c = {fe['multiplier']:.4g} (horizontal body force / "
-                 f"weight), {fe.get('n_triangles', '?')} triangles"]
-        if fe.get("tanpsi") is not None:
-            edges = fe.get("tanpsi_edges") or (None, None)
-            e = ", ".join("–" if x is None else f"{x:.3f}" for x in edges)
-            lines.append(f"crack: tan psi = {fe['tanpsi']:.3f} (mid-line), edges {e}; "
-                         f"sqrt(cf/a) = {self.case.alpha:.3f}, f = {self.case.masonry.f:.3f}")
+        fe, c = self.fe, self.case
+
+        def num(x, fmt=".3f"):
+            return "–" if x is None or not math.isfinite(x) else format(x, fmt)
+
+        lines = [f"FE, whole wall ({fe['n_triangles']} triangles, façade "
+                 f"{fe['facade']}): collapse multiplier {num(fe['multiplier'], '.4g')} "
+                 f"(horizontal acceleration / g), mechanism {fe['mechanism']}, hinge at "
+                 f"z = {num(fe['hinge'][1], '.2f')} m",
+                 f"  crack: tan psi = {num(fe['tanpsi'])} ± {num(fe['tanpsi_uncertainty'])} "
+                 f"(50 % line), edges {num(fe['tanpsi_edges'][0])} .. "
+                 f"{num(fe['tanpsi_edges'][1])}; compare sqrt(cf/a) = {c.alpha:.3f} (eq. 16), "
+                 f"f = {c.masonry.f:.3f}, c/a = {c.masonry.c / c.masonry.a:.3f}"]
+        if fe.get("vg") is not None:
+            lines.append(f"  impulse: lowest vg over {len(fe['scan'])} collapse heights at "
+                         f"h = {num(fe['h'], '.2f')} m ({fe['vg_method']})")
         return "\n".join(lines)
 
 
@@ -219,43 +229,62 @@ def _closed_form(config: CaseConfig) -> tuple[Any, Any, dict]:
 def _fe(config: CaseConfig, progress: Progress, verbose: bool) -> tuple[dict, dict]:
     """The finite-element mechanism, its crack and its collapse ground velocity.
 
-    Seams: homlimit.problems.t_section (the problem), homlimit.kinematic.solve_kinematic
-    (the upper bound), homlimit.rigidfit.measure_mechanism (the failing body),
-    homlimit.crack.fan_edges (the crack and its edges), homlimit.fe_impulse (v̄_g).
+    Numbers come from homlimit.fe_impulse.h_scan (one FE analysis of the part above
+    z0 = H − h per collapse height h, from H/4 to H: multiplier, rigid fit, crack mid-line and
+    edges, mechanism type, v̄_g); the critical FE mechanism is the scan's lowest v̄_g (eq. 7
+    minimised over λ). The pictures and mechanism.vtu show the whole wall (h = H), solved once
+    more here to keep its fields (seams: problems.t_section, kinematic.solve_kinematic,
+    rigidfit.measure_mechanism, crack.fan_edges).
     Returns (plain data for the summary, artifacts for the writers: ``mesh`` the meshio mesh,
     ``mechanism`` a meshio mesh with the fields, ``plot`` the drawing data).
     """
     from .crack import fan_edges
-    from .fe_impulse import p2_nodes
+    from .fe_impulse import h_scan, p2_nodes
     from .kinematic import SolverOptions, solve_kinematic
     from .mesh import from_skfem
     from .rigidfit import measure_mechanism
 
     case, an = config.case, config.analysis
     w = case.wall
-    with progress.stage("meshing the T-section"):
-        problem = _problem(config)
-    n_tri = problem.n_triangles
     options = SolverOptions(tol=an.tol or None, verbose=verbose)
-    with progress.stage("kinematic limit analysis", f"{n_tri} triangles, P2"):
+    lams = np.linspace(0.25, 1.0, an.heights) * w.lam_max if an.heights > 1 else [w.lam_max]
+    scan = []
+    with progress.stage("FE impulse scan", f"{len(lams)} collapse heights"):
+        for lam in progress.bar(lams, "FE analyses over h"):
+            scan += h_scan(case, [lam], mesh_size=config.mesh.size, facade=an.facade,
+                           options=options)
+    full = scan[-1]                                   # the whole wall, h = H
+    ok = [r for r in scan if np.isfinite(r["vg_fe"])]
+    crit = min(ok, key=lambda r: r["vg_fe"]) if ok else None
+    with progress.stage("whole-wall mechanism for the pictures"):
+        problem = _problem(config)
         sol = solve_kinematic(problem, options)
-    with progress.stage("rigid fit and crack"):
-        dens = {"facade": w.rho * w.gamma, "wall": w.gamma}
-        X, V, el, rho = p2_nodes(sol, dens)
+        X, V, el, rho = p2_nodes(sol, {"facade": w.rho * w.gamma * w.s,
+                                       "wall": w.gamma * w.s})
         mm = measure_mechanism(X, V, el, density=rho)
         edges = fan_edges(X, el, mm, w.b, z_top=w.H)
     fe = {
-        "multiplier": sol.multiplier, "dual_objective": sol.dual_objective, "gap": sol.gap,
-        "status": sol.status, "n_triangles": n_tri, "sizes": sol.sizes, "times": sol.times,
-        "facade": an.facade, "hinge": list(mm.fit.O), "omega": mm.fit.omega,
-        "mechanism": mm.kind, "explained": mm.explained, "block_share": mm.block_share,
-        "tanpsi": None if edges is None else edges.T_mid,
-        "tanpsi_uncertainty": None if edges is None else edges.dT,
-        "tanpsi_edges": None if edges is None else [edges.T1, edges.T2],
-        "sqrt_cf_a": case.alpha, "f": case.masonry.f,
-        "c_over_a": case.masonry.c / case.masonry.a,
+        # the whole wall (h = H)
+        "multiplier": full["multiplier_fe"], "n_triangles": full["n_triangles"],
+        "facade": an.facade, "mesh_size": config.mesh.size, "hinge": list(full["O"]),
+        "omega": full["omega"], "mechanism": full["mechanism_fe"],
+        "explained": full["explained"], "block_share": full["block_share"],
+        "tanpsi": full["tanpsi_fe"], "tanpsi_uncertainty": full["dtanpsi_fe"],
+        "tanpsi_edges": list(full["tanpsi_fe_edges"]),
+        "sqrt_cf_a": case.alpha, "f": case.masonry.f, "c_over_a": case.masonry.c / case.masonry.a,
+        # the critical collapse height (lowest v̄_g of the scan)
+        "vg": None if crit is None else crit["vg_fe"],
+        "vnorm": None if crit is None else crit["vnorm_fe"],
+        "lam": None if crit is None else crit["lam_fe"],
+        "h": None if crit is None else crit["h"],
+        "critical_mechanism": None if crit is None else crit["mechanism_fe"],
+        "critical_multiplier": None if crit is None else crit["multiplier_fe"],
+        "vg_method": None if crit is None else crit["vg_method"],
+        "scan": [{"h_part": r["h_part"], "h": r["h"], "lam": r["lam_fe"], "vg": r["vg_fe"],
+                  "vnorm": r["vnorm_fe"], "multiplier": r["multiplier_fe"],
+                  "mechanism": r["mechanism_fe"], "tanpsi": r["tanpsi_fe"],
+                  "vg_method": r["vg_method"]} for r in scan],
     }
-    fe.update(_fe_impulse(config, progress, verbose))
     crack = None if edges is None else edges.lines[0.5].points
     crack_edges = [] if edges is None else [edges.lines[lv].points for lv in
                                             (min(edges.lines), max(edges.lines))]
@@ -290,12 +319,6 @@ def _mechanism_mesh(sol, mm, crack):
     return meshio.Mesh(pts, cells, point_data=pdata, cell_data=data)
 
 
-def _fe_impulse(config: CaseConfig, progress: Progress, verbose: bool) -> dict:
-    """The FE body's collapse ground velocity over a scan of collapse heights (seam:
-    homlimit.fe_impulse)."""
-    return {}
-
-
 def _problem(config: CaseConfig, z0: float = 0.0):
     """The FE T-section problem of the case (seam: homlimit.problems.t_section)."""
     from .problems import t_section
@@ -313,8 +336,13 @@ def _mesh(config: CaseConfig):
 
 def _fe_table_columns(case: Case, mesh_size: float, verbose: bool) -> dict:
     """The FE body's Table 1 columns (seam: homlimit.fe_impulse.fe_mechanism)."""
-    raise HomlimitError("the FE columns are not available yet in this build "
-                        "(homlimit.fe_impulse)")
+    from .fe_impulse import fe_mechanism
+    from .kinematic import SolverOptions
+
+    r = fe_mechanism(case, mesh_size=mesh_size, options=SolverOptions(verbose=verbose))
+    keys = ("lam_fe", "vnorm_fe", "vg_fe", "tanpsi_fe", "tanpsi_fe_edges", "mechanism_fe",
+            "multiplier_fe")
+    return {k: r[k] for k in keys}
 
 
 def _crack_study(mesh_size: float, quick: bool, verbose: bool, progress: Progress) -> list[dict]:

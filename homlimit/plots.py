@@ -119,10 +119,12 @@ def plot_vg_lambda(path: str | Path, curves: dict, mech_I, mech_II, *, fe: dict 
         ax.plot([m.lam], [m.vg], "o", color=col, ms=8, mec="k",
                 label=f"critical {m.name}: λ = {m.lam:.2f}, v̄_g = {m.vg:.3f} m/s")
     if fe and fe.get("scan"):
-        lam = [r["lam"] for r in fe["scan"] if r.get("vg") is not None]
-        vg = [r["vg"] for r in fe["scan"] if r.get("vg") is not None]
-        ax.plot(lam, vg, "s--", color="C2", mec="k", label="finite-element body (scan over h)")
-        if fe.get("vg") is not None:
+        pts = sorted((r["lam"], r["vg"]) for r in fe["scan"]
+                     if r.get("vg") is not None and math.isfinite(r["vg"]))
+        if pts:
+            ax.plot(*zip(*pts), "s--", color="C2", mec="k",
+                    label="finite-element body (one analysis per collapse height)")
+        if fe.get("vg") is not None and math.isfinite(fe["vg"]):
             ax.plot([fe["lam"]], [fe["vg"]], "*", color="C2", ms=16, mec="k",
                     label=f"critical FE: λ = {fe['lam']:.2f}, v̄_g = {fe['vg']:.3f} m/s")
     if dem:
