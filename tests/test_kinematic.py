@@ -1,0 +1,230 @@
+"""Operators, program, duals, errors and invariances of the kinematic FE limit analysis.
+
+References are closed forms (exact derivatives and integrals of polynomial fields), the
+stationarity conditions of the conic program (virtual work of the dual stress field), the
+strength domains' own membership tests, and symmetry/scaling arguments.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from skfem import MeshTri
+
+from homlimit.errors import ParameterError, SolverError
+from homlimit.kinematic import SolverOptions, discretise, solve_kinematic
+from homlimit.operators import (
+    body_force_power,
+    boundary_jump_operator,
+    p2_basis,
+    strain_rate_operator,
+    support_dofs,
+    traction_power,
+    vertex_points,
+)
+from homlimit.params import Case, Masonry, Wall
+from homlimit.problems import Problem, crossed_mesh, free_block, graded, prandtl, t_section
+from homlimit.strength import Homogenised, Tresca
+
+CASE = Case(wall=Wall(H=9.0, L=6.0, s=0.5, b=0.5, l=6.0), masonry=Masonry(0.3, 0.2, 0.6),
+            name="B1")
+
+
+def _field(x):
+    """A quadratic velocity field with hand-computed strain rate and integrals."""
+    return np.array([x[0] ** 2 + 3 * x[0] * x[1], x[0] * x[1] - x[1] ** 2])
+
+
+@pytest.fixture(scope="module")
+def square():
+    m = MeshTri.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 2, 5)).with_defaults() \
+        .with_subdomains({"all": lambda x: x[0] > -1})
+    basis = p2_basis(m)
+    return m, basis, basis.project(_field)
+
+
+def test_strain_rate_operator_is_exact_for_p2(square):
+    m, basis, u = square
+    B, w = strain_rate_operator(basis)
+    d = (B @ u).reshape(-1, 3)
+    x, z = vertex_points(m).T
+    exact = np.stack([2 * x + 3 * z, x - 2 * z, 3 * x + z], axis=1)   # d_xx, d_zz, γ_xz
+    assert np.abs(d - exact).max() < 1e-11
+    assert w.sum() == pytest.approx(2.0, rel=1e-14)                    # area of [0,1]×[0,2]
+
+
+def test_load_powers_are_exact_integrals(square):
+    m, basis, u = square
+    # ∫∫ (x² + 3xz) over [0,1]×[0,2] = 2/3 + 3 = 11/3;  ∫∫ (xz − z²) = 1 − 8/3 = −5/3
+    assert body_force_power(basis, None, (1.0, 0.0)) @ u == pytest.approx(11 / 3, rel=1e-12)
+    assert body_force_power(basis, "all", (0.0, 2.0)) @ u == pytest.approx(-10 / 3, rel=1e-12)
+    # top edge z = 2: ∫ (x² + 6x) dx = 1/3 + 3;  ∫ (2x − 4) dx = −3
+    assert traction_power(basis, "top", (1.0, 0.0)) @ u == pytest.approx(10 / 3, rel=1e-12)
+    assert traction_power(basis, "top", (0.0, 1.0)) @ u == pytest.approx(-3.0, rel=1e-12)
+
+
+def test_support_dofs_and_bernstein_jump(square):
+    m, basis, u = square
+    ux = support_dofs(basis, "left", "x")
+    assert np.allclose(basis.doflocs[0, ux], 0.0) and ux.size == 9       # 5 vertices + 4 mids
+    assert support_dofs(basis, "left", "fixed").size == 18
+    J, w = boundary_jump_operator(basis, "bottom")
+    assert w.sum() == pytest.approx(1.0)
+    # on z = 0 the field is v = (x², 0); inward normal (0, 1): sym(v⊗n) = (0, v_z, v_x).
+    # Bernstein control points of x² on [x0, x1]: x0², x0 x1, x1²
+    dj = (J @ u).reshape(-1, 3, 3)
+    f = m.boundaries["bottom"]
+    x0, x1 = np.sort(m.p[0, m.facets[:, f]], axis=0)
+    ctrl = dj[:, :, 2]
+    expect = np.stack([x0 ** 2, x0 * x1, x1 ** 2], axis=1)
+    got = np.sort(ctrl, axis=1)
+    assert np.abs(got - np.sort(expect, axis=1)).max() < 1e-12
+    assert np.abs(dj[:, :, :2]).max() < 1e-12
+
+
+def test_unknown_names_raise_parameter_error(square):
+    m, basis, _ = square
+    with pytest.raises(ParameterError, match="boundary = 'nowhere'"):
+        support_dofs(basis, "nowhere")
+    with pytest.raises(ParameterError, match="components = 'y'"):
+        support_dofs(basis, "left", "y")
+    with pytest.raises(ParameterError, match="region = 'soil'"):
+        Problem("p", m, domains={"soil": Tresca(1.0)}, live_body={"soil": (0, -1)})
+    with pytest.raises(ParameterError, match="live loads"):
+        Problem("p", m, domains={"all": Tresca(1.0)})
+    with pytest.raises(ParameterError, match="solver = 'MOSEK'"):
+        SolverOptions(solver="MOSEK")
+    with pytest.raises(ParameterError, match="tol = -1"):
+        SolverOptions(tol=-1.0)
+    with pytest.raises(ParameterError, match="HIGHS"):
+        solve_kinematic(prandtl(h_min=0.2, h_max=1.0), SolverOptions(solver="HIGHS"))
+
+
+def _panel(load_sign=1.0, scale=1.0, both=False):
+    """A symmetric masonry panel [−1, 1]×[0, 2] (× scale), base fixed, horizontal live load."""
+    xs = scale * np.linspace(-1, 1, 9)
+    zs = scale * np.linspace(0, 2, 9)
+    m = crossed_mesh(xs, zs).with_boundaries({"base": lambda x: np.abs(x[1]) < 1e-9}) \
+        .with_subdomains({"panel": lambda x: x[0] > -np.inf})
+    dom = Homogenised(0.3, 0.2, 0.6)
+    return Problem("panel", m, domains={"panel": dom}, supports={"base": "fixed"},
+                   live_body={"panel": (load_sign * 2e4, 0.0)},
+                   dead_body={"panel": (0.0, -2e4)})
+
+
+def test_mirrored_load_gives_the_same_multiplier():
+    """Eq. 15 is symmetric under τ → −τ and the mesh under x → −x: ±x loads are mirror images."""
+    lp = solve_kinematic(_panel(+1.0)).multiplier
+    lm = solve_kinematic(_panel(-1.0)).multiplier
+    assert lp > 0
+    assert lm == pytest.approx(lp, rel=1e-6)
+
+
+def test_length_scaling_leaves_the_multiplier_unchanged():
+    """λ is the ratio of two powers that scale alike with every length (no cohesion)."""
+    assert solve_kinematic(_panel(scale=3.0)).multiplier == pytest.approx(
+        solve_kinematic(_panel(scale=1.0)).multiplier, rel=1e-6)
+    # the T-section with every length (wall, blocks, mesh) doubled
+    w, m = CASE.wall, CASE.masonry
+    big = Case(wall=dataclasses.replace(w, H=2 * w.H, L=2 * w.L, s=2 * w.s, b=2 * w.b,
+                                        l=2 * w.l),
+               masonry=Masonry(2 * m.a, 2 * m.c, m.f))
+    small_lam = solve_kinematic(t_section(CASE, h=1.0, n_b=2)).multiplier
+    big_lam = solve_kinematic(t_section(big, h=2.0, n_b=2)).multiplier
+    assert big_lam == pytest.approx(small_lam, rel=1e-6)
+
+
+def test_duals_are_an_admissible_stress_field_in_equilibrium():
+    """Stationarity of the conic program: the dual stress at the vertex points is in G and
+    balances the loads in virtual work, Σ_p w_p σ_p·B_p u = P_dead(u) + λ P_live(u), for every
+    free u (checked on the free DOFs); the primal and dual objectives agree."""
+    prob = t_section(CASE, h=1.5, n_b=1)
+    sol = solve_kinematic(prob)
+    disc = discretise(prob)
+    sig = sol.stress.reshape(-1, 3)
+    resid = disc.B[:, disc.free].T @ (np.repeat(disc.w, 3) * sig.ravel())
+    rhs = (disc.F_dead + sol.multiplier * disc.F_live)[disc.free]
+    assert np.abs(resid - rhs).max() < 1e-5 * np.abs(rhs).max()
+    dom = prob.domains["wall"]
+    scale = np.abs(sig).max()
+    assert np.all(dom.is_admissible(sig / scale, tol=1e-6))
+    assert sol.gap == pytest.approx(0.0, abs=1e-7 * sol.multiplier)
+    assert sol.live_power == pytest.approx(1.0, rel=1e-8)
+    assert sol.dissipation.sum() == pytest.approx(0.0, abs=1e-12)      # dry masonry
+    assert -sol.dead_power == pytest.approx(sol.multiplier, rel=1e-6)   # λ = −P_dead/P_live
+
+
+def test_tresca_dissipation_and_duals():
+    """Tresca footing: λ = D(u) (no dead load); the dual stress is within the Tresca circle."""
+    prob = prandtl(h_min=0.1, h_max=0.5)
+    sol = solve_kinematic(prob)
+    assert sol.total_dissipation == pytest.approx(sol.multiplier, rel=1e-6)
+    q = np.hypot(0.5 * (sol.stress[..., 0] - sol.stress[..., 1]), sol.stress[..., 2])
+    assert q.max() <= 1.0 + 1e-5
+    assert sol.gap == pytest.approx(0.0, abs=1e-5 * sol.multiplier)
+
+
+def test_no_mechanism_is_infeasible_and_no_support_is_unbounded():
+    m = crossed_mesh(np.linspace(0, 1, 3), np.linspace(0, 1, 3)).with_defaults() \
+        .with_subdomains({"soil": lambda x: x[0] > -1})
+    locked = Problem("locked", m, domains={"soil": Tresca(1.0)},
+                     supports={b: "fixed" for b in ("left", "right", "top", "bottom")},
+                     live_body={"soil": (0.0, -1.0)})
+    with pytest.raises(SolverError, match="infeasible") as err:
+        solve_kinematic(locked)
+    assert err.value.status == "infeasible"
+    falling = Problem("falling", m, domains={"soil": Tresca(1.0)},
+                      live_body={"soil": (1.0, 0.0)}, dead_body={"soil": (0.0, -1.0)})
+    with pytest.raises(SolverError, match="unbounded") as err:
+        solve_kinematic(falling)
+    assert err.value.status == "unbounded"
+
+
+def test_t_section_multiplier_does_not_increase_on_nested_meshes():
+    """Nested crossed meshes (halved spacing, growth 1) nest the P2 spaces: λ⁺ can only fall."""
+    lams = [solve_kinematic(t_section(CASE, h=h, n_b=n, growth=1.0, h_far=h)).multiplier
+            for h, n in ((1.0, 1), (0.5, 2))]
+    assert lams[1] <= lams[0] * (1 + 1e-7)
+    assert lams[1] < lams[0]
+
+
+def test_t_section_mechanism_rotates_about_the_outer_face():
+    """The façade and a wedge of the wall rotate about a hinge on the outer face (x ≈ 0)."""
+    prob = t_section(CASE, h=0.5, n_b=2)
+    sol = solve_kinematic(prob)
+    X, V = prob.mesh.p.T, sol.velocity
+    speed = np.linalg.norm(V, axis=1)
+    sel = speed > 0.5 * speed.max()
+    n = sel.sum()
+    A = np.zeros((2 * n, 3))
+    A[:n, 0], A[:n, 2] = 1.0, -X[sel, 1]
+    A[n:, 1], A[n:, 2] = 1.0, X[sel, 0]
+    (p0, p1, om), *_ = np.linalg.lstsq(A, np.r_[V[sel, 0], V[sel, 1]], rcond=None)
+    Ox, Oz = -p1 / om, p0 / om
+    assert abs(Ox) < 0.25 * CASE.wall.b
+    assert 0.5 < Oz < CASE.wall.H / 2
+    assert om > 0                     # counter-clockwise in x–z: the top moves towards −x
+
+
+def test_vtu_round_trip(tmp_path):
+    import meshio
+
+    prob = free_block(n_b=1)
+    sol = solve_kinematic(prob)
+    path = sol.write_vtu(tmp_path / "block.vtu")
+    back = meshio.read(path)
+    assert np.allclose(back.point_data["velocity"][:, :2], sol.velocity)
+    assert np.allclose(back.cell_data["dissipation"][0], sol.dissipation)
+    assert set(back.cell_data) >= {"dissipation", "intensity", "region", "stress"}
+    assert list(tmp_path.iterdir()) == [tmp_path / "block.vtu"]      # no temp file left
+
+
+def test_graded_coordinates():
+    x = graded(0.0, 4.0, 0.01, 0.5, foci=(1.0,), growth=1.2)
+    assert x[0] == 0.0 and x[-1] == 4.0 and np.any(np.isclose(x, 1.0))
+    h = np.diff(x)
+    assert h.min() == pytest.approx(0.01, rel=0.6) and h.max() <= 0.5 * 1.5
+    with pytest.raises(ParameterError, match="graded"):
+        graded(1.0, 0.0, 0.1, 0.2)
