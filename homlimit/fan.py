@@ -61,7 +61,7 @@ __all__ = [
     "optimise_wedge",
 ]
 
-FACADE_MODELS = ("homogenised", "bed_joints")
+FACADE_MODELS = ("homogenised", "bedjoints")  # as problems.t_section
 
 
 # --------------------------------------------------------------------------- kinematics

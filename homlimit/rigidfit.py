@@ -84,11 +84,14 @@ def _lstsq(X, V):
     return p
 
 
-def fit_rigid(X: np.ndarray, V: np.ndarray, rtol: float = 0.02, max_iter: int = 100) -> RigidFit:
+def fit_rigid(X: np.ndarray, V: np.ndarray, rtol: float = 0.02, max_iter: int = 100,
+              seed: np.ndarray | None = None) -> RigidFit:
     """Best-fitting rigid rotation of the moving part of the nodal field V at nodes X.
 
     X, V: (n, 2) positions [m] and velocities [m/s]. rtol: a node is explained when
-    |v − v_R| <= rtol · max|v|, and at rest when |v| <= rtol · max|v|.
+    |v − v_R| <= rtol · max|v|, and at rest when |v| <= rtol · max|v|. seed: the nodes of the
+    first fit (default: the nodes faster than max|v|/2; ``measure_mechanism`` seeds with the
+    nodes of strain-free elements, which a wide fan's fast nodes would otherwise outvote).
     """
     X = np.asarray(X, float)
     V = np.asarray(V, float)
@@ -100,7 +103,7 @@ def fit_rigid(X: np.ndarray, V: np.ndarray, rtol: float = 0.02, max_iter: int = 
     if not vmax > 0:
         raise ParameterError(f"max |V| = {vmax!r} is out of range: the field must move (> 0)")
     moving = speed > rtol * vmax
-    sel = speed >= 0.5 * vmax
+    sel = speed >= 0.5 * vmax if seed is None else np.asarray(seed, bool) & moving
     if sel.sum() < 2:
         sel = speed >= np.sort(speed)[-2]
     n_first, tol_ok = None, rtol * vmax
@@ -211,12 +214,21 @@ def measure_mechanism(X: np.ndarray, V: np.ndarray, elements: np.ndarray,
     el = np.asarray(elements, int)
     if el.ndim != 2 or el.shape[1] != 6:
         raise ParameterError(f"elements has shape {el.shape}: allowed (n_el, 6) P2 triangles")
-    fit = fit_rigid(X, V, rtol=rtol)
     rho = np.broadcast_to(np.asarray(density, float), (len(el),))
     G, area = p2_gradients_at_centroid(X[el[:, :3]], V[el])
-    spin = 0.5 * (G[:, 1, 0] - G[:, 0, 1]) / fit.omega
+    w = 0.5 * (G[:, 1, 0] - G[:, 0, 1])
     d = np.stack([G[:, 0, 0], G[:, 1, 1], G[:, 0, 1] + G[:, 1, 0]], axis=1)
-    strain = np.linalg.norm(d, axis=1) / abs(fit.omega)
+    dn = np.linalg.norm(d, axis=1)
+    # seed: strain-free spinning elements at the dominant spin (the block's ω)
+    rigid = (dn <= 1e-3 * np.abs(w)) & (np.abs(w) > 0.05 * np.abs(w).max())
+    seed = None
+    if rigid.sum() >= 3:
+        w0 = np.median(w[rigid])
+        seed = np.zeros(len(X), bool)
+        seed[el[rigid & (np.abs(w - w0) <= 0.01 * abs(w0))].ravel()] = True
+    fit = fit_rigid(X, V, rtol=rtol, seed=seed)
+    spin = w / fit.omega
+    strain = dn / abs(fit.omega)
     pn = fit.participation(X, V, r_min=r_min)
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN elements at O stay NaN

@@ -1,0 +1,96 @@
+"""Parameter studies that return plain records (lists of flat dicts, ready for CSV/JSON).
+
+``crack_angle_study``: the crack of the FE mechanism of the whole T-section (base fixed at
+z = 0) over a grid of block proportions c/a and joint frictions f, for both façade models and
+two mesh sizes, beside the closed forms: the hinge + fan optimum (``homlimit.fan``; edges
+min/max(f, c/a) where admissible) and mechanism II's rigid wedge at tan ψ = √(cf/a).
+The wall is Table 1's B2 (H = 9 m, L = 6 m, b = 0.5 m, ρ = 12) with a = 0.2 m and c = (c/a) a.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import numpy as np
+
+from .errors import check_range
+from .fan import optimise_fan, optimise_wedge
+from .fe_impulse import analyse
+from .params import Case, Masonry, Wall
+
+__all__ = ["crack_angle_study", "C_OVER_A", "FRICTIONS", "STUDY_WALL", "CRACK_COLUMNS"]
+
+C_OVER_A = (0.5, 0.75, 1.0, 1.5, 2.0, 3.0)
+FRICTIONS = (0.3, 0.6, 0.9)
+STUDY_WALL = Wall(H=9.0, L=6.0, s=0.5, b=0.5, l=6.0)
+_A = 0.2  # block height [m] of the study; c = (c/a) a
+
+CRACK_COLUMNS = [
+    "c_over_a", "f", "facade", "mesh_size", "n_triangles", "mechanism_fe", "hinge_z",
+    "tanpsi_fe", "dtanpsi_fe", "tanpsi_block", "tanpsi_fixed", "tan_alpha", "tan_f",
+    "tan_c_over_a", "psi_fe_deg", "psi_alpha_deg", "psi_f_deg", "psi_c_over_a_deg",
+    "multiplier_fe", "multiplier_fan", "fan_z0", "fan_T1", "fan_T2", "fan_admissible",
+    "multiplier_wedge", "wedge_z0", "wedge_admissible", "explained", "block_share",
+    "interior_share", "vnorm_fe", "solve_time",
+]
+
+
+def _deg(t: float) -> float:
+    return math.degrees(math.atan(t)) if np.isfinite(t) else math.nan
+
+
+def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
+                      c_over_a=C_OVER_A, frictions=FRICTIONS,
+                      facades=("homogenised", "bedjoints"), wall: Wall = STUDY_WALL,
+                      verbose: bool = False, progress=None) -> list[dict]:
+    """Crack-angle records, one per (c/a, f, façade, mesh size); keys ``CRACK_COLUMNS``.
+
+    mesh_size: the default mesh (``problems.t_section``'s h) [m]; finer: a second, finer mesh
+    (None: skip); quick: c/a ∈ {0.5, 1, 3}, f ∈ {0.3, 0.9} and the default mesh only.
+    """
+    mesh_size = check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
+    sizes = [mesh_size]
+    if finer is not None and not quick:
+        sizes.append(check_range("finer", finer, 0.0, mesh_size, lo_open=True, hi_open=True,
+                                 unit="m"))
+    if quick:
+        c_over_a, frictions = (0.5, 1.0, 3.0), (0.3, 0.9)
+    grid = [(ca, f, fac, h) for ca in c_over_a for f in frictions for fac in facades
+            for h in sizes]
+    if progress is not None and hasattr(progress, "bar"):
+        grid = progress.bar(grid, "crack-angle study")
+    recs = []
+    for ca, f, fac, h in grid:
+        ca = check_range("c_over_a", ca, 0.0, lo_open=True)
+        case = Case(dataclasses.replace(wall), Masonry(a=_A, c=ca * _A, f=f),
+                    name=f"c/a={ca:g},f={f:g}")
+        t0 = time.perf_counter()
+        fe = analyse(case, mesh_size=h, facade=fac)
+        opt = optimise_fan(case, facade=fac)
+        wed = optimise_wedge(case)
+        alpha = case.alpha
+        e1, e2 = fe["tanpsi_fe_edges"]
+        r = {"c_over_a": ca, "f": f, "facade": fac, "mesh_size": h,
+             "n_triangles": fe["n_triangles"], "mechanism_fe": fe["mechanism_fe"],
+             "hinge_z": fe["O"][1], "tanpsi_fe": fe["tanpsi_fe"],
+             "dtanpsi_fe": fe["dtanpsi_fe"], "tanpsi_block": e1, "tanpsi_fixed": e2,
+             "tan_alpha": alpha, "tan_f": f, "tan_c_over_a": ca,
+             "psi_fe_deg": _deg(fe["tanpsi_fe"]), "psi_alpha_deg": _deg(alpha),
+             "psi_f_deg": _deg(f), "psi_c_over_a_deg": _deg(ca),
+             "multiplier_fe": fe["multiplier_fe"], "multiplier_fan": opt.lam,
+             "fan_z0": opt.z0, "fan_T1": opt.T1, "fan_T2": opt.T2,
+             "fan_admissible": opt.admissible, "multiplier_wedge": wed.lam,
+             "wedge_z0": wed.z0, "wedge_admissible": wed.admissible,
+             "explained": fe["explained"], "block_share": fe["block_share"],
+             "interior_share": fe["interior_share"], "vnorm_fe": fe.get("vnorm_fe", math.nan),
+             "solve_time": time.perf_counter() - t0}
+        recs.append(r)
+        if verbose:
+            print(f"c/a={ca:<4g} f={f:<4g} {fac:<11s} h={h:<5g} {r['mechanism_fe']:<11s} "
+                  f"z_O={r['hinge_z']:5.2f}  T1={e1:6.3f} T_mid={r['tanpsi_fe']:6.3f} "
+                  f"T2={e2:6.3f} (±{r['dtanpsi_fe']:.3f}) | √(cf/a)={alpha:5.3f} f={f:4.2f} "
+                  f"c/a={ca:4.2f} | λ_FE={r['multiplier_fe']:.4f} λ_fan={opt.lam:.4f} "
+                  f"λ_wedge={wed.lam:.4f}  {r['solve_time']:.1f}s", flush=True)
+    return recs
