@@ -190,29 +190,38 @@ def figure2(as_json: JsonOpt = False, out: OutOpt = None):
 @app.command("crack-study")
 @_guarded
 def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
-                mesh_size: Annotated[float, typer.Option(help="FE mesh size [m].")] = 0.3,
-                quick: Annotated[bool, typer.Option(help="A 2 x 2 grid (for a first look).")]
-                = False):
+                mesh_size: Annotated[float, typer.Option(help="FE mesh size [m].")] = 0.5,
+                finer: Annotated[float, typer.Option(help="A second, finer mesh size [m] "
+                                                     "(0: none).")] = 0.25,
+                quick: Annotated[bool, typer.Option(help="A small grid (c/a 0.5, 1, 3; f 0.3, "
+                                                    "0.9), one mesh.")] = False,
+                c_over_a: Annotated[list[float] | None, typer.Option(
+                    "--c-over-a", help="Block proportion c/a (repeat for several).")] = None,
+                friction: Annotated[list[float] | None, typer.Option(
+                    "--friction", help="Joint friction f (repeat for several).")] = None,
+                facade: Annotated[list[str] | None, typer.Option(
+                    help="Façade model: homogenised or bedjoints (repeat for both).")] = None):
     """The crack-angle study: the FE crack slope over a grid of c/a and f, beside √(cf/a)."""
     from . import plots, report
     from .pipeline import Progress, crack_study_records
 
     out = out or Path("homlimit-out") / "crack-study"
     with _stdout_quiet(as_json) as stdout:
-        records = crack_study_records(mesh_size=mesh_size, quick=quick, verbose=verbose,
-                                      progress=Progress(not as_json))
+        records = crack_study_records(mesh_size=mesh_size, finer=finer or None, quick=quick,
+                                      c_over_a=c_over_a, frictions=friction, facades=facade,
+                                      verbose=verbose, progress=Progress(not as_json))
         files = {"csv": report.write_csv(out / "crack_study.csv", records),
                  "png": plots.plot_crack_study(out / "crack_study.png", records,
-                                               title="crack-angle study: FE crack slope "
-                                                     "against √(cf/a)")}
+                                               title="crack-angle study: FE crack against "
+                                                     "√(cf/a), f and c/a")}
     if as_json:
         _emit_json(stdout, {"records": records, "files": files})
         return
-    cols = [k for k in ("facade", "c_over_a", "f", "sqrt_cf_a", "tanpsi_fe",
-                        "tanpsi_block", "tanpsi_fixed", "mechanism") if records
-            and k in records[0]]
+    cols = ["facade", "mesh_size", "c_over_a", "f", "mechanism_fe", "tanpsi_fe", "dtanpsi_fe",
+            "tan_alpha", "tanpsi_block", "tanpsi_fixed", "multiplier_fe", "multiplier_fan"]
     print(report.format_table(cols, [[r.get(k) for k in cols] for r in records],
-                              title="crack-angle study"))
+                              title="crack-angle study: FE crack slope tan psi (50 % line, "
+                                    "edges) beside tan_alpha = sqrt(cf/a)"))
     print(f"\nfiles: {files['csv']}, {files['png']}")
 
 

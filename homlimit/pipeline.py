@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from .config import CaseConfig, load_case
-from .errors import HomlimitError
+from .errors import ParameterError
 from .params import Case
 
 __all__ = ["Progress", "Result", "dem_reference", "output_dir", "run"]
@@ -345,10 +345,11 @@ def _fe_table_columns(case: Case, mesh_size: float, verbose: bool) -> dict:
     return {k: r[k] for k in keys}
 
 
-def _crack_study(mesh_size: float, quick: bool, verbose: bool, progress: Progress) -> list[dict]:
-    """Records of the crack-angle study (seam: homlimit.studies)."""
-    raise HomlimitError("the crack-angle study is not available yet in this build "
-                        "(homlimit.studies)")
+def _crack_study(progress: Progress, verbose: bool, **grid) -> list[dict]:
+    """Records of the crack-angle study (seam: homlimit.studies.crack_angle_study)."""
+    from .studies import crack_angle_study
+
+    return crack_angle_study(verbose=verbose, progress=progress, **grid)
 
 
 # ----------------------------------------------------------------------------- other commands
@@ -371,13 +372,27 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, verbose: bool = Fa
     return rows
 
 
-def crack_study_records(mesh_size: float = 0.3, quick: bool = False, verbose: bool = False,
+def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
+                        c_over_a=None, frictions=None, facades=None, verbose: bool = False,
                         progress: Progress | None = None) -> list[dict]:
-    """The crack-angle study over a grid of c/a and f (see homlimit.studies)."""
+    """The crack-angle study over a grid of c/a and f (homlimit.studies.crack_angle_study):
+    each grid argument left None takes the study's default."""
     from .errors import check_range
 
     check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
-    return _crack_study(mesh_size, quick, verbose, progress or Progress(False))
+    if finer is not None:
+        check_range("finer", finer, 0.0, mesh_size, lo_open=True, hi_open=True, unit="m")
+    for name, values in (("c_over_a", c_over_a), ("f", frictions)):
+        for v in values or ():
+            check_range(name, v, 0.0, lo_open=True)
+    for fac in facades or ():
+        if fac not in ("homogenised", "bedjoints"):
+            raise ParameterError(f"facade = {fac!r} is out of range: allowed 'homogenised', "
+                                 "'bedjoints'")
+    grid = {k: tuple(v) for k, v in (("c_over_a", c_over_a), ("frictions", frictions),
+                                     ("facades", facades)) if v}
+    return _crack_study(progress or Progress(False), verbose, mesh_size=mesh_size,
+                        finer=finer, quick=quick, **grid)
 
 
 def mesh_case(config: CaseConfig, out: Path) -> dict:

@@ -202,32 +202,78 @@ def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
 
 def plot_crack_study(path: str | Path, records: list[dict], title: str = "crack-angle study"
                      ) -> Path:
-    """Measured crack slope against √(cf/a): records with c_over_a, f and tanpsi_fe (and
-    optional tanpsi_block / tanpsi_fixed for the fan edges, and facade)."""
+    """The crack-angle study: the FE crack against the closed-form slopes.
+
+    Left: the 50 % participation line tan ψ (with its uncertainty ``dtanpsi_fe``) against
+    √(cf/a) of eq. 16. Right (when records carry ``tanpsi_block``/``tanpsi_fixed``): the fan's
+    block-side and fixed-side edges against min(f, c/a) and max(f, c/a), the prototype's
+    hinge + fan optimum. Colour: joint friction f; marker: façade model. Records need
+    c_over_a, f and tanpsi_fe; mechanisms without a crack (NaN) are left out.
+    """
     plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(7, 6))
-    recs = [r for r in records if r.get("tanpsi_fe") is not None]
-    if recs:
-        pred = np.array([math.sqrt(r["c_over_a"] * r["f"]) for r in recs])
-        meas = np.array([r["tanpsi_fe"] for r in recs])
-        fs = np.array([r["f"] for r in recs])
-        facades = sorted({str(r.get("facade", "")) for r in recs})
-        markers = dict(zip(facades, "os^vD"))
-        for fac in facades:
-            sel = np.array([str(r.get("facade", "")) == fac for r in recs])
-            sc = ax.scatter(pred[sel], meas[sel], c=fs[sel], cmap="plasma", vmin=fs.min(),
-                            vmax=max(fs.max(), fs.min() + 1e-9), marker=markers[fac],
-                            edgecolors="k", label=f"FE mid-line{', ' + fac if fac else ''}")
-        fig.colorbar(sc, ax=ax, label="joint friction f [-]")
-        lim = [0.0, 1.1 * max(pred.max(), meas.max())]
-        ax.plot(lim, lim, "k--", lw=1, label="tan ψ = √(cf/a) (eq. 16)")
-        ax.set_xlim(lim)
-        ax.set_ylim(lim)
+
+    def finite(r, k):
+        x = r.get(k)
+        return x is not None and math.isfinite(x)
+
+    recs = [r for r in records if finite(r, "tanpsi_fe")]
+    edges = [r for r in recs if finite(r, "tanpsi_block") and finite(r, "tanpsi_fixed")]
+    fig, axes = plt.subplots(1, 2 if edges else 1, figsize=(13 if edges else 7, 6),
+                             squeeze=False)
+    ax = axes[0, 0]
+    fmin = min((r["f"] for r in recs), default=0.0)
+    fmax = max((r["f"] for r in recs), default=1.0)
+    norm = plt.Normalize(fmin, max(fmax, fmin + 1e-9))
+    cmap = plt.get_cmap("plasma")
+    facades = sorted({str(r.get("facade", "")) for r in recs})
+    markers = dict(zip(facades, "os^vD"))
+    top = 0.0
+    for fac in facades:
+        sel = [r for r in recs if str(r.get("facade", "")) == fac]
+        pred = np.array([math.sqrt(r["c_over_a"] * r["f"]) for r in sel])
+        meas = np.array([r["tanpsi_fe"] for r in sel])
+        err = np.array([r.get("dtanpsi_fe") or 0.0 for r in sel])
+        col = cmap(norm(np.array([r["f"] for r in sel])))
+        ax.errorbar(pred, meas, yerr=err, fmt="none", ecolor="0.6", lw=1, zorder=1)
+        ax.scatter(pred, meas, c=col, marker=markers[fac], edgecolors="k", zorder=2,
+                   label=f"FE 50 % line{', façade ' + fac if fac else ''}")
+        top = max(top, pred.max(), (meas + err).max())
+    lim = [0.0, 1.1 * top if top > 0 else 1.0]
+    ax.plot(lim, lim, "k--", lw=1, label="tan ψ = √(cf/a) (eq. 16)")
+    ax.set_xlim(lim)
+    ax.set_ylim(lim)
     ax.set_xlabel("predicted slope √(cf/a) [-]")
-    ax.set_ylabel("measured crack slope tan ψ [-]")
+    ax.set_ylabel("measured crack slope tan ψ (50 % participation line) [-]")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left")
-    ax.set_title(title)
+    if edges:
+        ax2 = axes[0, 1]
+        top = 0.0
+        for fac in facades:
+            sel = [r for r in edges if str(r.get("facade", "")) == fac]
+            if not sel:
+                continue
+            lo = np.array([min(r["f"], r["c_over_a"]) for r in sel])
+            hi = np.array([max(r["f"], r["c_over_a"]) for r in sel])
+            t1 = np.array([r["tanpsi_block"] for r in sel])
+            t2 = np.array([r["tanpsi_fixed"] for r in sel])
+            col = cmap(norm(np.array([r["f"] for r in sel])))
+            ax2.scatter(lo, t1, c=col, marker=markers[fac], edgecolors="k",
+                        label=f"block-side edge vs min(f, c/a), {fac}")
+            ax2.scatter(hi, t2, facecolors="none", edgecolors=col, marker=markers[fac],
+                        linewidths=1.5, label=f"fixed-side edge vs max(f, c/a), {fac}")
+            top = max(top, hi.max(), t1.max(), t2.max())
+        lim = [0.0, 1.1 * top if top > 0 else 1.0]
+        ax2.plot(lim, lim, "k--", lw=1, label="edge = closed-form hinge + fan edge")
+        ax2.set_xlim(lim)
+        ax2.set_ylim(lim)
+        ax2.set_xlabel("closed-form fan edge: min(f, c/a) or max(f, c/a) [-]")
+        ax2.set_ylabel("measured fan edge tan ψ [-]")
+        ax2.grid(alpha=0.3)
+        ax2.legend(fontsize=7, loc="upper left")
+    sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
+    fig.colorbar(sm, ax=list(axes.ravel()), label="joint friction f [-]", shrink=0.9)
+    fig.suptitle(title)
     return _save(fig, path)
 
 

@@ -409,3 +409,33 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     assert_png(files["mesh_png"], (9 * 120, int(7.5 * 120)))
     assert_png(files["mechanism_png"], (int(7.5 * 120), 8 * 120))
     assert_png(files["vg_lambda_png"], (8 * 120, int(5.5 * 120)))
+
+
+def test_crack_study_one_point(tmp_path):
+    """`homlimit crack-study` on a one-point grid: the record beside eq. 16 and the hinge + fan."""
+    import csv
+
+    res = CliRunner().invoke(app, ["crack-study", "--json", "--out", str(tmp_path),
+                                   "--c-over-a", "1.0", "--friction", "0.6", "--facade",
+                                   "homogenised", "--mesh-size", "0.6", "--finer", "0"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.stdout)
+    (r,) = out["records"]
+    assert (r["c_over_a"], r["f"], r["facade"], r["mesh_size"]) == (1.0, 0.6, "homogenised",
+                                                                     0.6)
+    assert r["tan_alpha"] == pytest.approx(math.sqrt(1.0 * 0.6), rel=1e-12)   # eq. 16
+    # an FE upper bound above the closed-form hinge + fan, within 2 % on this coarse mesh
+    assert r["multiplier_fan"] <= r["multiplier_fe"] <= 1.02 * r["multiplier_fan"]
+    # the measured mid-line within its stated uncertainty (x 2) of sqrt(cf/a)
+    assert abs(r["tanpsi_fe"] - r["tan_alpha"]) <= 2 * r["dtanpsi_fe"]
+    rows = list(csv.DictReader((tmp_path / "crack_study.csv").open()))
+    assert len(rows) == 1 and float(rows[0]["tanpsi_fe"]) == pytest.approx(r["tanpsi_fe"])
+    assert_png(Path(out["files"]["png"]), (13 * 120, 6 * 120))
+
+
+def test_crack_study_bad_grid_exits_2(tmp_path):
+    res = CliRunner().invoke(app, ["crack-study", "--c-over-a", "-1", "--out", str(tmp_path)])
+    assert res.exit_code == 2
+    assert "c_over_a = -1.0 is out of range: allowed 0 < c_over_a" in res.stderr
+    res = CliRunner().invoke(app, ["crack-study", "--facade", "brick", "--out", str(tmp_path)])
+    assert res.exit_code == 2 and "facade = 'brick' is out of range" in res.stderr
