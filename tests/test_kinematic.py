@@ -228,3 +228,17 @@ def test_graded_coordinates():
     assert h.min() == pytest.approx(0.01, rel=0.6) and h.max() <= 0.5 * 1.5
     with pytest.raises(ParameterError, match="graded"):
         graded(1.0, 0.0, 0.1, 0.2)
+
+
+def test_base_of_the_failing_part_z0_is_a_translation():
+    """t_section(z0) is the wall above z0: the same as a wall of height H − z0 from the ground
+    (translating the section changes no power ratio)."""
+    w = CASE.wall
+    low = Case(wall=dataclasses.replace(w, H=w.H - 3.0), masonry=CASE.masonry)
+    lam_z0 = solve_kinematic(t_section(CASE, z0=3.0, h=1.0, n_b=2)).multiplier
+    lam_low = solve_kinematic(t_section(low, h=1.0, n_b=2)).multiplier
+    assert lam_z0 == pytest.approx(lam_low, rel=1e-6)
+    with pytest.raises(ParameterError, match="z0 = 9"):
+        t_section(CASE, z0=9.0)
+    with pytest.raises(ParameterError, match="facade = 'stone'"):
+        t_section(CASE, facade="stone")
