@@ -42,6 +42,9 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print the results as JSON
 OutOpt = Annotated[Path | None, typer.Option("--out", "-o", help="Output folder "
                                              "[default: homlimit-out/NAME/].")]
 VerboseOpt = Annotated[bool, typer.Option("--verbose", "-v", help="Show solver logs.")]
+SetOpt = Annotated[list[str] | None, typer.Option(
+    "--set", "-s", help="Override a case key before validation, e.g. --set mesh.size=0.5 "
+                        "--set analysis.fe=false (repeatable).")]
 CaseArg = Annotated[Path | None, typer.Argument(help="Case file (TOML); see docs/case-file.md. "
                                                 "Omitted: the embedded default case (B1).")]
 
@@ -111,11 +114,13 @@ def _emit_json(stream, data):
     stream.flush()
 
 
-def _run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool):
+def _run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
+              overrides: list[str] | None):
     from .pipeline import run
 
     with _stdout_quiet(as_json) as stdout:
-        result = run(case, out=out, write=True, progress=not as_json, verbose=verbose)
+        result = run(case, out=out, write=True, progress=not as_json, verbose=verbose,
+                     overrides=overrides)
     if as_json:
         _emit_json(stdout, result.to_dict())
     else:
@@ -125,19 +130,20 @@ def _run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool)
 @app.command("run")
 @_guarded
 def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
-            verbose: VerboseOpt = False):
+            verbose: VerboseOpt = False, overrides: SetOpt = None):
     """Run the full pipeline for one wall (no CASE: the embedded default, B1).
 
     Closed-form mechanisms I and II, the FE mechanism and its crack, the impulse criterion;
     prints a summary and writes summary.json, .vtu and PNG files."""
-    _run_case(case, as_json, out, verbose)
+    _run_case(case, as_json, out, verbose, overrides)
 
 
 @app.command()
 @_guarded
-def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False):
+def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
+         overrides: SetOpt = None):
     """Run the embedded default case: the paper's Table 1 wall B1 (H=9 m, b=0.5 m, ρ=12)."""
-    _run_case(None, as_json, out, verbose)
+    _run_case(None, as_json, out, verbose, overrides)
 
 
 @app.command()
@@ -227,13 +233,14 @@ def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOp
 
 @app.command()
 @_guarded
-def mesh(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None):
+def mesh(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
+         overrides: SetOpt = None):
     """Mesh the T-section of a case only; write mesh.vtu and mesh.png for inspection."""
     from .config import load_case
     from .pipeline import mesh_case, output_dir
 
     with _stdout_quiet(as_json) as stdout:
-        config = load_case(case)
+        config = load_case(case, overrides)
         info = mesh_case(config, output_dir(config, out))
     if as_json:
         _emit_json(stdout, info)

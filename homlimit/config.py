@@ -277,31 +277,74 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
                       output=OutputConfig(**values["output"]), source=source)
 
 
-def load_case(path_or_dict: str | Path | dict | None = None) -> CaseConfig:
+def load_case(path_or_dict: str | Path | dict | None = None,
+              overrides: list[str] | dict | None = None) -> CaseConfig:
     """Read and validate a case: a TOML path, a dict of the same shape, or None (the default).
 
+    ``overrides``: "section.key=value" strings (value in TOML syntax; a bare word is a string)
+    or a {"section.key": value} dict, applied before validation (the CLI's ``--set``).
     Raises ConfigError (a ParameterError) listing every problem, before any computation.
     """
     if path_or_dict is None:
-        return default_case()
-    if isinstance(path_or_dict, dict):
-        return _parse(path_or_dict, "<dict>", "case")
-    path = Path(path_or_dict)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as e:
-        raise ConfigError(str(path), [f"cannot read the case file: {e.strerror or e}"]) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise ConfigError(str(path), [f"not valid TOML: {e}"]) from None
-    return _parse(data, str(path), path.stem)
+        data, source, stem = _default_data(), "<default: B1>", "B1"
+    elif isinstance(path_or_dict, dict):
+        data, source, stem = path_or_dict, "<dict>", "case"
+    else:
+        path = Path(path_or_dict)
+        source, stem = str(path), path.stem
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as e:
+            raise ConfigError(source, [f"cannot read the case file: {e.strerror or e}"]) \
+                from None
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as e:
+            raise ConfigError(source, [f"not valid TOML: {e}"]) from None
+    if overrides:
+        data = _override(data, overrides, source)
+    return _parse(data, source, stem)
+
+
+def _override(data: dict, overrides, source: str) -> dict:
+    """A copy of ``data`` with "section.key=value" overrides applied (see ``load_case``)."""
+    items = overrides.items() if isinstance(overrides, dict) else []
+    problems = []
+    if not isinstance(overrides, dict):
+        parsed = []
+        for text in overrides:
+            key, sep, raw = str(text).partition("=")
+            if not sep:
+                problems.append(f"--set {text!r}: expected section.key=value")
+                continue
+            try:
+                value = tomllib.loads(f"v = {raw.strip()}")["v"]
+            except tomllib.TOMLDecodeError:
+                value = raw.strip()                   # a bare word: a string
+            parsed.append((key.strip(), value))
+        items = parsed
+    out = {k: dict(v) if isinstance(v, dict) else v for k, v in data.items()}
+    for key, value in items:
+        sec, dot, name = key.partition(".")
+        if not dot and sec in TOP_LEVEL:
+            out[sec] = value
+        elif dot and isinstance(out.setdefault(sec, {}), dict):
+            out[sec][name] = value
+        else:
+            problems.append(f"--set {key!r}: expected section.key (e.g. mesh.size) or name")
+    if problems:
+        raise ConfigError(source, problems)
+    return out
+
+
+def _default_data() -> dict:
+    text = resources.files("homlimit").joinpath("data/default.toml").read_text(encoding="utf-8")
+    return tomllib.loads(text)
 
 
 def default_case() -> CaseConfig:
     """The embedded default case: Table 1's wall B1 (homlimit/data/default.toml)."""
-    text = resources.files("homlimit").joinpath("data/default.toml").read_text(encoding="utf-8")
-    return _parse(tomllib.loads(text), "<default: B1>", "B1")
+    return _parse(_default_data(), "<default: B1>", "B1")
 
 
 def schema_markdown() -> str:

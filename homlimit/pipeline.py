@@ -443,15 +443,23 @@ def _write(result: Result, out: Path, progress: Progress) -> dict[str, Path]:
 
 def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
         out: str | Path | None = None, write: bool = True, progress: bool | Progress = False,
-        verbose: bool = False) -> Result:
+        verbose: bool = False, overrides: list[str] | dict | None = None) -> Result:
     """Run the case: validate, closed forms, FE (if asked), write files to ``out``.
 
     ``path_or_dict``: a TOML case file, a dict of the same shape, a CaseConfig, or None for the
-    embedded default (Table 1's B1). ``out`` defaults to [output] dir or homlimit-out/<name>/.
+    embedded default (Table 1's B1); ``overrides``: "section.key=value" strings or a
+    {"section.key": value} dict applied before validation. ``out`` defaults to [output] dir or
+    homlimit-out/<name>/.
     Raises ConfigError/ParameterError for bad input (before any computation), SolverError
     when a conic program does not end optimal.
     """
-    config = path_or_dict if isinstance(path_or_dict, CaseConfig) else load_case(path_or_dict)
+    if isinstance(path_or_dict, CaseConfig):
+        if overrides:
+            raise ParameterError("overrides = given with a CaseConfig is out of range: allowed "
+                                 "only with a path, a dict or None")
+        config = path_or_dict
+    else:
+        config = load_case(path_or_dict, overrides)
     prog = progress if isinstance(progress, Progress) else Progress(bool(progress))
     result = Result(config=config, dem=dem_reference(config.case))
     if config.analysis.closed_form:

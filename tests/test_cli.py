@@ -158,6 +158,32 @@ def test_console_script_runs_case_file_json(tmp_path, ref_C4):
     assert_png(files["vg_lambda_png"], (8 * 120, int(5.5 * 120)))
 
 
+def test_demo_embedded_case_console_script(tmp_path, ref_B1):
+    """`homlimit demo` (the embedded B1) through the real console script, FE included on a
+    coarse mesh via --set; -v solver logs go to stderr, stdout stays pure JSON."""
+    r = _sh("demo", "--json", "-v", "--set", "mesh.size=0.8", "--set", "analysis.heights=1",
+            "--out", tmp_path / "demo", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    s = json.loads(r.stdout)
+    assert s["case"] == "B1" and s["source"] == "<default: B1>"
+    assert s["inputs"]["mesh"]["size"] == 0.8 and s["inputs"]["analysis"]["heights"] == 1
+    assert_closed_form(s, ref_B1)
+    assert (s["dem_table1"]["lambda_v"], s["dem_table1"]["vg_norm"]) == DEM["B1"]
+    assert "Clarabel" in r.stderr                      # the solver log, on stderr
+    assert s["fe"]["multiplier"] > 0 and len(s["fe"]["scan"]) == 1
+    assert (tmp_path / "demo" / "mechanism.vtu").is_file()
+
+
+def test_set_overrides_are_validated(tmp_path):
+    res = CliRunner().invoke(app, ["demo", "--set", "wall.H=-1", "--set", "oops",
+                                   "--out", str(tmp_path)])
+    assert res.exit_code == 2
+    assert "--set 'oops': expected section.key=value" in res.stderr
+    res = CliRunner().invoke(app, ["demo", "--set", "wall.H=-1", "--out", str(tmp_path)])
+    assert res.exit_code == 2
+    assert "<default: B1>: [wall] H = -1.0 m is out of range: allowed 0 < H" in res.stderr
+
+
 def test_python_m_and_default_out_dir(tmp_path, ref_C4):
     case = EXAMPLES / "c4-closed-form" / "case.toml"
     r = subprocess.run([sys.executable, "-m", "homlimit", "run", str(case)],

@@ -175,3 +175,15 @@ def test_case_config_is_immutable():
     assert isinstance(cfg, CaseConfig)
     with pytest.raises(dataclasses.FrozenInstanceError):
         cfg.mesh.size = 1.0
+
+
+def test_overrides_apply_before_validation():
+    cfg = load_case(None, ["mesh.size=0.5", "analysis.facade=bedjoints", "name='B1x'",
+                           "analysis.fe=false"])
+    assert (cfg.mesh.size, cfg.analysis.facade, cfg.name, cfg.analysis.fe) == \
+        (0.5, "bedjoints", "B1x", False)
+    assert load_case(B1, {"wall.H": 8}).case.wall.H == 8.0
+    with pytest.raises(ConfigError) as info:
+        load_case(B1, ["walls.H=3", "masonry.f=0"])
+    text = str(info.value)
+    assert "unknown section 'walls'" in text and "[masonry] f = 0.0 is out of range" in text
