@@ -24,6 +24,20 @@ from homlimit.report import write_csv
 from homlimit.studies import CRACK_COLUMNS, crack_angle_study
 
 
+def read_csv(path: Path) -> list[dict]:
+    """Study records back from the CSV (numbers as floats, empty cells as NaN)."""
+    import csv
+
+    def num(v):
+        try:
+            return float(v) if v != "" else math.nan
+        except ValueError:
+            return v
+
+    with open(path, newline="") as fh:
+        return [{k: num(v) for k, v in r.items()} for r in csv.DictReader(fh)]
+
+
 def plot(path: Path, recs: list[dict]) -> Path:
     """Three panels per façade model: block-side edge vs min(f, c/a), fixed-side edge vs
     max(f, c/a), mid-line (50 % participation) vs √(cf/a); finer mesh filled markers."""
@@ -43,7 +57,7 @@ def plot(path: Path, recs: list[dict]) -> Path:
             ax = axes[i, j]
             for h in sizes:
                 sel = [r for r in recs if r["facade"] == fac and r["mesh_size"] == h
-                       and np.isfinite(r[key])]
+                       and np.isfinite(r.get(key, math.nan))]
                 if not sel:
                     continue
                 x = np.array([pred(r) for r in sel])
@@ -73,11 +87,15 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="homlimit-out/crack-angle")
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--replot", metavar="CSV", help="only redraw the plot from a study CSV")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    recs = crack_angle_study(quick=args.quick, verbose=True)
-    write_csv(out / "crack_angle_study.csv", recs, CRACK_COLUMNS)
+    if args.replot:
+        recs = read_csv(Path(args.replot))
+    else:
+        recs = crack_angle_study(quick=args.quick, verbose=True)
+        write_csv(out / "crack_angle_study.csv", recs, CRACK_COLUMNS)
     plot(out / "crack_angle_study.png", recs)
     print(f"wrote {out / 'crack_angle_study.csv'} and {out / 'crack_angle_study.png'}")
 
