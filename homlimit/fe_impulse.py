@@ -265,11 +265,12 @@ def analyse(case: Case, mesh_size: float = 0.25, facade: str = "homogenised", z0
 
 def h_scan(case: Case, lams=None, mesh_size: float = 0.25, facade: str = "homogenised",
            options=None) -> list[dict]:
-    """``analyse`` on the part above z0 = H − h for h = λ b, λ in ``lams`` (default: 8 values
-    from 0.25 H/b to H/b). Each record has the analysed h_part and the mechanism's own h."""
+    """``analyse`` on the part above z0 = H − h for h = λ b, λ in ``lams`` (default: 10 values
+    spaced geometrically from λ = 2 to H/b). Each record has the analysed h_part and the
+    mechanism's own h = H − z_O (the hinge may float above the base of the analysed part)."""
     w = case.wall
     if lams is None:
-        lams = np.linspace(0.25, 1.0, 8) * w.H / w.b
+        lams = np.geomspace(min(2.0, w.H / w.b), w.H / w.b, 10)
     recs = []
     for lam in lams:
         hp = check_range("lam", lam, 0.0, w.H / w.b, lo_open=True) * w.b
@@ -283,8 +284,8 @@ def fe_mechanism(case: Case, mesh_size: float = 0.25, facade: str = "homogenised
                  lams=None, options=None, verbose: bool = False) -> dict:
     """The FE columns of Table 1 for ``case``: the h-scan's minimum of v̄_g.
 
-    Keys: lam_fe (critical λ = h/b, h from the base of the analysed part to the top... the
-    mechanism's hinge height: h = H − z_O), vnorm_fe (v̄_g/√(g b)), vg_fe [m/s], tanpsi_fe
+    Keys: lam_fe (critical λ = h/b, with h = H − z_O the height of the failing part above
+    the mechanism's hinge), vnorm_fe (v̄_g/√(g b)), vg_fe [m/s], tanpsi_fe
     (the 50 % participation line), tanpsi_fe_edges (block side, fixed side), mechanism_fe
     ("rigid", "hinge+fan", "distributed"), multiplier_fe, h, O, omega, vg_method, scan (all
     records), and the closed-form hinge + fan of the whole wall for comparison (fan_*).
