@@ -150,17 +150,22 @@ def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = Fal
 @_guarded
 def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
            fe: Annotated[bool, typer.Option("--fe", help="Add the finite-element body's "
-                                            "columns (slow).")] = False,
+                                            "columns (slow: one scan over h per wall).")]
+           = False,
            mesh_size: Annotated[float, typer.Option(help="FE mesh size [m] (with --fe).")]
-           = 0.25):
+           = 0.25,
+           heights: Annotated[int, typer.Option(help="Collapse heights of the FE scan, H/4 "
+                                                "to H (with --fe).")] = 8,
+           test: Annotated[list[str] | None, typer.Option(
+               "--test", "-t", help="Only this Table 1 test, e.g. B1 (repeatable).")] = None):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
     from . import report
     from .pipeline import Progress, table1_records
 
     out = out or Path("homlimit-out") / "table1"
     with _stdout_quiet(as_json) as stdout:
-        rows = table1_records(fe=fe, mesh_size=mesh_size, verbose=verbose,
-                              progress=Progress(not as_json))
+        rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test,
+                              verbose=verbose, progress=Progress(not as_json))
         report.write_csv(out / "table1.csv", rows)
         report.write_json(out / "table1.json", rows)
     if as_json:

@@ -247,7 +247,7 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool) -> tuple[dict, di
     case, an = config.case, config.analysis
     w = case.wall
     options = SolverOptions(tol=an.tol or None, verbose=verbose)
-    lams = np.linspace(0.25, 1.0, an.heights) * w.lam_max if an.heights > 1 else [w.lam_max]
+    lams = _scan_lams(case, an.heights)
     scan = []
     with progress.stage("FE impulse scan", f"{len(lams)} collapse heights"):
         for lam in progress.bar(lams, "FE analyses over h"):
@@ -334,15 +334,22 @@ def _mesh(config: CaseConfig):
     return from_skfem(_problem(config).mesh)
 
 
-def _fe_table_columns(case: Case, mesh_size: float, verbose: bool) -> dict:
+def _fe_table_columns(case: Case, mesh_size: float, heights: int, verbose: bool) -> dict:
     """The FE body's Table 1 columns (seam: homlimit.fe_impulse.fe_mechanism)."""
     from .fe_impulse import fe_mechanism
     from .kinematic import SolverOptions
 
-    r = fe_mechanism(case, mesh_size=mesh_size, options=SolverOptions(verbose=verbose))
+    r = fe_mechanism(case, mesh_size=mesh_size, lams=_scan_lams(case, heights),
+                     options=SolverOptions(verbose=verbose))
     keys = ("lam_fe", "vnorm_fe", "vg_fe", "tanpsi_fe", "tanpsi_fe_edges", "mechanism_fe",
             "multiplier_fe")
     return {k: r[k] for k in keys}
+
+
+def _scan_lams(case: Case, heights: int) -> np.ndarray:
+    """Slenderness values of the FE impulse scan: ``heights`` collapse heights from H/4 to H."""
+    lam_max = case.wall.lam_max
+    return np.linspace(0.25, 1.0, heights) * lam_max if heights > 1 else np.array([lam_max])
 
 
 def _crack_study(progress: Progress, verbose: bool, **grid) -> list[dict]:
@@ -353,22 +360,29 @@ def _crack_study(progress: Progress, verbose: bool, **grid) -> list[dict]:
 
 
 # ----------------------------------------------------------------------------- other commands
-def table1_records(fe: bool = False, mesh_size: float = 0.25, verbose: bool = False,
+def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 8,
+                   tests: list[str] | None = None, verbose: bool = False,
                    progress: Progress | None = None) -> list[dict]:
     """Table 1 reproduced (homlimit.paper.table1_rows), optionally with the FE body's columns
-    lam_fe, vnorm_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe."""
+    lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe
+    (homlimit.fe_impulse.fe_mechanism over ``heights`` collapse heights). ``tests``: a subset
+    of the test names (B1 ... C6)."""
     from .errors import check_range
     from .paper import table1, table1_rows
 
     progress = progress or Progress(False)
-    if fe:
-        check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
+    check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
+    check_range("heights", heights, 1, 200)
+    cases = {t.test: t.case for t in table1()}
+    unknown = [t for t in tests or () if t not in cases]
+    if unknown:
+        raise ParameterError(f"test = {unknown[0]!r} is out of range: allowed one of "
+                             + ", ".join(cases))
     with progress.stage("closed forms for Table 1"):
-        rows = table1_rows()
+        rows = [r for r in table1_rows() if not tests or r["test"] in tests]
     if fe:
-        cases = {t.test: t.case for t in table1()}
         for row in progress.bar(rows, "FE body per Table 1 wall"):
-            row.update(_fe_table_columns(cases[row["test"]], mesh_size, verbose))
+            row.update(_fe_table_columns(cases[row["test"]], mesh_size, int(heights), verbose))
     return rows
 
 

@@ -172,6 +172,15 @@ def test_demo_embedded_case_console_script(tmp_path, ref_B1):
     assert "Clarabel" in r.stderr                      # the solver log, on stderr
     assert s["fe"]["multiplier"] > 0 and len(s["fe"]["scan"]) == 1
     assert (tmp_path / "demo" / "mechanism.vtu").is_file()
+    # `table1 --fe` for B1 with the same mesh and scan gives the same FE columns
+    res = CliRunner().invoke(app, ["table1", "--fe", "-t", "B1", "--mesh-size", "0.8",
+                                   "--heights", "1", "--json", "--out", str(tmp_path / "t")])
+    assert res.exit_code == 0, res.output
+    (row,) = json.loads(res.stdout)
+    assert row["test"] == "B1" and row["mechanism_fe"] == s["fe"]["critical_mechanism"]
+    for key, mine in (("lam_fe", "lam"), ("vnorm_fe", "vnorm"),
+                      ("multiplier_fe", "critical_multiplier")):
+        assert row[key] == pytest.approx(s["fe"][mine], rel=1e-6), key
 
 
 def test_set_overrides_are_validated(tmp_path):
@@ -295,6 +304,8 @@ def test_bad_option_value_exits_2(tmp_path):
                                    str(tmp_path)])
     assert res.exit_code == 2
     assert "mesh_size = -1.0 m is out of range: allowed 0 < mesh_size" in res.stderr
+    res = CliRunner().invoke(app, ["table1", "-t", "B9", "--out", str(tmp_path)])
+    assert res.exit_code == 2 and "test = 'B9' is out of range: allowed one of B1" in res.stderr
 
 
 # ----------------------------------------------------------------------------- other commands
