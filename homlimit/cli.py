@@ -154,8 +154,8 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
            = False,
            mesh_size: Annotated[float, typer.Option(help="FE mesh size [m] (with --fe).")]
            = 0.25,
-           heights: Annotated[int, typer.Option(help="Collapse heights of the FE scan, H/4 "
-                                                "to H (with --fe).")] = 8,
+           heights: Annotated[int, typer.Option(help="Collapse heights of the FE scan, "
+                                                "λ = h/b from 2 to H/b (with --fe).")] = 10,
            test: Annotated[list[str] | None, typer.Option(
                "--test", "-t", help="Only this Table 1 test, e.g. B1 (repeatable).")] = None):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""

@@ -110,8 +110,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
                       doc="strength domain of the façade in the FE model (eq. 15, or bed "
                           "joints only)"),
         "heights": Key(int, 6, "", lo=1, hi=200,
-                       doc="collapse heights h tried by the FE impulse scan, evenly from H/4 to "
-                           "H (v̄_g of eq. 7 minimised over λ = h/b)"),
+                       doc="collapse heights h tried by the FE impulse scan, λ = h/b spaced "
+                           "geometrically from 2 to H/b (v̄_g of eq. 7 minimised over λ)"),
         "tol": Key(float, 0.0, "", lo=0.0, hi=1e-2,
                    doc="Clarabel gap and feasibility tolerance (0: the solver default of "
                        "homlimit.kinematic.SolverOptions)"),

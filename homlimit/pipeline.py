@@ -229,12 +229,12 @@ def _closed_form(config: CaseConfig) -> tuple[Any, Any, dict]:
 def _fe(config: CaseConfig, progress: Progress, verbose: bool) -> tuple[dict, dict]:
     """The finite-element mechanism, its crack and its collapse ground velocity.
 
-    Numbers come from homlimit.fe_impulse.h_scan (one FE analysis of the part above
-    z0 = H − h per collapse height h, from H/4 to H: multiplier, rigid fit, crack mid-line and
-    edges, mechanism type, v̄_g); the critical FE mechanism is the scan's lowest v̄_g (eq. 7
-    minimised over λ). The pictures and mechanism.vtu show the whole wall (h = H), solved once
-    more here to keep its fields (seams: problems.t_section, kinematic.solve_kinematic,
-    rigidfit.measure_mechanism, crack.fan_edges).
+    Numbers come from homlimit.fe_impulse.h_scan: one FE analysis of the part above
+    z0 = H − h per collapse height h (λ = h/b from 2 to H/b) giving the multiplier, rigid fit,
+    crack mid-line and edges, mechanism type and v̄_g. The critical FE mechanism is the
+    scan's lowest v̄_g (eq. 7 minimised over λ). The pictures and mechanism.vtu show the
+    whole wall (h = H), solved once more here to keep its fields (seams: problems.t_section,
+    kinematic.solve_kinematic, rigidfit.measure_mechanism, crack.fan_edges).
     Returns (plain data for the summary, artifacts for the writers: ``mesh`` the meshio mesh,
     ``mechanism`` a meshio mesh with the fields, ``plot`` the drawing data).
     """
@@ -347,9 +347,11 @@ def _fe_table_columns(case: Case, mesh_size: float, heights: int, verbose: bool)
 
 
 def _scan_lams(case: Case, heights: int) -> np.ndarray:
-    """Slenderness values of the FE impulse scan: ``heights`` collapse heights from H/4 to H."""
+    """Slenderness values of the FE impulse scan: ``heights`` values spaced geometrically
+    from λ = 2 to H/b (fe_impulse.h_scan's range; one value: the whole wall)."""
     lam_max = case.wall.lam_max
-    return np.linspace(0.25, 1.0, heights) * lam_max if heights > 1 else np.array([lam_max])
+    return np.geomspace(min(2.0, lam_max), lam_max, heights) if heights > 1 else \
+        np.array([lam_max])
 
 
 def _crack_study(progress: Progress, verbose: bool, **grid) -> list[dict]:
@@ -360,13 +362,13 @@ def _crack_study(progress: Progress, verbose: bool, **grid) -> list[dict]:
 
 
 # ----------------------------------------------------------------------------- other commands
-def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 8,
+def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 10,
                    tests: list[str] | None = None, verbose: bool = False,
                    progress: Progress | None = None) -> list[dict]:
     """Table 1 reproduced (homlimit.paper.table1_rows), optionally with the FE body's columns
     lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe
-    (homlimit.fe_impulse.fe_mechanism over ``heights`` collapse heights). ``tests``: a subset
-    of the test names (B1 ... C6)."""
+    (homlimit.fe_impulse.fe_mechanism over ``heights`` collapse heights, λ from 2 to H/b).
+    ``tests``: a subset of the test names (B1 ... C6)."""
     from .errors import check_range
     from .paper import table1, table1_rows
 

@@ -423,7 +423,7 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     assert fan.lam <= fe["multiplier"] <= 1.02 * fan.lam
     assert abs(fe["hinge"][1] - fan.z0) <= 0.6 and abs(fe["hinge"][0]) <= 0.05
     assert fe["n_triangles"] > 0 and len(fe["scan"]) == 2
-    assert [r["h_part"] for r in fe["scan"]] == [pytest.approx(2.25), pytest.approx(9.0)]
+    assert [r["h_part"] for r in fe["scan"]] == [pytest.approx(1.0), pytest.approx(9.0)]
     assert fe["vg"] == min(r["vg"] for r in fe["scan"])
     assert s["critical"]["vg"] == min(fe["vg"], s["mechanism_I"]["vg"],
                                       s["mechanism_II"]["vg"])
