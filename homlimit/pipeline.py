@@ -138,10 +138,10 @@ class Result:
         for m in (self.mechanism_I, self.mechanism_II):
             if m is not None:
                 label = ("I  detachment (eqs 10, 7)" if m.name == "I" else
-                         f"II diagonal crack tanψ={m.tanpsi:.3f} (eqs 17-20)")
+                         f"II diagonal crack tan psi={m.tanpsi:.3f} (eqs 17-20)")
                 rows.append([label, m.lam, m.h, m.vg, m.vnorm])
         if self.fe:
-            rows.append([f"FE kinematic, {self.fe.get('critical_mechanism', '?')} (eq. 7)",
+            rows.append([f"FE body, {self.fe.get('critical_mechanism', '?')} (eq. 7)",
                          self.fe.get("lam"), self.fe.get("h"), self.fe.get("vg"),
                          self.fe.get("vnorm")])
         if self.dem:
@@ -170,17 +170,18 @@ class Result:
         def num(x, fmt=".3f"):
             return "–" if x is None or not math.isfinite(x) else format(x, fmt)
 
-        lines = [f"FE, whole wall ({fe['n_triangles']} triangles, façade "
-                 f"{fe['facade']}): collapse multiplier {num(fe['multiplier'], '.4g')} "
-                 f"(horizontal acceleration / g), mechanism {fe['mechanism']}, hinge at "
+        lines = [f"FE, whole wall: {fe['n_triangles']} triangles, façade {fe['facade']}, "
+                 f"collapse multiplier {num(fe['multiplier'], '.4g')} (acceleration / g)",
+                 f"  {fe['mechanism']} mechanism, hinge at x = {num(fe['hinge'][0], '.2f')} m, "
                  f"z = {num(fe['hinge'][1], '.2f')} m",
                  f"  crack: tan psi = {num(fe['tanpsi'])} ± {num(fe['tanpsi_uncertainty'])} "
                  f"(50 % line), edges {num(fe['tanpsi_edges'][0])} .. "
-                 f"{num(fe['tanpsi_edges'][1])}; compare sqrt(cf/a) = {c.alpha:.3f} (eq. 16), "
-                 f"f = {c.masonry.f:.3f}, c/a = {c.masonry.c / c.masonry.a:.3f}"]
+                 f"{num(fe['tanpsi_edges'][1])}",
+                 f"         sqrt(cf/a) = {c.alpha:.3f} (eq. 16), f = {c.masonry.f:.3f}, "
+                 f"c/a = {c.masonry.c / c.masonry.a:.3f}"]
         if fe.get("vg") is not None:
-            lines.append(f"  impulse: lowest vg over {len(fe['scan'])} collapse heights at "
-                         f"h = {num(fe['h'], '.2f')} m ({fe['vg_method']})")
+            lines += [f"  impulse: lowest vg over {len(fe['scan'])} collapse heights at "
+                      f"h = {num(fe['h'], '.2f')} m", f"         ({fe['vg_method']})"]
         return "\n".join(lines)
 
 
@@ -447,6 +448,8 @@ def _write(result: Result, out: Path, progress: Progress) -> dict[str, Path]:
             if "plot" in art:
                 files["mechanism_png"] = plots.plot_mechanism(
                     out / "mechanism.png", art["plot"], result.case, title=title)
+    if result.fe and result.fe.get("scan"):
+        files["fe_scan_csv"] = report.write_csv(out / "fe_scan.csv", result.fe["scan"])
     if cfg.vtu and "mechanism" in result.artifacts:
         files["mechanism_vtu"] = report.write_vtu(out / "mechanism.vtu",
                                                   result.artifacts["mechanism"])

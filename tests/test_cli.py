@@ -429,7 +429,11 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
                                       s["mechanism_II"]["vg"])
     files = {k: Path(v) for k, v in s["files"].items()}
     assert set(files) == {"summary_json", "vg_lambda_png", "mesh_png", "mechanism_png",
-                          "mechanism_vtu"}
+                          "mechanism_vtu", "fe_scan_csv"}
+    import csv
+
+    scan = list(csv.DictReader(files["fe_scan_csv"].open()))
+    assert [float(r["h_part"]) for r in scan] == [r["h_part"] for r in fe["scan"]]
     mech = meshio.read(files["mechanism_vtu"])
     assert mech.point_data["velocity"].shape == (len(mech.points), 3)
     for key in ("dissipation", "intensity", "region", "participation", "label", "crack"):
