@@ -7,8 +7,8 @@ A rigid rotation of rate ω about O = (x_O, z_O) has the velocity
 linear in (p_0, p_1, ω). ``fit_rigid`` finds it by iterated least squares over the nodes the fit
 explains: start from the fastest nodes, fit, keep every moving node within ``rtol`` · max|v| of
 the fit, refit, until the set stops changing; then tighten the tolerance by decades (a deforming
-zone's nodes next to the block pass a loose test and bias the fit) while the block keeps at
-least half its nodes. Nodes that do not move (|v| <= rtol · max|v|) are
+zone's nodes next to the block pass a loose test and bias the fit) while each decade keeps
+90 % of the block's nodes. Nodes that do not move (|v| <= rtol · max|v|) are
 the fixed part; the rest are neither (a smeared crack, a fan, a second body).
 
 Per node the participation p = v·v_R / |v_R|² is 1 on the block and 0 on the fixed part (the
@@ -106,10 +106,11 @@ def fit_rigid(X: np.ndarray, V: np.ndarray, rtol: float = 0.02, max_iter: int = 
     sel = speed >= 0.5 * vmax if seed is None else np.asarray(seed, bool) & moving
     if sel.sum() < 2:
         sel = speed >= np.sort(speed)[-2]
-    n_first, tol_ok = None, rtol * vmax
+    n_prev, tol_ok = None, rtol * vmax
     it = 0
     # tighten the acceptance tolerance by decades: nodes of a deforming zone next to the block
-    # pass a loose tolerance and bias the fit; stop when the block would lose half its nodes
+    # pass a loose tolerance and bias the fit; stop when a decade would drop 10 % of the block
+    # (a block that is rigid only to that precision, e.g. a non-unique optimum)
     for k in range(6):
         tol = rtol * 10.0 ** (-k) * vmax
         cur = sel
@@ -121,9 +122,9 @@ def fit_rigid(X: np.ndarray, V: np.ndarray, rtol: float = 0.02, max_iter: int = 
             if np.array_equal(new, cur) or new.sum() < 3:
                 break
             cur = new
-        if new.sum() < 3 or (n_first is not None and new.sum() < 0.5 * n_first):
+        if new.sum() < 3 or (n_prev is not None and new.sum() < 0.9 * n_prev):
             break
-        sel, n_first, tol_ok = new, n_first or int(new.sum()), tol
+        sel, n_prev, tol_ok = new, int(new.sum()), tol
     p = _lstsq(X[sel], V[sel])
     vr = np.stack([p[0] - p[2] * X[:, 1], p[1] + p[2] * X[:, 0]], axis=1)
     # the block: every node the fit explains and that is closer to v_R than to rest (slow
