@@ -70,14 +70,16 @@ def level_crossings(X: np.ndarray, tri: np.ndarray, q: np.ndarray, level: float)
 class CrackLine:
     """A level set of the participation: the crack (or one line of a fan) in the wall.
 
-    level: participation value; points (n, 2) ordered by z [m]; z_local, psi_local: the line
-    binned in z (bins of 2 h_e) and its local angle from the vertical ψ(z) [rad];
+    level: participation value; points (n, 2) ordered by z [m]; z_local, x_local, psi_local:
+    the line binned in z (bins of 2 h_e, a polyline) and its local angle from the vertical
+    ψ(z) [rad];
     T: fitted tan ψ over z ∈ fit_range [m]; dT: its uncertainty; h_e: element size [m].
     """
 
     level: float
     points: np.ndarray
     z_local: np.ndarray
+    x_local: np.ndarray
     psi_local: np.ndarray
     T: float
     dT: float
@@ -88,6 +90,11 @@ class CrackLine:
     @property
     def psi_deg(self) -> float:
         return math.degrees(math.atan(self.T))
+
+    @property
+    def polyline(self) -> np.ndarray:
+        """(k, 2) vertices (x, z) of the binned line, bottom to top."""
+        return np.c_[self.x_local, self.z_local]
 
 
 @dataclass(frozen=True)
@@ -173,7 +180,7 @@ def crack_line(X: np.ndarray, elements: np.ndarray, mm: MechanismMeasures, b: fl
     cov = np.linalg.inv(A.T @ A) * (r @ r) / dof
     se = math.sqrt(max(cov[1, 1], 0.0))
     dT = math.hypot(se, h_e / (zc - za))
-    return CrackLine(level, pts, zb, psi, float(coef[1]), dT, (float(za), float(zc)), h_e,
+    return CrackLine(level, pts, zb, xb, psi, float(coef[1]), dT, (float(za), float(zc)), h_e,
                      float(coef[0]))
 
 

@@ -213,9 +213,14 @@ def fe_body(X, elements, density, mm, level: float = 0.5) -> RigidBody:
 
 
 def analyse(case: Case, mesh_size: float = 0.25, facade: str = "homogenised", z0: float = 0.0,
-            mesh=None, options=None) -> dict:
+            mesh=None, options=None, drawing: bool = False) -> dict:
     """FE mechanism of the part above z0 (base fixed at z0): multiplier, rigid fit, crack,
-    mechanism type, body and v̄_g. Returns plain data (see ``fe_mechanism`` for the keys)."""
+    mechanism type, body and v̄_g. Returns plain data (see ``fe_mechanism`` for the keys).
+
+    drawing: add ``out["drawing"]`` for ``plots.plot_mechanism``: points, triangles and
+    velocity at the mesh vertices, the 50 % line ``crack``, the 10 % and 90 % lines
+    ``crack_edges`` (polylines) and the ``hinge``; and ``out["solution"]`` (the
+    KinematicSolution, e.g. for ``write_vtu``)."""
     from .kinematic import SolverOptions, solve_kinematic
     from .problems import t_section
 
@@ -260,6 +265,14 @@ def analyse(case: Case, mesh_size: float = 0.25, facade: str = "homogenised", z0
     except ParameterError as exc:
         out.update({"vg_fe": math.nan, "vg_method": f"not available: {exc}"})
     out["vnorm_fe"] = out["vg_fe"] / math.sqrt(w.g * w.b)
+    if drawing:
+        lines = fe.lines if fe is not None else {}
+        out["drawing"] = {
+            "points": sol.mesh.p.T.copy(), "triangles": sol.mesh.t.T.copy(),
+            "velocity": sol.velocity, "hinge": tuple(mm.fit.O),
+            "crack": lines[0.5].polyline if 0.5 in lines else None,
+            "crack_edges": [lines[lv].polyline for lv in (0.1, 0.9) if lv in lines]}
+        out["solution"] = sol
     return out
 
 
