@@ -227,7 +227,8 @@ def _closed_form(config: CaseConfig) -> tuple[Any, Any, dict]:
     return m1, m2, curves
 
 
-def _fe(config: CaseConfig, progress: Progress, verbose: bool) -> tuple[dict, dict]:
+def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = True
+        ) -> tuple[dict, dict]:
     """The finite-element mechanism, its crack and its collapse ground velocity.
 
     Numbers come from homlimit.fe_impulse.h_scan: one FE analysis of the part above
@@ -237,16 +238,13 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool) -> tuple[dict, di
     whole wall (h = H), solved once more here to keep its fields (seams: problems.t_section,
     kinematic.solve_kinematic, rigidfit.measure_mechanism, crack.fan_edges).
     Returns (plain data for the summary, artifacts for the writers: ``mesh`` the meshio mesh,
-    ``mechanism`` a meshio mesh with the fields, ``plot`` the drawing data).
+    ``mechanism`` a meshio mesh with the fields, ``plot`` the drawing data; empty unless
+    ``fields``).
     """
-    from .crack import fan_edges
-    from .fe_impulse import h_scan, p2_nodes
-    from .kinematic import SolverOptions, solve_kinematic
-    from .mesh import from_skfem
-    from .rigidfit import measure_mechanism
+    from .fe_impulse import h_scan
+    from .kinematic import SolverOptions
 
     case, an = config.case, config.analysis
-    w = case.wall
     options = SolverOptions(tol=an.tol or None, verbose=verbose)
     lams = _scan_lams(case, an.heights)
     scan = []
@@ -257,13 +255,6 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool) -> tuple[dict, di
     full = scan[-1]                                   # the whole wall, h = H
     ok = [r for r in scan if np.isfinite(r["vg_fe"])]
     crit = min(ok, key=lambda r: r["vg_fe"]) if ok else None
-    with progress.stage("whole-wall mechanism for the pictures"):
-        problem = _problem(config)
-        sol = solve_kinematic(problem, options)
-        X, V, el, rho = p2_nodes(sol, {"facade": w.rho * w.gamma * w.s,
-                                       "wall": w.gamma * w.s})
-        mm = measure_mechanism(X, V, el, density=rho)
-        edges = fan_edges(X, el, mm, w.b, z_top=w.H)
     fe = {
         # the whole wall (h = H)
         "multiplier": full["multiplier_fe"], "n_triangles": full["n_triangles"],
@@ -286,13 +277,32 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool) -> tuple[dict, di
                   "mechanism": r["mechanism_fe"], "tanpsi": r["tanpsi_fe"],
                   "vg_method": r["vg_method"]} for r in scan],
     }
+    return fe, (_whole_wall_fields(config, options, progress) if fields else {})
+
+
+def _whole_wall_fields(config: CaseConfig, options, progress: Progress) -> dict:
+    """The whole wall's FE mechanism as drawing data and a meshio mesh with its fields."""
+    from .crack import fan_edges
+    from .fe_impulse import p2_nodes
+    from .kinematic import solve_kinematic
+    from .mesh import from_skfem
+    from .rigidfit import measure_mechanism
+
+    w = config.case.wall
+    with progress.stage("whole-wall mechanism for the pictures"):
+        problem = _problem(config)
+        sol = solve_kinematic(problem, options)
+        X, V, el, rho = p2_nodes(sol, {"facade": w.rho * w.gamma * w.s,
+                                       "wall": w.gamma * w.s})
+        mm = measure_mechanism(X, V, el, density=rho)
+        edges = fan_edges(X, el, mm, w.b, z_top=w.H)
     crack = None if edges is None else edges.lines[0.5].points
     crack_edges = [] if edges is None else [edges.lines[lv].points for lv in
                                             (min(edges.lines), max(edges.lines))]
-    mech = _mechanism_mesh(sol, mm, crack)
     plot = {"points": sol.mesh.p.T, "triangles": sol.mesh.t.T, "velocity": sol.velocity,
             "hinge": mm.fit.O, "crack": crack, "crack_edges": crack_edges}
-    return fe, {"mesh": from_skfem(problem.mesh), "mechanism": mech, "plot": plot}
+    return {"mesh": from_skfem(problem.mesh), "mechanism": _mechanism_mesh(sol, mm, crack),
+            "plot": plot}
 
 
 def _mechanism_mesh(sol, mm, crack):
@@ -485,7 +495,9 @@ def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
         with prog.stage("closed-form mechanisms I and II"):
             result.mechanism_I, result.mechanism_II, result.curves = _closed_form(config)
     if config.analysis.fe:
-        result.fe, result.artifacts = _fe(config, prog, verbose)
+        out_cfg = config.output
+        result.fe, result.artifacts = _fe(config, prog, verbose,
+                                          fields=write and (out_cfg.png or out_cfg.vtu))
     result.timings = dict(prog.timings)
     if write:
         result.files = _write(result, output_dir(config, out), prog)
