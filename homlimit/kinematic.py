@@ -18,6 +18,7 @@ upper bound of the collapse multiplier of the continuum (for the chosen loads an
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import cvxpy as cp
@@ -254,7 +255,9 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
     try:
         raw = chain.solve_via_data(prob, data, warm_start=False, verbose=options.verbose,
                                    solver_opts=opts)
-        prob.unpack_results(raw, chain, inv)
+        with warnings.catch_warnings():     # an inaccurate status raises below instead
+            warnings.simplefilter("ignore", UserWarning)
+            prob.unpack_results(raw, chain, inv)
     except cp.error.SolverError as exc:
         raise SolverError(f"{options.solver} failed: {exc} (numerical trouble: try "
                           f"scale_rows=True, a looser tol or another direct_solve_method)",
