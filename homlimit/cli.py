@@ -70,7 +70,9 @@ def _guarded(fn):
         except ParameterError as e:
             _fail(EXIT_BAD_INPUT, str(e))
         except SolverError as e:
-            _fail(EXIT_SOLVER, f"solver failed ({e.status or 'no status'}): {e}")
+            hint = " [a looser tolerance: --set analysis.tol=1e-7]" if \
+                e.status == "optimal_inaccurate" else ""
+            _fail(EXIT_SOLVER, f"solver failed ({e.status or 'no status'}): {e}{hint}")
         except MeshError as e:
             _fail(EXIT_SOLVER, f"meshing failed: {e}")
         except HomlimitError as e:  # any other expected failure

@@ -270,6 +270,12 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
         if size > span:
             problems.append(f"[mesh] size = {size!r} m is out of range: "
                             f"allowed 0 < size <= min(H, b + L) = {span:g} m")
+        an = values["analysis"]
+        h_min = min(2.0 * case.wall.b, case.wall.H)   # the scan's lowest part, λ = 2
+        if an["fe"] and an["heights"] > 1 and size > h_min:
+            problems.append(f"[mesh] size = {size!r} m is out of range: allowed size <= "
+                            f"min(2b, H) = {h_min:g} m, the height of the smallest part of "
+                            f"the FE impulse scan (or [analysis] heights = 1)")
     if problems:
         raise ConfigError(source, [p.strip() for p in problems])
     return CaseConfig(case=case, mesh=MeshConfig(**values["mesh"]),

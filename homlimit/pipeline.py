@@ -391,6 +391,12 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 10,
     if unknown:
         raise ParameterError(f"test = {unknown[0]!r} is out of range: allowed one of "
                              + ", ".join(cases))
+    chosen = [c for t, c in cases.items() if not tests or t in tests]
+    h_min = min(min(2.0 * c.wall.b, c.wall.H) for c in chosen)
+    if fe and heights > 1 and mesh_size > h_min:
+        raise ParameterError(f"mesh_size = {mesh_size!r} m is out of range: allowed "
+                             f"mesh_size <= {h_min:g} m, the smallest part of the FE scan "
+                             "(λ = 2, i.e. 2b)")
     with progress.stage("closed forms for Table 1"):
         rows = [r for r in table1_rows() if not tests or r["test"] in tests]
     if fe:
