@@ -11,8 +11,16 @@ call ``run`` below, which
    ground velocity (eq. 7) over a scan of collapse heights;
 4. writes the result files (summary.json, .vtu, PNG), each whole or not at all.
 
-Each analysis is reached through one function of this module (``_closed_form``, ``_fe``),
-which is the only seam between the user-facing layer and the analysis modules.
+The other commands' work is here too: ``table1_records``, ``crack_study_records``,
+``mesh_case``. Each analysis module is reached through one private function, the only seam
+between the user-facing layer and the analyses:
+
+    _closed_form        homlimit.mechanisms (mechanism_I, mechanism_II, vnorm_I, vnorm_II)
+    _problem, _mesh     homlimit.problems.t_section, homlimit.mesh.from_skfem
+    _fe                 homlimit.fe_impulse.h_scan (FE mechanism, crack, v̄_g per height)
+    _whole_wall_fields  homlimit.kinematic, homlimit.rigidfit, homlimit.crack (for pictures)
+    _fe_table_columns   homlimit.fe_impulse.fe_mechanism (Table 1's FE columns)
+    _crack_study        homlimit.studies.crack_angle_study
 """
 
 from __future__ import annotations
@@ -33,7 +41,8 @@ from .config import CaseConfig, load_case
 from .errors import ParameterError
 from .params import Case
 
-__all__ = ["Progress", "Result", "dem_reference", "output_dir", "run"]
+__all__ = ["Progress", "Result", "crack_study_records", "dem_reference", "mesh_case",
+           "output_dir", "run", "table1_records"]
 
 
 class Progress:
