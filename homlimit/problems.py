@@ -344,7 +344,7 @@ FACADE_DOMAINS = ("homogenised", "bedjoints")
 
 def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
               h: float = 0.25, n_b: int = 4, growth: float = 1.15,
-              h_far: float | None = None) -> Problem:
+              h_far: float | None = None, mesher: str = "crossed") -> Problem:
     """The façade strip + transversal wall of the paper in the section plane x–z.
 
     Façade 0 <= x <= b (region "facade", density ρ·γ with ρ = l/s, the paper's 2D reduction),
@@ -356,6 +356,8 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     thickness shows bed joints only). Boundaries: "base", "outer" (x = 0), "top", "end"
     (x = b + L). Mesh: n_b columns across the façade, spacing h in z, and in the wall a spacing
     growing from b/n_b at the junction to h (or ``h_far``) at rate ``growth``.
+    ``mesher="gmsh"``: an unstructured gmsh mesh instead (``geometry.tsection`` with size h,
+    refined to b/n_b along the junction; adds the interior boundary "junction").
     Reference: the prototype's hinge + fan mechanism (docs/kinematic.md); no closed form.
     """
     w, mas = case.wall, case.masonry
@@ -364,20 +366,28 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     n_b = int(check_range("n_b", n_b, 1))
     if facade not in FACADE_DOMAINS:
         raise ParameterError(f"facade = {facade!r} is out of range: allowed {FACADE_DOMAINS}")
+    if mesher not in ("crossed", "gmsh"):
+        raise ParameterError(f"mesher = {mesher!r} is out of range: allowed ('crossed', 'gmsh')")
     t0 = time.perf_counter()
     b, L, H = w.b, w.L, w.H
     h_far = h if h_far is None else check_range("h_far", h_far, 0.0, lo_open=True, unit="m")
-    xs = np.r_[np.linspace(0.0, b, n_b + 1)[:-1],
-               graded(b, b + L, min(b / n_b, h_far), max(b / n_b, h_far), foci=(b,),
-                      growth=growth)]
-    zs = np.linspace(z0, H, max(2, int(math.ceil((H - z0) / h))) + 1)
-    tol = 1e-9 * H
-    m = crossed_mesh(xs, zs).with_boundaries({
-        "base": lambda x: _near(x[1], z0, tol),
-        "outer": lambda x: _near(x[0], 0.0, tol),
-        "top": lambda x: _near(x[1], H, tol),
-        "end": lambda x: _near(x[0], b + L, tol),
-    }).with_subdomains({"facade": lambda x: x[0] < b, "wall": lambda x: x[0] > b})
+    if mesher == "gmsh":
+        from .geometry import tsection
+        from .mesh import to_skfem
+
+        m = to_skfem(tsection(H, b, L, size=h, size_junction=min(h, b / n_b), z0=z0))
+    else:
+        xs = np.r_[np.linspace(0.0, b, n_b + 1)[:-1],
+                   graded(b, b + L, min(b / n_b, h_far), max(b / n_b, h_far), foci=(b,),
+                          growth=growth)]
+        zs = np.linspace(z0, H, max(2, int(math.ceil((H - z0) / h))) + 1)
+        tol = 1e-9 * H
+        m = crossed_mesh(xs, zs).with_boundaries({
+            "base": lambda x: _near(x[1], z0, tol),
+            "outer": lambda x: _near(x[0], 0.0, tol),
+            "top": lambda x: _near(x[1], H, tol),
+            "end": lambda x: _near(x[0], b + L, tol),
+        }).with_subdomains({"facade": lambda x: x[0] < b, "wall": lambda x: x[0] > b})
     wg = w.gamma * w.g
     wf = w.rho * wg
     fac = (strength.Homogenised(mas.a, mas.c, mas.f) if facade == "homogenised"
@@ -389,4 +399,4 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
         live_body={"facade": (-wf, 0.0), "wall": (-wg, 0.0)},
         dead_body={"facade": (0.0, -wf), "wall": (0.0, -wg)},
         meta={"mesh_time": time.perf_counter() - t0, "case": case.as_dict(), "z0": z0,
-              "facade": facade})
+              "facade": facade, "mesher": mesher})

@@ -242,3 +242,14 @@ def test_base_of_the_failing_part_z0_is_a_translation():
         t_section(CASE, z0=9.0)
     with pytest.raises(ParameterError, match="facade = 'stone'"):
         t_section(CASE, facade="stone")
+
+
+@pytest.mark.parametrize("mesher", ["crossed", "gmsh"])
+def test_t_section_approaches_the_closed_form_hinge_and_fan_from_above(mesher):
+    """homlimit.fan's hinge + fan optimum (exact polygon integrals, an independent family that
+    the prototype matched to 3e-5 on ray-conforming meshes) is approached from above."""
+    from homlimit.fan import optimise_fan
+
+    lam_fan = optimise_fan(CASE).lam
+    lam = solve_kinematic(t_section(CASE, h=0.5, mesher=mesher)).multiplier
+    assert lam_fan * (1 - 1e-4) <= lam <= 1.03 * lam_fan, f"{lam} vs {lam_fan}"
