@@ -164,6 +164,20 @@ def test_tresca_dissipation_and_duals():
     q = np.hypot(0.5 * (sol.stress[..., 0] - sol.stress[..., 1]), sol.stress[..., 2])
     assert q.max() <= 1.0 + 1e-5
     assert sol.gap == pytest.approx(0.0, abs=1e-5 * sol.multiplier)
+    # virtual work, including the mean stress carried by the isochoric equality row
+    disc = discretise(prob)
+    resid = disc.B[:, disc.free].T @ (np.repeat(disc.w, 3) * sol.stress.ravel())
+    rhs = (sol.multiplier * disc.F_live)[disc.free]
+    assert np.abs(resid - rhs).max() < 1e-6 * np.abs(rhs).max()
+
+
+def test_highs_interior_point_solves_the_same_lp():
+    """An independent LP solver on the same program gives the same multiplier."""
+    prob = t_section(CASE, h=1.5, n_b=1)
+    lam_c = solve_kinematic(prob).multiplier
+    sol_h = solve_kinematic(prob, SolverOptions(solver="HIGHS"))
+    assert sol_h.multiplier == pytest.approx(lam_c, rel=1e-6)
+    assert sol_h.gap == pytest.approx(0.0, abs=1e-6 * lam_c)
 
 
 def test_no_mechanism_is_infeasible_and_no_support_is_unbounded():
