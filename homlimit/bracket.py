@@ -1,0 +1,142 @@
+"""Bracket a collapse multiplier between the static (lower) and kinematic (upper) bounds.
+
+    λ⁻ (static, ``homlimit.static``)  <=  λ  <=  λ⁺ (kinematic, ``homlimit.kinematic``)
+
+Both programs consume the same ``problems.Problem``. On one mesh, the gap splits exactly over
+the elements: for the kinematic field u (continuous P2, u = 0 on supports, P_live(u) = 1) and the
+static field σ (in equilibrium with λ⁻ times the live loads plus the dead loads, tractions
+continuous, prescribed on free boundaries), virtual power gives
+∫ σ : D(u) dΩ + Σ_joints ∫ (σ n)·u dΓ = λ⁻ + P_dead(u), so
+
+    λ⁺ − λ⁻ = Σ_e [ D_e(u) − ∫_e σ : D(u) dΩ ] + Σ_joint edges [ D_j(u) − ∫_j (σ n)·u dΓ ],
+
+every term non-negative (σ ∈ G and D_e is at least ∫ π(D(u)) ≥ ∫ σ : D(u)). The element terms
+are the local error indicators of mesh adaptivity (Ciria, Peraire & Bonet 2008). σ : D(u) is
+quadratic on a triangle and integrated exactly by the three-edge-midpoint rule.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import ParameterError
+from .static import StaticSolution, solve_static
+
+__all__ = ["Bracket", "bracket", "static_inputs", "gap_contributions"]
+
+
+def static_inputs(problem) -> dict:
+    """The keyword arguments of ``static.solve_static`` for a ``problems.Problem``."""
+    for name in ("mesh", "domains", "supports", "live_body", "dead_body", "live_traction",
+                 "dead_traction", "interfaces"):
+        if not hasattr(problem, name):
+            raise ParameterError(f"problem = {type(problem).__name__} is out of range: allowed a "
+                                 f"homlimit.problems.Problem (missing {name!r})")
+    return {"mesh": problem.mesh, "domains": dict(problem.domains),
+            "supports": dict(problem.supports), "interfaces": dict(problem.interfaces),
+            "live_body": dict(problem.live_body) or None,
+            "dead_body": dict(problem.dead_body) or None,
+            "live_traction": dict(problem.live_traction),
+            "dead_traction": dict(problem.dead_traction)}
+
+
+_static_inputs = static_inputs  # the name static.static_from_problem imports
+
+
+def gap_contributions(static: StaticSolution, kinematic) -> np.ndarray:
+    """Per-triangle share of λ⁺ − λ⁻ on a common mesh, shape (nt,) [same unit as λ].
+
+    D_e(u) − ∫_e σ : D(u) with D(u) linear (vertex values ``kinematic.strain_rate``) and σ linear
+    on the triangle: the product is quadratic, integrated exactly at the edge midpoints with
+    weights area/3. Joint (interface) dissipation is not included (see ``Bracket.joint_gap``).
+    """
+    m = static.mesh
+    if kinematic.mesh is not None and (kinematic.mesh.t.shape != m.t.shape
+                                       or not np.array_equal(kinematic.mesh.t, m.t)):
+        raise ParameterError("gap_contributions needs both bounds on the same mesh; got "
+                             f"{kinematic.mesh.t.shape[1]} and {m.t.shape[1]} triangles")
+    p = m.p[:, m.t]
+    area = 0.5 * np.abs((p[0, 1] - p[0, 0]) * (p[1, 2] - p[1, 0])
+                        - (p[0, 2] - p[0, 0]) * (p[1, 1] - p[1, 0]))
+    d, s = kinematic.strain_rate, static.stress  # (nt, vertex, comp)
+    mids = ((0, 1), (1, 2), (2, 0))
+    work = sum(np.einsum("ec,ec->e", 0.5 * (s[:, i] + s[:, j]), 0.5 * (d[:, i] + d[:, j]))
+               for i, j in mids) * area / 3.0
+    return kinematic.dissipation - work
+
+
+@dataclass
+class Bracket:
+    """Lower and upper bounds of one problem's collapse multiplier.
+
+    lower, upper : λ⁻ (static) and λ⁺ (kinematic); mean = (λ⁻ + λ⁺)/2;
+    rel_gap = (λ⁺ − λ⁻)/mean (the half-width of the bracket around the mean is rel_gap/2);
+    element_gap : per-triangle share of λ⁺ − λ⁻ (None when the meshes differ);
+    joint_gap : the rest of λ⁺ − λ⁻ (joints to the ground, solver tolerance), when available.
+    """
+
+    name: str
+    lower: float
+    upper: float
+    static: StaticSolution
+    kinematic: object
+    element_gap: np.ndarray | None = None
+    times: dict = field(default_factory=dict)
+
+    @property
+    def mean(self) -> float:
+        return 0.5 * (self.lower + self.upper)
+
+    @property
+    def gap(self) -> float:
+        return self.upper - self.lower
+
+    @property
+    def rel_gap(self) -> float:
+        return self.gap / abs(self.mean) if self.mean else float("inf")
+
+    @property
+    def joint_gap(self) -> float | None:
+        if self.element_gap is None:
+            return None
+        return self.gap - float(self.element_gap.sum())
+
+    def as_dict(self) -> dict:
+        return {"name": self.name, "lower": self.lower, "upper": self.upper, "mean": self.mean,
+                "gap": self.gap, "rel_gap": self.rel_gap,
+                "triangles_static": int(self.static.mesh.t.shape[1]),
+                "triangles_kinematic": int(self.kinematic.mesh.t.shape[1])
+                if getattr(self.kinematic, "mesh", None) is not None else None,
+                "times": dict(self.times)}
+
+
+def bracket(problem, *, static_mesh=None, kinematic_mesh=None, options=None,
+            static_settings=None) -> Bracket:
+    """Run both bounds on ``problem`` (on its mesh, or on meshes chosen for each).
+
+    static_mesh, kinematic_mesh : optional skfem meshes with the same region and boundary
+        names, replacing ``problem.mesh`` for one bound (per-element gaps need one mesh).
+    options : ``kinematic.SolverOptions``; static_settings : Clarabel overrides for the static
+        program (``static.solve_static(solver_settings=...)``).
+    """
+    from .kinematic import SolverOptions, solve_kinematic
+
+    pk = problem if kinematic_mesh is None else dataclasses.replace(problem, mesh=kinematic_mesh)
+    ps = problem if static_mesh is None else dataclasses.replace(problem, mesh=static_mesh)
+    times = {}
+    t0 = time.perf_counter()
+    kin = solve_kinematic(pk, options or SolverOptions())
+    times["kinematic"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    sta = solve_static(**static_inputs(ps), solver_settings=static_settings)
+    times["static"] = time.perf_counter() - t0
+    same = ps.mesh is pk.mesh or (ps.mesh.t.shape == pk.mesh.t.shape
+                                  and np.array_equal(ps.mesh.t, pk.mesh.t)
+                                  and np.allclose(ps.mesh.p, pk.mesh.p))
+    eg = gap_contributions(sta, kin) if same else None
+    return Bracket(name=problem.name, lower=sta.multiplier, upper=kin.multiplier, static=sta,
+                   kinematic=kin, element_gap=eg, times=times)
