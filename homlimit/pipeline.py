@@ -18,7 +18,7 @@ between the user-facing layer and the analyses:
     _closed_form        homlimit.mechanisms (mechanism_I, mechanism_II, vnorm_I, vnorm_II)
     _problem, _mesh     homlimit.problems.t_section, homlimit.mesh.from_skfem
     _fe                 homlimit.fe_impulse.h_scan (FE mechanism, crack, v̄_g per height)
-    _whole_wall_fields  homlimit.kinematic, homlimit.rigidfit, homlimit.crack (for pictures)
+    _whole_wall_fields  homlimit.rigidfit, homlimit.mesh (fields of the whole wall's solution)
     _fe_table_columns   homlimit.fe_impulse.fe_mechanism (Table 1's FE columns)
     _crack_study        homlimit.studies.crack_angle_study
 """
@@ -244,13 +244,12 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
     z0 = H − h per collapse height h (λ = h/b from 2 to H/b) giving the multiplier, rigid fit,
     crack mid-line and edges, mechanism type and v̄_g. The critical FE mechanism is the
     scan's lowest v̄_g (eq. 7 minimised over λ). The pictures and mechanism.vtu show the
-    whole wall (h = H), solved once more here to keep its fields (seams: problems.t_section,
-    kinematic.solve_kinematic, rigidfit.measure_mechanism, crack.fan_edges).
+    whole wall (h = H, the scan's last height, fe_impulse.analyse with its drawing data).
     Returns (plain data for the summary, artifacts for the writers: ``mesh`` the meshio mesh,
     ``mechanism`` a meshio mesh with the fields, ``plot`` the drawing data; empty unless
     ``fields``).
     """
-    from .fe_impulse import h_scan
+    from .fe_impulse import analyse, h_scan
     from .kinematic import SolverOptions
 
     case, an = config.case, config.analysis
@@ -258,10 +257,14 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
     lams = _scan_lams(case, an.heights)
     scan = []
     with progress.stage("FE impulse scan", f"{len(lams)} collapse heights"):
-        for lam in progress.bar(lams, "FE analyses over h"):
+        for lam in progress.bar(lams[:-1], "FE analyses over h"):
             scan += h_scan(case, [lam], mesh_size=config.mesh.size, facade=an.facade,
                            options=options)
-    full = scan[-1]                                   # the whole wall, h = H
+    with progress.stage("FE mechanism of the whole wall"):   # the scan's last height, h = H
+        full = analyse(case, config.mesh.size, an.facade, z0=0.0, options=options,
+                       drawing=fields)
+        full["h_part"] = case.wall.H
+        scan.append(full)
     ok = [r for r in scan if np.isfinite(r["vg_fe"])]
     crit = min(ok, key=lambda r: r["vg_fe"]) if ok else None
     fe = {
@@ -286,31 +289,22 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
                   "mechanism": r["mechanism_fe"], "tanpsi": r["tanpsi_fe"],
                   "vg_method": r["vg_method"]} for r in scan],
     }
-    return fe, (_whole_wall_fields(config, options, progress) if fields else {})
+    return fe, (_whole_wall_fields(config, full) if fields else {})
 
 
-def _whole_wall_fields(config: CaseConfig, options, progress: Progress) -> dict:
-    """The whole wall's FE mechanism as drawing data and a meshio mesh with its fields."""
-    from .crack import fan_edges
+def _whole_wall_fields(config: CaseConfig, full: dict) -> dict:
+    """The whole wall's mechanism (``fe_impulse.analyse(drawing=True)``) as drawing data and
+    a meshio mesh with its fields (the rigid-fit measures are recomputed from the solution:
+    no second solve)."""
     from .fe_impulse import p2_nodes
-    from .kinematic import solve_kinematic
     from .mesh import from_skfem
     from .rigidfit import measure_mechanism
 
     w = config.case.wall
-    with progress.stage("whole-wall mechanism for the pictures"):
-        problem = _problem(config)
-        sol = solve_kinematic(problem, options)
-        X, V, el, rho = p2_nodes(sol, {"facade": w.rho * w.gamma * w.s,
-                                       "wall": w.gamma * w.s})
-        mm = measure_mechanism(X, V, el, density=rho)
-        edges = fan_edges(X, el, mm, w.b, z_top=w.H)
-    crack = None if edges is None else edges.lines[0.5].points
-    crack_edges = [] if edges is None else [edges.lines[lv].points for lv in
-                                            (min(edges.lines), max(edges.lines))]
-    plot = {"points": sol.mesh.p.T, "triangles": sol.mesh.t.T, "velocity": sol.velocity,
-            "hinge": mm.fit.O, "crack": crack, "crack_edges": crack_edges}
-    return {"mesh": from_skfem(problem.mesh), "mechanism": _mechanism_mesh(sol, mm, crack),
+    sol, plot = full.pop("solution"), full.pop("drawing")
+    X, V, el, rho = p2_nodes(sol, {"facade": w.rho * w.gamma * w.s, "wall": w.gamma * w.s})
+    mm = measure_mechanism(X, V, el, density=rho)
+    return {"mesh": from_skfem(sol.mesh), "mechanism": _mechanism_mesh(sol, mm, plot["crack"]),
             "plot": plot}
 
 
