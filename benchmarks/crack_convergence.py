@@ -16,7 +16,7 @@ import math
 import sys
 import time
 
-from homlimit.crack import _t_of_p, fan_edges
+from homlimit.crack import fan_edges, fan_ray
 from homlimit.fan import optimise_fan
 from homlimit.fe_impulse import p2_nodes, ray_conforming_mesh
 from homlimit.kinematic import SolverOptions, solve_kinematic
@@ -37,7 +37,7 @@ def run(case, prob):
 def main(sizes):
     case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6), name="B2")
     opt = optimise_fan(case)
-    t50 = float(_t_of_p(0.5, opt.T1, opt.T2))
+    t50 = float(fan_ray(0.5, opt.T1, opt.T2))
     print(f"closed form: λ = {opt.lam:.6f}, hinge z0 = {opt.z0:.3f} m, edges T1 = {opt.T1:.4f}, "
           f"T2 = {opt.T2:.4f}, √(T1T2) = {opt.T_mid:.4f}, fan-model 50 % ray = {t50:.4f}")
     head = (f"{'mesh':<10}{'h':>6}{'tri':>7}{'λ_FE':>10}{'rel':>10}{'z_O':>7}{'T1':>8}{'T2':>8}"

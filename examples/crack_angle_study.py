@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from homlimit.crack import fan_ray
 from homlimit.report import write_csv
 from homlimit.studies import CRACK_COLUMNS, crack_angle_study
 
@@ -66,6 +67,11 @@ def plot(path: Path, recs: list[dict]) -> Path:
                 ax.errorbar(x, y, yerr=dy, fmt="o" if h == min(sizes) else "s",
                             mfc="C0" if h == min(sizes) else "none", ms=5, capsize=2,
                             label=f"FE, h = {h:g} m")
+            if key == "tanpsi_fe":  # the exact fan's own 50 % ray, t(1/2; T1, T2)
+                pts = sorted({(r["f"], r["c_over_a"]) for r in recs})
+                x = [math.sqrt(f * ca) for f, ca in pts]
+                y = [fan_ray(0.5, min(f, ca), max(f, ca)) if f != ca else f for f, ca in pts]
+                ax.plot(x, y, "kx", ms=7, label="50 % ray of the closed-form fan")
             lim = [0, 3.2]
             ax.plot(lim, lim, "k--", lw=1, label="measured = predicted")
             ax.set_xlim(lim)

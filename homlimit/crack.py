@@ -32,7 +32,7 @@ from .errors import ParameterError, check_range
 from .rigidfit import MechanismMeasures
 
 __all__ = ["CrackLine", "FanEdges", "crack_line", "fan_edges", "p2_subtriangles",
-           "level_crossings", "LEVELS"]
+           "level_crossings", "fan_ray", "LEVELS"]
 
 LEVELS = tuple(np.round(np.arange(0.1, 0.91, 0.1), 10))
 
@@ -184,8 +184,9 @@ def crack_line(X: np.ndarray, elements: np.ndarray, mm: MechanismMeasures, b: fl
                      float(coef[0]))
 
 
-def _t_of_p(p, T1, T2):
-    """Ray slope t where the fan's participation equals p (root of a quadratic in t)."""
+def fan_ray(p, T1, T2):
+    """Ray slope t where the fan's participation equals p (root of a quadratic in t):
+    (p (T2 − T1) + T1) t² + (1 − T1 T2) t + p (T2 − T1) − T2 = 0."""
     w = p * (T2 - T1)
     A, B, C = w + T1, 1.0 - T1 * T2, w - T2
     disc = np.sqrt(np.maximum(B * B - 4 * A * C, 0.0))
@@ -211,7 +212,7 @@ def fan_edges(X: np.ndarray, elements: np.ndarray, mm: MechanismMeasures, b: flo
 
     def resid(q):
         T1, T2 = q[0], q[0] + math.exp(q[1])
-        return w * (_t_of_p(ps, T1, T2) - Ts)
+        return w * (fan_ray(ps, T1, T2) - Ts)
 
     width = max(t_hi - t_lo, 1e-3)
     sol = least_squares(resid, [t_lo - 0.1 * width, math.log(1.2 * width)])
