@@ -260,7 +260,8 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
         for lam in progress.bar(lams[:-1], "FE analyses over h"):
             scan += h_scan(case, [lam], mesh_size=config.mesh.size, facade=an.facade,
                            options=options)
-    with progress.stage("FE mechanism of the whole wall"):   # the scan's last height, h = H
+    n_tri = _problem(config).n_triangles                       # meshing is cheap
+    with progress.stage("FE mechanism of the whole wall", f"{n_tri} triangles, P2"):
         full = analyse(case, config.mesh.size, an.facade, z0=0.0, options=options,
                        drawing=fields)
         full["h_part"] = case.wall.H
