@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["plot_crack_study", "plot_mechanism", "plot_mesh", "plot_vg_lambda",
+__all__ = ["plot_crack_study", "plot_mechanism", "plot_mesh", "plot_stress", "plot_vg_lambda",
            "triangle_regions"]
 
 DPI = 120
@@ -326,4 +326,41 @@ def figure2(path: str | Path, rho=None) -> Path:
     fig.suptitle("Figure 2: collapse ground velocity and slenderness of the overturning part "
                  "(lines: mechanisms I solid, II dashed; dots: DEM, Table 1)", fontsize=10)
     fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) -> Path:
+    """The lower-bound stress field: the most compressive principal stress σ₂ per triangle
+    (colour, Pa) and its direction (short lines, length ∝ |σ₂|): the compression paths.
+
+    ``static`` is a ``homlimit.static.StaticSolution``; at most ``n_ticks`` direction lines are
+    drawn (the most compressed triangles first). Added for issue 8 (static bound).
+    """
+    plt = _pyplot()
+    m = static.mesh
+    _, s2, theta = static.principal()
+    fig, ax = plt.subplots(figsize=(7.0, 6.0))
+    from matplotlib.colors import PowerNorm
+
+    comp = np.maximum(-s2, 0.0)
+    # a power-law colour scale so that the wall's weak compression shows beside the façade's
+    tpc = ax.tripcolor(m.p[0], m.p[1], m.t.T, facecolors=comp, cmap="magma_r",
+                       norm=PowerNorm(0.4, vmin=0.0, vmax=max(comp.max(), 1e-30)),
+                       edgecolors="none")
+    fig.colorbar(tpc, ax=ax, label="compression −σ₂ (most compressive principal stress) [Pa]")
+    c = m.p[:, m.t].mean(axis=1)
+    if comp.max() > 0:
+        pick = np.argsort(-comp)[:n_ticks]
+        ell = 0.6 * np.sqrt(np.median(np.abs(static.element_areas())))
+        half = ell * (0.25 + 0.75 * (comp[pick] / comp.max()) ** 0.4)
+        dx, dz = half * np.cos(theta[pick]), half * np.sin(theta[pick])
+        segs = np.stack([np.c_[c[0, pick] - dx, c[1, pick] - dz],
+                         np.c_[c[0, pick] + dx, c[1, pick] + dz]], axis=1)
+        from matplotlib.collections import LineCollection
+
+        ax.add_collection(LineCollection(segs, colors="tab:cyan", linewidths=0.8))
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("z [m]")
+    ax.set_title(title or f"lower-bound stress field, λ⁻ = {static.multiplier:.4g}")
     return _save(fig, path)

@@ -318,6 +318,10 @@ class StaticSolution:
         """Clarabel's absolute primal–dual objective gap (scaled units)."""
         return abs(self.primal_objective - self.dual_objective)
 
+    def element_areas(self) -> np.ndarray:
+        """Triangle areas (nt,) [m²]."""
+        return triangle_gradients(self.mesh.p, self.mesh.t)[2]
+
     def element_mean(self) -> np.ndarray:
         """Mean stress of every triangle, (nt, 3): (σ_x, σ_z, τ_xz) at the centroid."""
         return self.stress.mean(axis=1)
@@ -690,8 +694,9 @@ def solve_static(
     lam = float(x[lam_col])
     # the dropped rows must hold too (they do unless prescribed tractions contradict at a node)
     resid = np.abs(M_eq_full @ x + b_eq_full).max(initial=0.0)
+    resid /= max(1.0, np.abs(x[:n_sig]).max(initial=0.0))
     if resid > 1e-5:
-        raise SolverError(f"static limit analysis: equilibrium residual {resid:.3g} after "
+        raise SolverError(f"static limit analysis: relative equilibrium residual {resid:.3g} after "
                           f"dropping dependent traction rows; the prescribed tractions are "
                           f"inconsistent at some boundary node", status="Inconsistent")
     stress = (x[:n_sig] * s_ref).reshape(nt, 3, 3)
