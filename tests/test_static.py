@@ -1,0 +1,196 @@
+"""Static (lower-bound) program: exact closed forms, independent admissibility checks, errors.
+
+References are independent of the code: uniaxial strength 2k of a Tresca block, the statics of a
+rigid block on a no-tension frictional joint with piecewise-linear contact pressure, and a
+checker that recomputes equilibrium and traction continuity of the returned stress field from
+the mesh alone.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import meshio
+import numpy as np
+import pytest
+from skfem import MeshTri
+
+from homlimit import problems, strength
+from homlimit.bracket import static_inputs
+from homlimit.errors import ParameterError, SolverError
+from homlimit.static import solve_static
+
+
+def _block_mesh(nx=4, nz=8, b=1.0, h=2.0):
+    m = problems.crossed_mesh(np.linspace(0, b, nx + 1), np.linspace(0, h, nz + 1))
+    return m.with_boundaries({"top": lambda x: np.isclose(x[1], h),
+                              "base": lambda x: np.isclose(x[1], 0.0),
+                              "left": lambda x: np.isclose(x[0], 0.0)}) \
+        .with_subdomains({"soil": lambda x: x[0] > -1})
+
+
+def test_uniaxial_compression_tresca_is_2k():
+    """A Tresca block pressed on top, smooth base and symmetry side: q = 2k (all points yield)."""
+    k = 3.0e4
+    m = _block_mesh()
+    sol = solve_static(m, strength.Tresca(k), live_traction={"top": (0.0, -k)},
+                       supports={"base": "z", "left": "x"})
+    assert sol.multiplier == pytest.approx(2.0, rel=1e-7)
+    # the limit field is uniaxial σ_z = −2k, on the Tresca circle at every vertex
+    s = sol.stress.reshape(-1, 3)
+    assert np.allclose(s[:, 1], -2 * k, rtol=1e-5)
+    assert np.allclose(s[:, [0, 2]], 0.0, atol=1e-5 * k)
+    assert np.all(sol.active == 0)
+
+
+def test_one_diagonal_mesh_either_orientation():
+    """skfem's init_tensor triangles are clockwise: the gradients must not care."""
+    m = MeshTri.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 2, 7)).with_boundaries(
+        {"top": lambda x: np.isclose(x[1], 2), "base": lambda x: np.isclose(x[1], 0)})
+    sol = solve_static(m, strength.Tresca(1.0), live_traction={"top": (0.0, -1.0)},
+                       supports={"base": "fixed"})
+    # fixed base: the block is stronger than uniaxially (confinement), but only the base may help
+    assert sol.multiplier >= 2.0 - 1e-7
+
+
+def _check_static_admissibility(sol, prob):
+    """Recompute div σ per triangle and traction jumps per interior edge from the mesh alone."""
+    m = prob.mesh
+    p, t = m.p, m.t
+    x, z = p[0, t], p[1, t]
+    # least-squares plane through the three vertex values of each component (exact: linear)
+    ones = np.ones_like(x)
+    M = np.stack([ones, x, z], axis=-1).transpose(1, 0, 2)          # (nt, 3 vertices, 3)
+    coef = np.linalg.solve(M, sol.stress)                           # (nt, 3 [1,x,z], 3 comp)
+    sx_x, sz_z = coef[:, 1, 0], coef[:, 2, 1]
+    t_x, t_z = coef[:, 1, 2], coef[:, 2, 2]
+    lam = sol.multiplier
+    b = np.zeros((t.shape[1], 2))
+    for reg, f in prob.live_body.items():
+        b[m.subdomains[reg]] += lam * np.asarray(f)
+    for reg, f in prob.dead_body.items():
+        b[m.subdomains[reg]] += np.asarray(f)
+    scale = np.abs(sol.stress).max() / np.sqrt(sol.element_areas().min())
+    assert np.abs(sx_x + t_z + b[:, 0]).max() < 1e-6 * scale
+    assert np.abs(t_x + sz_z + b[:, 1]).max() < 1e-6 * scale
+    # traction continuity at both ends of every interior edge
+    f2t = m.f2t
+    inner = np.flatnonzero(f2t[1] >= 0)
+    a, c = m.facets[:, inner]
+    tang = p[:, c] - p[:, a]
+    n = np.stack([tang[1], -tang[0]]) / np.hypot(*tang)
+    for node in (a, c):
+        pts = p[:, node]
+        sig = []
+        for side in (0, 1):
+            e = f2t[side, inner]
+            s = np.einsum("ek,eki->ei", np.stack([np.ones_like(pts[0]), pts[0], pts[1]], 1),
+                          coef[e])
+            sig.append(np.stack([s[:, 0] * n[0] + s[:, 2] * n[1],
+                                 s[:, 2] * n[0] + s[:, 1] * n[1]]))
+        assert np.abs(sig[0] - sig[1]).max() < 1e-6 * np.abs(sol.stress).max()
+
+
+def test_vertical_cut_field_is_statically_admissible():
+    """The returned field satisfies equilibrium, continuity and the Tresca condition."""
+    prob = problems.vertical_cut(h_min=0.1, h_max=0.3)
+    sol = solve_static(**static_inputs(prob))
+    _check_static_admissibility(sol, prob)
+    assert np.all(strength.Tresca(1.0).is_admissible(sol.stress, tol=1e-6))
+    assert sol.multiplier <= problems.VERTICAL_CUT_LB
+
+
+@pytest.mark.parametrize("eps", [0.05, 0.01])
+def test_rigid_block_on_bed_joint_closed_form(eps):
+    """A rigid block (b × h) on a no-tension frictional joint, horizontal load λ × weight.
+
+    With contact pressure linear on each base edge, the resultant can come no closer to the toe
+    than ε/3 (a triangular pressure on the toe edge of length ε): λ⁻ = (b − 2ε/3)/h exactly.
+    """
+    b, h = 0.5, 3.0
+    prob = problems.free_block(b=b, h=h, n_b=2)
+    xs = problems.graded(0, b, eps, b / 2, foci=(0,), growth=1.6)
+    zs = problems.graded(0, h, eps, b / 2, foci=(0,), growth=1.6)
+    assert xs[1] == pytest.approx(eps)
+    m = problems.crossed_mesh(xs, zs).with_boundaries(
+        {"base": lambda x: np.abs(x[1]) < 1e-9}).with_subdomains({"facade": lambda x: x[0] > -1})
+    sol = solve_static(**static_inputs(dataclasses.replace(prob, mesh=m)))
+    assert sol.multiplier == pytest.approx((b - 2 * eps / 3) / h, rel=1e-6)
+
+
+def test_homogenised_field_is_admissible_and_compressive():
+    """T-section lower-bound field: eq. 15 holds at every vertex (no tension anywhere)."""
+    from homlimit.params import Case, Masonry, Wall
+
+    case = Case(Wall(H=9, L=6, s=0.5, b=0.5, l=6), Masonry(a=0.3, c=0.2, f=0.6), name="B1")
+    prob = problems.t_section(case, h=1.0, n_b=1, growth=1.3)
+    sol = solve_static(**static_inputs(prob))
+    dom = strength.Homogenised(0.3, 0.2, 0.6)
+    scale = np.abs(sol.stress).max()
+    # eq. 15 facets N_k·σ <= 0 with a tolerance relative to the stress scale
+    N = np.array([[0, 0.6, 1], [0, 0.6, -1], [1.5, 0.6, 1 + 0.6 / 1.5],
+                  [1.5, 0.6, -(1 + 0.6 / 1.5)]])
+    assert (sol.stress.reshape(-1, 3) @ N.T).max() <= 1e-6 * scale
+    assert np.all(dom.is_admissible(sol.stress / scale, tol=1e-6))
+    _check_static_admissibility(sol, prob)
+    assert np.all(sol.stress[..., 1] <= 1e-6 * scale)       # σ_z <= 0: no tension
+
+
+def test_stress_fields_and_vtu_round_trip(tmp_path):
+    m = _block_mesh(2, 4)
+    sol = solve_static(m, strength.Tresca(1.0), live_traction={"top": (0.0, -1.0)},
+                       supports={"base": "z", "left": "x"})
+    f = sol.fields()
+    assert set(f) == {"sigma_x", "sigma_z", "tau_xz", "active_facet"}
+    assert f["sigma_z"].shape == (m.t.shape[1], 3)
+    path = tmp_path / "stress.vtu"
+    sol.write(path)
+    back = meshio.read(path)
+    assert back.points.shape[0] == 3 * m.t.shape[1]
+    assert np.allclose(back.point_data["sigma_z"], -2.0, rtol=1e-5)
+    assert np.allclose(back.cell_data["sigma_z"][0], -2.0, rtol=1e-5)
+    assert not list(tmp_path.glob("*.tmp*"))
+
+
+def test_plot_stress(tmp_path):
+    from homlimit.plots import plot_stress
+
+    m = _block_mesh(2, 4)
+    sol = solve_static(m, strength.Tresca(1.0), live_traction={"top": (0.0, -1.0)},
+                       supports={"base": "z", "left": "x"})
+    out = plot_stress(tmp_path / "s.png", sol, title="block")
+    import matplotlib.image as mpimg
+
+    img = mpimg.imread(out)
+    assert img.shape[0] > 300 and img.shape[1] > 300
+    assert img[..., :3].std() > 0.05                         # not blank
+
+
+# ------------------------------------------------------------------------------- bad input
+
+
+def test_bad_input_raises_parameter_error_naming_the_value():
+    m = _block_mesh(1, 2)
+    tr = strength.Tresca(1.0)
+    with pytest.raises(ParameterError, match="supports\\['base'\\] = 'clamped'"):
+        solve_static(m, tr, live_traction={"top": (0, -1)}, supports={"base": "clamped"})
+    with pytest.raises(ParameterError, match="no boundary 'roof'"):
+        solve_static(m, tr, live_traction={"roof": (0, -1)}, supports={"base": "z"})
+    with pytest.raises(ParameterError, match="no region 'wall'"):
+        solve_static(m, {"wall": tr}, live_traction={"top": (0, -1)})
+    with pytest.raises(ParameterError, match="no live load"):
+        solve_static(m, tr, dead_traction={"top": (0, -1)}, supports={"base": "z"})
+    with pytest.raises(ParameterError, match="shape"):
+        solve_static(m, tr, live_traction={"top": (0, -1, 0)}, supports={"base": "z"})
+    with pytest.raises(ParameterError, match="active_tol"):
+        solve_static(m, tr, live_traction={"top": (0, -1)}, active_tol=-1.0)
+
+
+def test_solver_error_names_the_status():
+    """No support and a dead load: no stress field can carry it (primal infeasible)."""
+    m = _block_mesh(1, 2)
+    with pytest.raises(SolverError) as exc:
+        solve_static(m, strength.Tresca(1.0), live_traction={"top": (-1.0, 0)},
+                     dead_traction={"top": (0, -1.0)}, retries=False)
+    assert "Infeasible" in exc.value.status
+    assert "Infeasible" in str(exc.value)
