@@ -1,0 +1,140 @@
+"""Both bounds on the same problems: the brackets of issue 8, against published values.
+
+Every case computed here is listed in ``CASES``; ``test_lower_never_exceeds_upper`` asserts
+λ⁻ <= λ⁺ on each of them (the static and kinematic theorems together).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+
+import numpy as np
+import pytest
+
+from homlimit import problems
+from homlimit.bracket import bracket, prandtl_fan
+from homlimit.params import Case, Masonry, Wall
+
+PRANDTL = 2.0 + np.pi
+
+
+def _block(eps):
+    b, h = 0.5, 3.0
+    prob = problems.free_block(b=b, h=h, n_b=2)
+    xs = problems.graded(0, b, eps, b / 2, foci=(0,), growth=1.6)
+    zs = problems.graded(0, h, eps, b / 2, foci=(0,), growth=1.6)
+    m = problems.crossed_mesh(xs, zs).with_boundaries(
+        {"base": lambda x: np.abs(x[1]) < 1e-9}).with_subdomains({"facade": lambda x: x[0] > -1})
+    return dataclasses.replace(prob, mesh=m)
+
+
+def _tsection(name, h, n_b):
+    row = {r["test"]: r for r in _table1()}[name]
+    case = Case(Wall(H=row["H"], L=row["L"], s=row["s"], b=row["b"], l=row["rho"] * row["s"]),
+                Masonry(a=row["a"], c=row["c"], f=row["f"]), name=name)
+    return problems.t_section(case, h=h, n_b=n_b, growth=1.3)
+
+
+@functools.cache
+def _table1():
+    import csv
+    from importlib.resources import files
+
+    text = files("homlimit").joinpath("data/table1_dem.csv").read_text()
+    rows = [r for r in csv.DictReader(line for line in text.splitlines()
+                                      if not line.startswith("#"))]
+    return [{k: (v if k == "test" else float(v)) for k, v in r.items()} for r in rows]
+
+
+CASES = {
+    "prandtl_crossed": lambda: problems.prandtl(h_min=0.05, h_max=0.5, growth=1.3),
+    "prandtl_fan": lambda: prandtl_fan(size=0.3, h_min=0.03, radius=0.5, n_fan=12),
+    "vertical_cut_coarse": lambda: problems.vertical_cut(h_min=0.1, h_max=0.25),
+    "vertical_cut_fine": lambda: problems.vertical_cut(h_min=0.05, h_max=0.25),
+    "rigid_block_eps0.01": lambda: _block(0.01),
+    "bedjoint_block": lambda: problems.free_block(b=0.5, h=3.0, n_b=2, interior="bedjoints"),
+    "tsection_B1_h1": lambda: _tsection("B1", 1.0, 1),
+    "tsection_B1_h0.5": lambda: _tsection("B1", 0.5, 2),
+    "tsection_C6_h1": lambda: _tsection("C6", 1.0, 1),
+}
+
+
+@functools.cache
+def run(name):
+    return bracket(CASES[name]())
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_lower_never_exceeds_upper(name):
+    br = run(name)
+    assert br.lower <= br.upper * (1 + 1e-7), f"{name}: {br.lower} > {br.upper}"
+
+
+def test_prandtl_brackets_2_plus_pi_with_gap_under_3_percent():
+    """Fan mesh of ~2 000 triangles: λ⁻ <= 2 + π <= λ⁺ and (λ⁺ − λ⁻)/mean < 3 %."""
+    br = run("prandtl_fan")
+    assert br.static.mesh.t.shape[1] <= 20_000
+    assert br.lower <= PRANDTL <= br.upper
+    assert br.rel_gap < 0.03, f"gap {br.rel_gap:.4f} ({br.lower:.4f}, {br.upper:.4f})"
+
+
+def test_prandtl_crossed_mesh_still_brackets():
+    """The structured crossed mesh is poor for the static bound (no fan) but still a bracket."""
+    br = run("prandtl_crossed")
+    assert br.lower <= PRANDTL <= br.upper
+
+
+def test_vertical_cut_brackets_published_bounds():
+    """Kammoun et al. 2010: 3.7752 <= γH/k <= 3.7776; gap < 5 % on the finer CI mesh."""
+    gaps = []
+    for name in ("vertical_cut_coarse", "vertical_cut_fine"):
+        br = run(name)
+        assert br.lower <= problems.VERTICAL_CUT_LB, name
+        assert br.upper >= problems.VERTICAL_CUT_UB, name
+        gaps.append(br.rel_gap)
+    assert gaps[1] < gaps[0]
+    assert gaps[1] < 0.05, f"gap {gaps[1]:.4f}"
+
+
+def test_rigid_block_both_bounds_b_over_h():
+    """Upper bound b/h to solver precision; lower bound (b − 2ε/3)/h → b/h as the toe edge ε → 0."""
+    b, h, eps = 0.5, 3.0, 0.01
+    br = run("rigid_block_eps0.01")
+    assert br.upper == pytest.approx(b / h, rel=1e-7)
+    assert br.lower == pytest.approx((b - 2 * eps / 3) / h, rel=1e-6)
+    assert (b / h - br.lower) / (b / h) < eps / b
+
+
+def test_gap_splits_over_elements_by_virtual_power():
+    """Σ_e [D_e(u) − ∫_e σ:D(u)] = λ⁺ − λ⁻ and every element term is >= 0 (σ ∈ G)."""
+    for name in ("prandtl_crossed", "vertical_cut_coarse", "tsection_B1_h1"):
+        br = run(name)
+        eg = br.element_gap
+        assert eg is not None and eg.shape == (br.static.mesh.t.shape[1],)
+        assert eg.sum() == pytest.approx(br.gap, abs=1e-6 * abs(br.upper)), name
+        assert eg.min() >= -1e-6 * abs(br.upper), name
+
+
+def test_gap_with_bed_joint_interface_includes_joint_share():
+    """With a joint to the ground the element terms miss the joint's share, which is >= 0."""
+    br = run("bedjoint_block")
+    assert br.joint_gap >= -1e-6 * br.upper
+
+
+def test_tsection_gap_shrinks_under_refinement():
+    coarse, fine = run("tsection_B1_h1"), run("tsection_B1_h0.5")
+    assert fine.rel_gap < coarse.rel_gap
+    assert coarse.lower <= fine.upper and fine.lower <= coarse.upper
+    c6 = run("tsection_C6_h1")
+    assert 0 < c6.lower <= c6.upper
+
+
+def test_different_meshes_for_each_bound():
+    pr = problems.prandtl(h_min=0.1, h_max=0.5, growth=1.3)
+    fan = prandtl_fan(size=0.5, h_min=0.08, radius=0.5, n_fan=6)
+    br = bracket(pr, static_mesh=fan.mesh)
+    assert br.element_gap is None
+    assert br.lower <= PRANDTL <= br.upper
+    d = br.as_dict()
+    assert d["triangles_static"] == fan.mesh.t.shape[1] != d["triangles_kinematic"]
