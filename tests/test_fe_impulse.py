@@ -64,3 +64,18 @@ def test_fe_analysis_end_to_end_on_a_coarse_mesh():
     assert r["lam_fe"] == pytest.approx((case.wall.H - r["O"][1]) / case.wall.b)
     assert r["vnorm_fe"] == pytest.approx(r["vg_fe"] / math.sqrt(9.81 * 0.5))
     assert 0.2 < r["vnorm_fe"] < 1.0
+
+
+def test_fe_mechanism_keys_and_minimum_of_the_scan():
+    """The Table 1 columns: the scan's minimum of v̄_g, with λ = h/b from the hinge height."""
+    from homlimit.fe_impulse import fe_mechanism
+
+    case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
+    r = fe_mechanism(case, mesh_size=0.5, lams=[4.0, 8.0])
+    for key in ("lam_fe", "vnorm_fe", "tanpsi_fe", "tanpsi_fe_edges", "mechanism_fe", "h", "O",
+                "omega", "multiplier_fe", "vg_method"):
+        assert key in r
+    assert r["vnorm_fe"] == pytest.approx(min(s["vnorm_fe"] for s in r["scan"]))
+    assert r["mechanism_fe"] in ("rigid", "hinge+fan", "distributed")
+    assert len(r["tanpsi_fe_edges"]) == 2
+    assert r["lam_fe"] == pytest.approx(r["h"] / 0.5)
