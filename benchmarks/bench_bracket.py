@@ -1,0 +1,71 @@
+"""Lower and upper bounds side by side: Prandtl, vertical cut, and the Table 1 T-sections.
+
+Prints, per mesh: triangles, λ⁻ (static), λ⁺ (kinematic), relative gap (λ⁺ − λ⁻)/mean, and the
+seconds of each bound. The T-section section prints the markdown table of docs/static.md.
+
+    python benchmarks/bench_bracket.py [prandtl] [cut] [tsection]     (default: all three)
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+from homlimit import paper, problems
+from homlimit.bracket import bracket, prandtl_fan
+
+
+def _row(name, n, br):
+    print(f"{name:<28s} {n:>7d} {br.lower:>10.5f} {br.upper:>10.5f} {100 * br.rel_gap:>7.2f}% "
+          f"{br.times['static']:>8.1f}s {br.times['kinematic']:>8.1f}s", flush=True)
+
+
+def _head(title, ref):
+    print(f"\n## {title} (reference {ref})")
+    print(f"{'mesh':<28s} {'tri':>7s} {'lower':>10s} {'upper':>10s} {'gap':>8s} "
+          f"{'static':>9s} {'kinem.':>9s}", flush=True)
+
+
+def prandtl():
+    _head("Prandtl, weightless Tresca, fan mesh at the footing edge", f"2+π = {2 + math.pi:.5f}")
+    for size, h_min, n_fan in ((0.4, 0.05, 8), (0.3, 0.03, 12), (0.2, 0.02, 16),
+                               (0.12, 0.012, 24)):
+        pr = prandtl_fan(size=size, h_min=h_min, radius=0.5, n_fan=n_fan)
+        _row(f"fan size={size} h={h_min} rays={n_fan}", pr.n_triangles, bracket(pr))
+    for h_min in (0.05, 0.02):
+        pr = problems.prandtl(h_min=h_min, h_max=0.5, growth=1.3)
+        _row(f"crossed h_min={h_min}", pr.n_triangles, bracket(pr))
+
+
+def cut():
+    _head("Vertical cut, Tresca, γH/k", "[3.7752, 3.7776]")
+    for h_min in (0.1, 0.05, 0.03, 0.02):
+        pr = problems.vertical_cut(h_min=h_min, h_max=0.25)
+        _row(f"crossed h_min={h_min}", pr.n_triangles, bracket(pr))
+
+
+def tsection():
+    print("\n## T-section (homogenised eq. 15 in façade and wall), multiplier a/g")
+    levels = ((1.0, 1), (0.5, 2), (0.25, 4))
+    cols = " | ".join(f"h={h} m, n_b={nb}: tri, λ⁻, λ⁺, gap" for h, nb in levels)
+    print(f"| test | {cols} |")
+    print("|---" * (1 + len(levels)) + "|")
+    for r in paper.table1():
+        case = r.case
+        cells = []
+        for h, nb in levels:
+            t0 = time.perf_counter()
+            pr = problems.t_section(case, h=h, n_b=nb, growth=1.3)
+            br = bracket(pr)
+            cells.append(f"{pr.n_triangles}, {br.lower:.4f}, {br.upper:.4f}, "
+                         f"{100 * br.rel_gap:.1f} %")
+            print(f"  [{r.test} h={h}: {time.perf_counter() - t0:.1f} s]", file=sys.stderr,
+                  flush=True)
+        print(f"| {r.test} | " + " | ".join(cells) + " |", flush=True)
+
+
+if __name__ == "__main__":
+    which = sys.argv[1:] or ["prandtl", "cut", "tsection"]
+    for name in which:
+        {"prandtl": prandtl, "cut": cut, "tsection": tsection}[name]()
