@@ -155,8 +155,8 @@ class GeneralisedImpulse:
 
     M [kg m²], Pi = ∫ρ(−φ_x) [kg m], W_m [J] restoring work at the tipping angle q_m [rad],
     vg [m/s];
-    block: the rigid block's RigidBody (None if no element is rigid); M_rest_share,
-    W_rest_share: the deforming part's shares of M and of W(q_m).
+    block: the RigidBody inside the 50 % line; M_rest_share, W_rest_share: the linearised
+    rest's shares of M and of W(q_m).
     """
 
     M: float
@@ -199,8 +199,7 @@ def generalised_impulse(X, V, elements, density, mm, g: float = 9.81,
     W_b = body.m * g * (body.r_G - body.z_G)
     W_m = W_b + q_m * lift_rest
     vg = math.sqrt(2.0 * W_m * M) / Pi
-    M_b = body.I_O if body is not None else 0.0
-    return GeneralisedImpulse(M, Pi, W_m, q_m, vg, body, 1.0 - M_b / M,
+    return GeneralisedImpulse(M, Pi, W_m, q_m, vg, body, float(e[rest].sum()) / M,
                               q_m * lift_rest / W_m)
 
 
@@ -287,14 +286,16 @@ def h_scan(case: Case, lams=None, mesh_size: float = 0.25, facade: str = "homoge
            options=None) -> list[dict]:
     """``analyse`` on the part above z0 = H − h for h = λ b, λ in ``lams`` (default: 10 values
     spaced geometrically from λ = 2 to H/b). Each record has the analysed h_part and the
-    mechanism's own h = H − z_O (the hinge may float above the base of the analysed part)."""
+    mechanism's own h = H − z_O (the hinge may float above the base of the analysed part).
+    The element size is min(mesh_size, h_part/10), so that short parts stay resolved."""
     w = case.wall
     if lams is None:
         lams = np.geomspace(min(2.0, w.H / w.b), w.H / w.b, 10)
     recs = []
     for lam in lams:
         hp = check_range("lam", lam, 0.0, w.H / w.b, lo_open=True) * w.b
-        r = analyse(case, mesh_size, facade, z0=max(0.0, w.H - hp), options=options)
+        r = analyse(case, min(mesh_size, hp / 10), facade, z0=max(0.0, w.H - hp),
+                    options=options)
         r["h_part"] = hp
         recs.append(r)
     return recs
