@@ -50,6 +50,8 @@ def _table1():
 CASES = {
     "prandtl_crossed": lambda: problems.prandtl(h_min=0.05, h_max=0.5, growth=1.3),
     "prandtl_fan": lambda: prandtl_fan(size=0.3, h_min=0.03, radius=0.5, n_fan=12),
+    "mohr_coulomb_crossed": lambda: problems.mohr_coulomb_footing(h_min=0.1, h_max=1.0,
+                                                                  growth=1.3),
     "vertical_cut_coarse": lambda: problems.vertical_cut(h_min=0.1, h_max=0.25),
     "vertical_cut_fine": lambda: problems.vertical_cut(h_min=0.05, h_max=0.25),
     "rigid_block_eps0.01": lambda: _block(0.01),
@@ -83,6 +85,12 @@ def test_prandtl_crossed_mesh_still_brackets():
     """The structured crossed mesh is poor for the static bound (no fan) but still a bracket."""
     br = run("prandtl_crossed")
     assert br.lower <= PRANDTL <= br.upper
+
+
+def test_mohr_coulomb_footing_brackets_nc():
+    """Prandtl–Reissner N_c(30°) = 30.14 lies in the bracket (crossed mesh: a weak λ⁻)."""
+    br = run("mohr_coulomb_crossed")
+    assert br.lower <= problems.mohr_coulomb_nc(30.0) <= br.upper
 
 
 def test_vertical_cut_brackets_published_bounds():
