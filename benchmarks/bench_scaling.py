@@ -4,11 +4,12 @@ Every mesh size runs in a fresh subprocess (so the peak resident memory is that 
 Printed per size: triangles, free unknowns, cone rows, seconds in each stage (mesh, assembly,
 cvxpy build, solve; solve also as CPU seconds, robust to other jobs on the machine),
 interior-point iterations, peak memory and the multiplier; then the same LP solved by HiGHS's
-interior point (crossover off) for the sizes up to --highs-max triangles. At the end: the fitted
-exponent p of solve time ∝ triangles^p and the three targets of issue 5 (build <= solve/4,
-p <= 1.6, Clarabel >= 3x faster than HiGHS).
+interior point (crossover off) for the sizes up to --highs-max triangles. Mesh: t_section with
+spacing h and max(4, b/h) columns across the façade (so the façade cells stay square). At the
+end: the fitted exponent p of solve time ∝ triangles^p and the three targets of issue 5
+(build <= solve/4, p <= 1.6, Clarabel >= 3x faster than HiGHS).
 
-    python benchmarks/bench_scaling.py [--h 0.6 0.35 0.2 0.125 0.08] [--highs-max 5000]
+    python benchmarks/bench_scaling.py [--h 0.6 0.35 0.25 0.125 0.085] [--highs-max 5000]
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ def one(h: float, solver: str, method: str) -> dict:
     k = CASE
     case = Case(wall=Wall(H=k["H"], L=k["L"], s=k["s"], b=k["b"], l=k["l"]),
                 masonry=Masonry(k["a"], k["c"], k["f"]), name="B1")
-    prob = t_section(case, h=h)
+    prob = t_section(case, h=h, n_b=max(4, round(case.wall.b / h)))   # cells ~ square in the façade
     c0 = time.process_time()
     sol = solve_kinematic(prob, SolverOptions(solver=solver, direct_solve_method=method))
     cpu = time.process_time() - c0
@@ -55,7 +56,7 @@ def run_child(h: float, solver: str, method: str) -> dict:
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--h", type=float, nargs="+", default=[0.6, 0.35, 0.2, 0.125, 0.08])
+    ap.add_argument("--h", type=float, nargs="+", default=[0.6, 0.35, 0.25, 0.125, 0.085])
     ap.add_argument("--highs-max", type=int, default=5000)
     ap.add_argument("--method", default="qdldl")
     ap.add_argument("--one", nargs=3)
