@@ -36,6 +36,7 @@ from .strength import ConicBlock, StrengthDomain
 
 __all__ = [
     "StaticSolution",
+    "attach_cell_fields",
     "solve_static",
     "static_from_problem",
     "triangle_gradients",
@@ -228,6 +229,30 @@ def _stack_block(block: ConicBlock, cols: np.ndarray, aux0: int):
         rows = K[sel] * width + (R[sel] - lo)
         out[kind] = ((V[sel], rows, col[sel], n * width), np.tile(block.e[lo:hi], n))
     return out
+
+
+def attach_cell_fields(mesh, static: StaticSolution, prefix: str = "static_"):
+    """A copy of a meshio.Mesh (e.g. the mechanism's) with the static field as cell data.
+
+    The mesh's first "triangle" block must be the static solution's triangles, in order (as in
+    ``KinematicSolution.to_meshio()`` on the same mesh); other blocks (e.g. a crack polyline)
+    get NaN. Fields: ``prefix`` + sigma_x, sigma_z, tau_xz, sigma_1, sigma_2,
+    compression_angle, active_facet (see ``StaticSolution.cell_fields``).
+    """
+    import meshio
+
+    blocks = list(mesh.cells)
+    tri = [k for k, b in enumerate(blocks) if b.type == "triangle"]
+    nt = static.mesh.t.shape[1]
+    if not tri or len(blocks[tri[0]].data) != nt:
+        raise ParameterError(f"mesh has triangle blocks of sizes "
+                             f"{[len(blocks[k].data) for k in tri]}; allowed: a first triangle "
+                             f"block of the static solution's {nt} triangles")
+    data = {k: list(v) for k, v in mesh.cell_data.items()}
+    for name, val in static.cell_fields().items():
+        data[prefix + name] = [np.asarray(val, float) if k == tri[0]
+                               else np.full(len(b.data), np.nan) for k, b in enumerate(blocks)]
+    return meshio.Mesh(mesh.points, blocks, point_data=dict(mesh.point_data), cell_data=data)
 
 
 def _independent_vertex_rows(R: sp.csr_matrix, row_node: np.ndarray, t: np.ndarray,

@@ -146,3 +146,20 @@ def test_different_meshes_for_each_bound():
     assert br.lower <= PRANDTL <= br.upper
     d = br.as_dict()
     assert d["triangles_static"] == fan.mesh.t.shape[1] != d["triangles_kinematic"]
+
+
+def test_static_field_attached_to_the_mechanism_vtu(tmp_path):
+    """The lower-bound stresses ride along the mechanism's .vtu as cell data."""
+    import meshio
+
+    from homlimit.static import attach_cell_fields
+
+    br = run("vertical_cut_coarse")
+    m = attach_cell_fields(br.kinematic.to_meshio(), br.static)
+    path = tmp_path / "mechanism.vtu"
+    meshio.write(path, m)
+    back = meshio.read(path)
+    assert "velocity" in back.point_data
+    s = back.cell_data["static_sigma_z"][0]
+    assert np.allclose(s, br.static.element_mean()[:, 1])
+    assert set(np.unique(back.cell_data["static_active_facet"][0])) <= {-1.0, 0.0}
