@@ -140,11 +140,7 @@ def _region_values(mesh, spec, name: str, shape: tuple, nt: int) -> np.ndarray:
                 raise ParameterError(f"{name}[{reg!r}]: no region {reg!r} in the mesh; allowed "
                                      f"regions: {sorted(subs)}")
             out[subs[reg]] = np.broadcast_to(np.asarray(val, float), shape)
-        return out
-    arr = np.asarray(spec, float)
-    if arr.shape == shape:
-        out[:] = arr
-    elif arr.shape == (nt,) + shape:
+    elif (arr := np.asarray(spec, float)).shape in (shape, (nt,) + shape):
         out[:] = arr
     else:
         raise ParameterError(f"{name} has shape {arr.shape}; allowed {shape}, ({nt},)+{shape} "
