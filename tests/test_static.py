@@ -194,3 +194,11 @@ def test_solver_error_names_the_status():
                      dead_traction={"top": (0, -1.0)}, retries=False)
     assert "Infeasible" in exc.value.status
     assert "Infeasible" in str(exc.value)
+
+
+def test_invariant_under_units():
+    """γH/k does not depend on the units: H = 1 m, k = 1 Pa vs H = 7 m, k = 40 kPa."""
+    a = solve_static(**static_inputs(problems.vertical_cut(h_min=0.1, h_max=0.3)))
+    b = solve_static(**static_inputs(problems.vertical_cut(h_min=0.1, h_max=0.3, H=7.0,
+                                                           k=4.0e4)))
+    assert b.multiplier == pytest.approx(a.multiplier, rel=1e-6)
