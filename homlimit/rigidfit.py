@@ -20,7 +20,6 @@ The kinetic-energy measures use the exact P2 mass matrix, ∫ρ|v|² = Σ_e ρ_e
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,7 +31,10 @@ __all__ = ["RigidFit", "fit_rigid", "MechanismMeasures", "measure_mechanism", "p
 
 MECHANISM_TYPES = ("rigid", "hinge+fan", "distributed")
 
-# P2 mass matrix of a triangle of unit area, dofs (v1, v2, v3, e12, e23, e13)
+# P2 shape functions at the centroid, dofs (v1, v2, v3, e12, e23, e13)
+_P2_CENTROID = np.array([-1, -1, -1, 4, 4, 4], float) / 9.0
+
+# P2 mass matrix of a triangle of unit area, same dofs
 _M_P2 = np.array([[6, -1, -1, 0, -4, 0],
                   [-1, 6, -1, 0, 0, -4],
                   [-1, -1, 6, -4, 0, 0],
@@ -176,10 +178,11 @@ class MechanismMeasures:
     v̂ = v_R on block nodes and 0 at rest: the share of the energy the rigid fit explains;
     block_share: energy of the block elements over the total; deforming_share: energy of the
     other elements (neither block nor at rest: a smeared crack, a fan, a second body).
-    Per element: participation (mean nodal p), spin (local spin / ω), strain (|d| / |ω|),
-    label 0 fixed, 1 block, 2 deforming; interior_share: energy of the deforming elements
-    touching neither a block nor a rest node (nil for a crack smeared over one element layer,
-    finite for a fan several elements wide or a second body).
+    Per element: participation (p at the centroid, P2 interpolant of the nodal p), spin
+    (local spin / ω), strain (|d| / |ω|), label 0 fixed, 1 block, 2 deforming;
+    interior_share: energy of the deforming elements touching neither a block nor a rest
+    node (nil for a crack smeared over one element layer, finite for a fan several elements
+    wide or a second body).
     kind: "distributed" (no rigid block carries half the energy), "rigid" (block + fixed part,
     the deforming zone one element thick) or "deforming" (a block beside a deforming zone).
     """
@@ -231,9 +234,9 @@ def measure_mechanism(X: np.ndarray, V: np.ndarray, elements: np.ndarray,
     spin = w / fit.omega
     strain = dn / abs(fit.omega)
     pn = fit.participation(X, V, r_min=r_min)
-    with np.errstate(invalid="ignore"), warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN elements at O stay NaN
-        part = np.nanmean(pn[el], axis=1)
+    # participation at the centroid from the P2 interpolant (vertex weight −1/9, mid-side
+    # 4/9): an element with one edge on a sharp crack's fixed side gets 2/9, not 1/2
+    part = pn[el] @ _P2_CENTROID  # NaN next to O (|v_R| too small to divide by)
     blk, fix = fit.block[el], fit.fixed[el]
     label = np.where(fix.all(axis=1), 0, np.where(blk.all(axis=1), 1, 2))
     e_tot = p2_energy(el, area, rho, V)

@@ -79,3 +79,30 @@ def test_fe_mechanism_keys_and_minimum_of_the_scan():
     assert r["mechanism_fe"] in ("rigid", "hinge+fan", "distributed")
     assert len(r["tanpsi_fe_edges"]) == 2
     assert r["lam_fe"] == pytest.approx(r["h"] / 0.5)
+
+
+def test_prescribed_mechanism_II_field_through_the_fe_pipeline():
+    """Mechanism II's field (rotation about the outer toe behind the crack from the inner
+    corner, rest at rest) on the P2 nodes of a crack-conforming mesh: the rigid fit finds the
+    toe, and the body inside the 50 % line reproduces eqs 17 and 20 to 1e-6."""
+    from homlimit.fe_impulse import fe_body
+
+    case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
+    w, alpha, z_h = case.wall, case.alpha, 5.0
+    m = ray_conforming_mesh(case, z_h, [alpha], h=0.4, x_apex=w.b,
+                            extra_lines=[((0.0, z_h), (w.b, z_h))])
+    sb = fem.Basis(m, fem.ElementTriP2())
+    X, el = sb.doflocs.T.copy(), sb.element_dofs.T.copy()
+    tol = 1e-9
+    behind = (X[:, 1] >= z_h - tol) & (X[:, 0] - w.b <= alpha * (X[:, 1] - z_h) + tol)
+    V = np.where(behind[:, None], np.stack([-(X[:, 1] - z_h), X[:, 0]], axis=1), 0.0)
+    c = m.p[:, m.t].mean(axis=1)
+    rho = np.where(c[0] < w.b, case.rho, 1.0)
+    mm = measure_mechanism(X, V, el, rho)
+    np.testing.assert_allclose(mm.fit.O, (0.0, z_h), atol=1e-10)
+    body = fe_body(X, el, rho, mm)
+    lam = (w.H - z_h) / w.b
+    xg, zg, i = (float(v) for v in geometry_II(lam, case.rho, alpha))
+    assert body.x_G == pytest.approx(xg * w.b, rel=1e-6)
+    assert body.z_G == pytest.approx(zg * w.b, rel=1e-6)
+    assert body.i == pytest.approx(i * w.b ** 2, rel=1e-6)
