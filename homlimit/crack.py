@@ -32,7 +32,7 @@ from .errors import ParameterError, check_range
 from .rigidfit import MechanismMeasures
 
 __all__ = ["CrackLine", "FanEdges", "crack_line", "fan_edges", "p2_subtriangles",
-           "level_crossings", "fan_ray", "LEVELS"]
+           "level_crossings", "fan_ray", "mechanism_type", "LEVELS"]
 
 LEVELS = tuple(np.round(np.arange(0.1, 0.91, 0.1), 10))
 
@@ -219,3 +219,11 @@ def fan_edges(X: np.ndarray, elements: np.ndarray, mm: MechanismMeasures, b: flo
     T1, T2 = float(sol.x[0]), float(sol.x[0] + math.exp(sol.x[1]))
     mid = lines[0.5]
     return FanEdges(T1, T2, mid.T, mid.dT, (T2 - T1) <= 2 * mid.dT, lines)
+
+
+def mechanism_type(mm: MechanismMeasures, edges: FanEdges | None) -> str:
+    """"distributed" (no rigid block carries half the energy), "rigid" (a block behind one
+    crack: no fan edges resolved apart, T2 − T1 <= 2 δT) or "hinge+fan" (edges resolved)."""
+    if mm.kind == "distributed":
+        return "distributed"
+    return "rigid" if edges is None or edges.sharp else "hinge+fan"

@@ -38,7 +38,7 @@ import numpy as np
 from skfem import Basis, ElementTriP2
 
 from .body import RigidBody
-from .crack import fan_edges
+from .crack import fan_edges, mechanism_type
 from .errors import ParameterError, check_range
 from .fan import optimise_fan
 from .impulse import collapse_velocity
@@ -238,12 +238,7 @@ def analyse(case: Case, mesh_size: float = 0.25, facade: str = "homogenised", z0
                                    "wall": w.gamma * w.s})
     mm = measure_mechanism(X, V, el, rho)
     fe = fan_edges(X, el, mm, w.b, z_top=w.H) if mm.kind != "distributed" else None
-    if mm.kind == "distributed":
-        kind = "distributed"
-    elif fe is None or fe.sharp:
-        kind = "rigid"
-    else:
-        kind = "hinge+fan"
+    kind = mechanism_type(mm, fe)
     out = {"multiplier_fe": sol.multiplier, "z0": z0, "facade": facade,
            "mesh_size": mesh_size, "n_triangles": int(prob.n_triangles),
            "O": tuple(mm.fit.O), "omega": mm.fit.omega, "mechanism_fe": kind,

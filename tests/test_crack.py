@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import skfem as fem
 
-from homlimit.crack import crack_line, fan_edges
+from homlimit.crack import crack_line, fan_edges, mechanism_type
 from homlimit.fan import fan_participation, fan_velocity, optimise_fan
 from homlimit.fe_impulse import p2_nodes, ray_conforming_mesh
 from homlimit.kinematic import SolverOptions, solve_kinematic
@@ -46,6 +46,7 @@ def test_synthetic_fan_levels_and_edges():
         assert abs(line.T - _t_of_p(p, T1, T2)) <= line.dT
     assert abs(fe.T1 - T1) <= fe.dT and abs(fe.T2 - T2) <= fe.dT
     assert not fe.sharp
+    assert mechanism_type(mm, fe) == "hinge+fan"
 
 
 def test_synthetic_sharp_crack_is_sharp_and_local_angle_is_constant():
@@ -58,6 +59,7 @@ def test_synthetic_sharp_crack_is_sharp_and_local_angle_is_constant():
     inner = slice(2, -2)
     assert np.all(np.abs(np.tan(line.psi_local[inner]) - T) <= 3 * line.dT)
     assert fan_edges(X, el, mm, b=0.5, z_top=9.0).sharp
+    assert mechanism_type(mm, fan_edges(X, el, mm, b=0.5, z_top=9.0)) == "rigid"
 
 
 def _fe(case, mesh=None, h=0.5):
