@@ -200,8 +200,9 @@ def _stack_block(block: ConicBlock, cols: np.ndarray, aux0: int):
     """Sparse rows of one ConicBlock repeated at n points, grouped by cone kind.
 
     ``cols`` (n, 3) are the columns of σ at each point; the auxiliary variables of point k take
-    columns aux0 + k·n_aux + j. Returns {kind: (M coo, e)} for kind in 'eq', 'lin', 'soc', with
-    M x + e ∈ K row-wise; SOC rows stay point-major, so the cones are ``block.soc`` × n.
+    columns aux0 + k·n_aux + j. Returns {kind: ((values, rows, cols, n_rows), e)} for kind in
+    'eq', 'lin', 'soc' (COO pieces of M, rows local to the kind), with M x + e ∈ K row-wise;
+    SOC rows stay point-major, so the cones are ``block.soc`` × n.
     """
     n = cols.shape[0]
     m, na = block.n_rows, block.n_aux
