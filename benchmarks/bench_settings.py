@@ -1,8 +1,9 @@
 """What Clarabel's settings and the formulation buy on the T-section LP (one mesh size).
 
-Rows: the default (qdldl, tol 1e-9, equilibration, row scaling, facet form of eq. 15), then one
-change at a time: faer / auto direct solver, tol 1e-8 / 1e-10, no equilibration, no row
-scaling, and the generator form d = Σ μ_k N_k (μ >= 0) instead of the four facet inequalities.
+Rows: the default (qdldl, tol 1e-9, equilibration, row scaling, no iterative refinement for an
+LP, facet form of eq. 15), then one change at a time: faer / auto direct solver, tol 1e-8 /
+1e-10, no equilibration, no row scaling, iterative refinement on, and the generator form
+d = Σ μ_k N_k (μ >= 0) instead of the four facet inequalities.
 Printed: multiplier, its deviation from the default, iterations, solve seconds (wall, CPU).
 
     python benchmarks/bench_settings.py [--h 0.25]
@@ -45,6 +46,7 @@ def main():
             ("tol 1e-10", prob, SolverOptions(tol=1e-10)),
             ("no equilibration", prob, SolverOptions(equilibrate=False)),
             ("no row scaling", prob, SolverOptions(scale_rows=False)),
+            ("iterative refinement on", prob, SolverOptions(iterative_refinement=True)),
             ("generator form", gen, SolverOptions())]
     print(f"T-section B1, {prob.n_triangles} triangles")
     print(f"{'run':24s} {'lambda':>12s} {'dev':>9s} {'it':>3s} {'solve':>7s} {'cpu':>7s}")

@@ -48,6 +48,10 @@ class SolverOptions:
     max_iter             interior-point iteration limit
     equilibrate          Clarabel's Ruiz equilibration
     scale_rows           scale each point's cone rows by its triangle's size (makes B = O(1))
+    iterative_refinement Clarabel's iterative refinement of each KKT solve; None: off for a
+                         linear program (1.75x faster on the 15k-triangle T-section, same λ to
+                         1e-7), on with second-order cones (without it the Mohr–Coulomb footing
+                         stalls and the vertical cut ends 8e-4 higher)
     verbose              print the solver log
     """
 
@@ -57,6 +61,7 @@ class SolverOptions:
     max_iter: int = 400
     equilibrate: bool = True
     scale_rows: bool = True
+    iterative_refinement: bool | None = None
     verbose: bool = False
 
     def __post_init__(self):
@@ -78,7 +83,9 @@ class SolverOptions:
         if self.solver == "HIGHS":
             return {"highs_options": {"solver": "ipm", "run_crossover": "off"}}
         tol = self.tol if self.tol is not None else (1e-7 if conic else 1e-9)
+        refine = self.iterative_refinement if self.iterative_refinement is not None else conic
         return dict(tol_gap_abs=tol, tol_gap_rel=tol, tol_feas=tol,
+                    iterative_refinement_enable=bool(refine),
                     max_iter=int(self.max_iter), direct_solve_method=self.direct_solve_method,
                     equilibrate_enable=self.equilibrate)
 
