@@ -6,7 +6,7 @@ against √(cf/a) and the fan model's own 50 % ray, the uncertainty δT and the 
 first on crossed meshes not aligned with the rays (``problems.t_section``), then on meshes
 conforming to the closed-form rays (``fe_impulse.ray_conforming_mesh``).
 
-Usage: python benchmarks/crack_convergence.py [h ...]   (default h = 0.5 0.35 0.25 0.18)
+Usage: python benchmarks/bench_crack.py [h ...]   (default h = 0.5 0.35 0.25 0.18)
 """
 
 from __future__ import annotations
