@@ -132,3 +132,11 @@ def test_bad_input():
         optimise_fan(case, facade="brick")
     with pytest.raises(ParameterError, match="T2"):
         fan_strain_rate(0.8, 0.6)
+
+
+def test_bed_joint_facade_admits_no_fan():
+    """A bed-joints-only façade allows no horizontal extension (d_xx = 0): neither the fan nor
+    a crack from the outer hinge may cross it, whatever the masonry."""
+    case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
+    assert optimise_fan(case).admissible
+    assert not optimise_fan(case, facade="bedjoints").admissible
