@@ -170,6 +170,9 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
                               verbose=verbose, progress=Progress(not as_json))
         report.write_csv(out / "table1.csv", rows)
         report.write_json(out / "table1.json", rows)
+        from . import plots
+
+        plots.plot_table1(out / "table1.png", rows)
     if as_json:
         _emit_json(stdout, rows)
         return
@@ -180,7 +183,7 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
     print(report.format_table(cols, [[r.get(k) for k in cols] for r in rows],
                               title="Table 1: closed forms (I, II) beside the DEM; "
                                     "vnorm = vg/sqrt(gb), ratio = closed form / DEM"))
-    print(f"\nfiles: {out / 'table1.csv'}, {out / 'table1.json'}")
+    print(f"\nfiles: {out / 'table1.csv'}, {out / 'table1.json'}, {out / 'table1.png'}")
 
 
 @app.command()

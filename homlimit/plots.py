@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["plot_crack_study", "plot_mechanism", "plot_mesh", "plot_stress", "plot_vg_lambda",
-           "triangle_regions"]
+__all__ = ["figure2", "plot_crack_study", "plot_mechanism", "plot_mesh", "plot_stress",
+           "plot_table1", "plot_vg_lambda", "triangle_regions"]
 
 DPI = 120
 
@@ -363,4 +363,36 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     ax.set_xlabel("x [m]")
     ax.set_ylabel("z [m]")
     ax.set_title(title or f"lower-bound stress field, λ⁻ = {static.multiplier:.4g}")
+    return _save(fig, path)
+
+
+def plot_table1(path: str | Path, rows: list[dict]) -> Path:
+    """Table 1 side by side: v̄_g/√(gb) and critical λ of mechanisms I, II, the FE body (when
+    the rows carry ``vnorm_fe``) and the DEM, one group of markers per test."""
+    plt = _pyplot()
+    tests = [r["test"] for r in rows]
+    x = np.arange(len(rows))
+    series = [("I", "o", "tab:blue", "mechanism I (closed form)"),
+              ("II", "s", "tab:orange", "mechanism II (closed form)"),
+              ("fe", "^", "tab:green", "finite-element body"),
+              ("dem", "D", "tab:red", "DEM, paper's Table 1")]
+    fig, axes = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    for key, marker, col, label in series:
+        v = [r.get(f"vnorm_{key}") for r in rows]
+        lam = [r.get(f"lam_{key}") for r in rows]
+        if all(a is None for a in v):
+            continue
+        v = np.array([np.nan if a is None else a for a in v], float)
+        lam = np.array([np.nan if a is None else a for a in lam], float)
+        axes[0].plot(x, v, marker, color=col, mec="k", label=label)
+        axes[1].plot(x, lam, marker, color=col, mec="k")
+    axes[0].set_ylabel("v̄_g / √(g b)  [-]")
+    axes[1].set_ylabel("critical λ = h / b  [-]")
+    axes[1].set_xticks(x, tests)
+    axes[1].set_xlabel("Table 1 test")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    axes[0].set_title("Table 1: collapse ground velocity and slenderness, closed forms, FE and DEM")
+    fig.tight_layout()
     return _save(fig, path)

@@ -27,3 +27,14 @@ def test_figure2_png(tmp_path):
     assert img.shape[0] > 600 and img.shape[1] > 900
     assert img[..., :3].std() > 0.05  # not blank
     assert not list(tmp_path.glob("*.tmp*"))  # written whole: no temporary left behind
+
+
+def test_table1_png(tmp_path):
+    from matplotlib.image import imread
+
+    from homlimit.paper import table1_rows
+    from homlimit.plots import plot_table1
+
+    img = imread(plot_table1(tmp_path / "t1.png", table1_rows()))
+    assert img.shape[0] > 500 and img.shape[1] > 700
+    assert img[..., :3].std() > 0.05
