@@ -50,8 +50,9 @@ class SolverOptions:
     scale_rows           scale each point's cone rows by its triangle's size (makes B = O(1))
     iterative_refinement Clarabel's iterative refinement of each KKT solve; None: off for a
                          linear program (1.75x faster on the 15k-triangle T-section, same λ to
-                         1e-7), on with second-order cones (without it the Mohr–Coulomb footing
-                         stalls and the vertical cut ends 8e-4 higher)
+                         1e-7), solved again with it if that run stalls (it does from ~30k
+                         triangles); on with second-order cones (without it the Mohr–Coulomb
+                         footing stalls and the vertical cut ends 8e-4 higher)
     verbose              print the solver log
     """
 
@@ -257,21 +258,21 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
 
     t0 = time.perf_counter()
     opts = options.solver_opts(conic)
-    if getattr(inv[-1], "solver_options", 0) is None:
-        inv[-1].solver_options = dict(opts)          # what prob.solve() would have recorded
-    try:
-        raw = chain.solve_via_data(prob, data, warm_start=False, verbose=options.verbose,
-                                   solver_opts=opts)
-        with warnings.catch_warnings():     # an inaccurate status raises below instead
-            warnings.simplefilter("ignore", UserWarning)
-            prob.unpack_results(raw, chain, inv)
-    except cp.error.SolverError as exc:
-        raise SolverError(f"{options.solver} failed: {exc} (numerical trouble: try "
-                          f"scale_rows=True, a looser tol or another direct_solve_method)",
-                          status="solver_error") from exc
+    raw = _solve(prob, data, chain, inv, opts, options)
     t_solve = time.perf_counter() - t0
     stats = prob.solver_stats
     times["solve"] = float(stats.solve_time) if stats.solve_time else t_solve
+    retried = False
+    if (prob.status == cp.OPTIMAL_INACCURATE and options.solver == "CLARABEL"
+            and options.iterative_refinement is None and not opts["iterative_refinement_enable"]):
+        # without refinement the LP can stall on large meshes: solve again with it
+        retried = True
+        t1 = time.perf_counter()
+        raw = _solve(prob, data, chain, inv, {**opts, "iterative_refinement_enable": True},
+                     options)
+        t_solve += time.perf_counter() - t1
+        times["solve"] += float(prob.solver_stats.solve_time or 0.0)
+    stats = prob.solver_stats
     times["wrap"] = t_solve - times["solve"]         # cvxpy's hand-over to and from the solver
     _check_status(prob.status, options.solver)
 
@@ -308,7 +309,8 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
     times["total"] = sum(times[k] for k in ("mesh", "assembly", "build", "solve", "unpack"))
     sizes = {"triangles": int(nel), "dofs": int(disc.basis.N), "free": int(free.size),
              "variables": int(data["A"].shape[1]), "rows": int(data["A"].shape[0]),
-             "nnz": int(data["A"].nnz), "iterations": int(stats.num_iters or 0)}
+             "nnz": int(data["A"].nnz), "iterations": int(stats.num_iters or 0),
+             "retried": int(retried)}
     return KinematicSolution(
         multiplier=primal, u=u, velocity=u[disc.basis.nodal_dofs].T.copy(),
         dissipation=dissip_pt.reshape(nel, 3).sum(axis=1), interface_dissipation=idis,
@@ -317,6 +319,23 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
         primal_objective=primal, dual_objective=dual_obj, gap=primal - dual_obj,
         status=prob.status, solver=options.solver, times=times, sizes=sizes, mesh=mesh,
         regions={k: np.asarray(v) for k, v in (mesh.subdomains or {}).items()})
+
+
+def _solve(prob, data, chain, inv, opts: dict, options: SolverOptions):
+    """Run the solver on the compiled data and unpack into ``prob``; returns the raw solution."""
+    if hasattr(inv[-1], "solver_options"):
+        inv[-1].solver_options = dict(opts)          # what prob.solve() would have recorded
+    try:
+        raw = chain.solve_via_data(prob, data, warm_start=False, verbose=options.verbose,
+                                   solver_opts=dict(opts))
+        with warnings.catch_warnings():     # an inaccurate status raises in _check_status
+            warnings.simplefilter("ignore", UserWarning)
+            prob.unpack_results(raw, chain, inv)
+    except cp.error.SolverError as exc:
+        raise SolverError(f"{options.solver} failed: {exc} (numerical trouble: try "
+                          f"scale_rows=True, a looser tol or another direct_solve_method)",
+                          status="solver_error") from exc
+    return raw
 
 
 _CAUSES = {
