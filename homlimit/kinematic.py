@@ -33,6 +33,9 @@ from .solution import KinematicSolution
 __all__ = ["SolverOptions", "Discretisation", "discretise", "solve_kinematic"]
 
 SOLVERS = ("CLARABEL", "HIGHS")
+# LPs with more free unknowns than this keep Clarabel's iterative refinement: without it the
+# 131k-unknown T-section stalled at primal residual 7e-9 (the 60k one did not)
+REFINE_ABOVE = 100_000
 DIRECT_METHODS = ("qdldl", "faer", "auto")
 
 
@@ -49,9 +52,10 @@ class SolverOptions:
     equilibrate          Clarabel's Ruiz equilibration
     scale_rows           scale each point's cone rows by its triangle's size (makes B = O(1))
     iterative_refinement Clarabel's iterative refinement of each KKT solve; None: off for a
-                         linear program (1.75x faster on the 15k-triangle T-section, same λ to
-                         1e-7), solved again with it if that run stalls (it does from ~30k
-                         triangles); on with second-order cones (without it the Mohr–Coulomb
+                         linear program of up to REFINE_ABOVE free unknowns (1.75x faster on
+                         the 15k-triangle T-section, same λ to 1e-7), solved again with it if
+                         that run stalls; on for larger LPs (the 33k-triangle T-section stalls
+                         without it) and with second-order cones (without it the Mohr–Coulomb
                          footing stalls and the vertical cut ends 8e-4 higher)
     verbose              print the solver log
     """
@@ -79,12 +83,14 @@ class SolverOptions:
     def cvxpy_solver(self) -> str:
         return cp.HIGHS if self.solver == "HIGHS" else cp.CLARABEL
 
-    def solver_opts(self, conic: bool = False) -> dict:
-        """Options handed to the solver through cvxpy (``conic``: the program has SOCs)."""
+    def solver_opts(self, conic: bool = False, n_free: int = 0) -> dict:
+        """Options handed to the solver through cvxpy (``conic``: the program has SOCs;
+        ``n_free``: number of free velocity unknowns)."""
         if self.solver == "HIGHS":
             return {"highs_options": {"solver": "ipm", "run_crossover": "off"}}
         tol = self.tol if self.tol is not None else (1e-7 if conic else 1e-9)
-        refine = self.iterative_refinement if self.iterative_refinement is not None else conic
+        refine = (self.iterative_refinement if self.iterative_refinement is not None
+                  else conic or n_free > REFINE_ABOVE)
         return dict(tol_gap_abs=tol, tol_gap_rel=tol, tol_feas=tol,
                     iterative_refinement_enable=bool(refine),
                     max_iter=int(self.max_iter), direct_solve_method=self.direct_solve_method,
@@ -257,7 +263,7 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
     times["build"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    opts = options.solver_opts(conic)
+    opts = options.solver_opts(conic, free.size)
     raw = _solve(prob, data, chain, inv, opts, options)
     t_solve = time.perf_counter() - t0
     stats = prob.solver_stats
