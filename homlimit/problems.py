@@ -210,6 +210,20 @@ def _near(a, b, tol):
 # classical benchmarks
 # ---------------------------------------------------------------------------------------------
 
+def _footing_mesh(width: float, depth: float, h_min: float, h_max: float, growth: float):
+    """Half-domain 0 <= x <= width, −depth <= z <= 0 of a strip footing of half-width 1, graded
+    towards the footing edge (1, 0); boundaries footing, symmetry, bottom, far; region soil."""
+    xs = graded(0.0, width, h_min, h_max, foci=(1.0,), growth=growth)
+    zs = graded(-depth, 0.0, h_min, h_max, foci=(0.0,), growth=growth)
+    tol = 1e-9
+    return crossed_mesh(xs, zs).with_boundaries({
+        "footing": lambda x: _near(x[1], 0.0, tol) & (x[0] < 1.0),
+        "symmetry": lambda x: _near(x[0], 0.0, tol),
+        "bottom": lambda x: _near(x[1], -depth, tol),
+        "far": lambda x: _near(x[0], width, tol),
+    }).with_subdomains({"soil": lambda x: x[0] > -1.0})
+
+
 def prandtl(h_min: float = 0.01, h_max: float = 0.25, growth: float = 1.25,
             k: float = 1.0, width: float = 4.5, depth: float = 3.0) -> Problem:
     """Prandtl strip footing on a weightless Tresca half-space (plane strain), half-domain.
@@ -222,15 +236,7 @@ def prandtl(h_min: float = 0.01, h_max: float = 0.25, growth: float = 1.25,
     """
     k = check_range("k", k, 0.0, lo_open=True, unit="Pa")
     t0 = time.perf_counter()
-    xs = graded(0.0, width, h_min, h_max, foci=(1.0,), growth=growth)
-    zs = graded(-depth, 0.0, h_min, h_max, foci=(0.0,), growth=growth)
-    tol = 1e-9
-    m = crossed_mesh(xs, zs).with_boundaries({
-        "footing": lambda x: _near(x[1], 0.0, tol) & (x[0] < 1.0),
-        "symmetry": lambda x: _near(x[0], 0.0, tol),
-        "bottom": lambda x: _near(x[1], -depth, tol),
-        "far": lambda x: _near(x[0], width, tol),
-    }).with_subdomains({"soil": lambda x: x[0] > -1.0})
+    m = _footing_mesh(width, depth, h_min, h_max, growth)
     return Problem(
         name="prandtl", mesh=m, domains={"soil": strength.Tresca(k)},
         supports={"symmetry": "x", "bottom": "fixed", "far": "fixed"},
@@ -279,15 +285,7 @@ def mohr_coulomb_footing(phi_deg: float = 30.0, h_min: float = 0.02, h_max: floa
     cohesion = check_range("cohesion", cohesion, 0.0, lo_open=True, unit="Pa")
     t0 = time.perf_counter()
     width, depth = 14.0, 7.0
-    xs = graded(0.0, width, h_min, h_max, foci=(1.0,), growth=growth)
-    zs = graded(-depth, 0.0, h_min, h_max, foci=(0.0,), growth=growth)
-    tol = 1e-9
-    m = crossed_mesh(xs, zs).with_boundaries({
-        "footing": lambda x: _near(x[1], 0.0, tol) & (x[0] < 1.0),
-        "symmetry": lambda x: _near(x[0], 0.0, tol),
-        "bottom": lambda x: _near(x[1], -depth, tol),
-        "far": lambda x: _near(x[0], width, tol),
-    }).with_subdomains({"soil": lambda x: x[0] > -1.0})
+    m = _footing_mesh(width, depth, h_min, h_max, growth)
     nc = mohr_coulomb_nc(phi_deg)
     return Problem(
         name="mohr_coulomb_footing", mesh=m,
