@@ -22,6 +22,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
+from ._io import atomic_path
 from .errors import MeshError, ParameterError
 
 __all__ = ["to_skfem", "from_skfem", "read", "write", "cached", "cache_dir", "element_areas",
@@ -150,13 +151,10 @@ def write(m: meshio.Mesh, path: str | os.PathLike) -> Path:
             data[_SET + name] = cols
         out = meshio.Mesh(m.points, m.cells, cell_data=data, field_data=m.field_data)
         kw = {"data_format": "XML"} if suffix == ".xdmf" else {}
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
     try:
-        meshio.write(tmp, out, **kw)
-        os.replace(tmp, path)
+        with atomic_path(path) as tmp:
+            meshio.write(tmp, out, **kw)
     except Exception as exc:
-        tmp.unlink(missing_ok=True)
         if isinstance(exc, MeshError):
             raise
         raise MeshError(f"could not write mesh to {path}: {exc}") from exc

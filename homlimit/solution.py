@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -79,15 +78,8 @@ class KinematicSolution:
         """Write ``to_meshio()`` to a .vtu file, whole or not at all (temp file + os.replace)."""
         import meshio
 
-        path = os.fspath(path)
-        d = os.path.dirname(os.path.abspath(path))
-        fd, tmp = tempfile.mkstemp(suffix=".vtu", dir=d)
-        os.close(fd)
-        try:
+        from ._io import atomic_path
+
+        with atomic_path(path) as tmp:
             meshio.write(tmp, self.to_meshio(), file_format="vtu")
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.remove(tmp)
-            raise
-        return path
+        return os.fspath(path)

@@ -403,22 +403,12 @@ class StaticSolution:
 
     def write(self, path) -> None:
         """Write ``to_meshio()`` to ``path`` (any meshio format) whole or not at all."""
-        import os
-        import tempfile
-        from pathlib import Path
-
         import meshio
 
-        path = Path(path)
-        fd, tmp = tempfile.mkstemp(suffix=path.suffix, dir=path.parent or ".")
-        os.close(fd)
-        try:
+        from ._io import atomic_path
+
+        with atomic_path(path) as tmp:
             meshio.write(tmp, self.to_meshio())
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.remove(tmp)
-            raise
 
 
 # --------------------------------------------------------------------------- the program
