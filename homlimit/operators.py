@@ -35,6 +35,7 @@ from skfem import (
 )
 
 from .errors import ParameterError
+from .mesh import element_areas
 
 __all__ = [
     "p2_basis",
@@ -61,13 +62,6 @@ _INTORDER = 4  # exact for the P2 load integrals on straight triangles
 def p2_basis(mesh: MeshTri, intorder: int = _INTORDER) -> CellBasis:
     """The global P2 vector basis; DOF numbering of every operator of this module."""
     return Basis(mesh, ElementVector(ElementTriP2()), intorder=intorder)
-
-
-def element_areas(mesh: MeshTri) -> np.ndarray:
-    """Triangle areas, shape (nel,)."""
-    p = mesh.p[:, mesh.t]
-    return 0.5 * np.abs((p[0, 1] - p[0, 0]) * (p[1, 2] - p[1, 0])
-                        - (p[0, 2] - p[0, 0]) * (p[1, 1] - p[1, 0]))
 
 
 def vertex_points(mesh: MeshTri) -> np.ndarray:
