@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ParameterError
+from .errors import ParameterError, check_range
 from .static import StaticSolution, solve_static
 
 __all__ = ["Bracket", "bracket", "static_inputs", "gap_contributions", "prandtl_fan"]
@@ -52,7 +52,8 @@ def gap_contributions(static: StaticSolution, kinematic) -> np.ndarray:
 
     D_e(u) − ∫_e σ : D(u) with D(u) linear (vertex values ``kinematic.strain_rate``) and σ linear
     on the triangle: the product is quadratic, integrated exactly at the edge midpoints with
-    weights area/3. Joint (interface) dissipation is not included (see ``Bracket.joint_gap``).
+    weights area/3. Joint (interface) dissipation is not included (see ``Bracket.joint_gap``);
+    rigid elements (``strength.Rigid``: no stress, D(u) = 0) contribute 0.
     """
     m = static.mesh
     if kinematic.mesh is not None and (kinematic.mesh.t.shape != m.t.shape
@@ -63,6 +64,7 @@ def gap_contributions(static: StaticSolution, kinematic) -> np.ndarray:
     area = 0.5 * np.abs((p[0, 1] - p[0, 0]) * (p[1, 2] - p[1, 0])
                         - (p[0, 2] - p[0, 0]) * (p[1, 1] - p[1, 0]))
     d, s = kinematic.strain_rate, static.stress  # (nt, vertex, comp)
+    s = np.where(np.isnan(s), 0.0, s)  # rigid elements: no stress, D(u) = 0 and D_e = 0
     mids = ((0, 1), (1, 2), (2, 0))
     work = sum(np.einsum("ec,ec->e", 0.5 * (s[:, i] + s[:, j]), 0.5 * (d[:, i] + d[:, j]))
                for i, j in mids) * area / 3.0
@@ -143,24 +145,33 @@ def bracket(problem, *, static_mesh=None, kinematic_mesh=None, options=None,
 
 
 def prandtl_fan(size: float = 0.3, h_min: float = 0.03, radius: float = 0.5, n_fan: int = 12,
-                width: float = 4.5, depth: float = 3.0):
+                width: float = 4.5, depth: float = 3.0, footing: float = 0.0):
     """``problems.prandtl`` on an unstructured gmsh mesh with a fan of rays at the footing edge.
 
     A lower bound needs stress discontinuities in many directions at the singular point (the
     exact field has a centred fan there); the crossed structured mesh offers four and stalls at
     2√5 ≈ 4.472. ``n_fan`` straight rays of length 1 leave (1, 0) at equal angles into the
     soil; the mesh is refined to ``h_min`` within ``radius`` of the edge, ``size`` elsewhere.
+    ``footing`` > 0 [m]: the load q = λ k acts on the top of a rigid footing (``Rigid``) of that
+    height, bonded to the soil (a rough footing; on weightless Tresca soil still 2 + π).
     """
-    from . import geometry, problems
+    from . import geometry, problems, strength
     from . import mesh as hmesh
 
+    footing = check_range("footing", footing, 0.0, unit="m")
     rays = [((1.0, 0.0), (1.0 + np.cos(a), -np.sin(a)))
             for a in np.linspace(0.0, np.pi, n_fan + 2)[1:-1]]
-    W, D = width, depth
-    mm = geometry.polygon_mesh(
-        {"soil": [(0, -D), (W, -D), (W, 0), (0, 0)]},
-        {"footing": [((0, 0), (1, 0))], "symmetry": [((0, -D), (0, 0))],
-         "bottom": [((0, -D), (W, -D))], "far": [((W, -D), (W, 0))]},
-        size=size, refine_points=[(1.0, 0.0, h_min, radius)], embed_lines=rays)
+    W, D, F = width, depth, footing
+    regions = {"soil": [(0, -D), (W, -D), (W, 0), (0, 0)]}
+    lines = {"footing": [((0, F), (1, F))], "symmetry": [((0, -D), (0, F))],
+             "bottom": [((0, -D), (W, -D))], "far": [((W, -D), (W, 0))]}
+    if F > 0:
+        regions["block"] = [(0, 0), (1, 0), (1, F), (0, F)]
+    mm = geometry.polygon_mesh(regions, lines, size=size,
+                               refine_points=[(1.0, 0.0, h_min, radius)], embed_lines=rays)
     pr = problems.prandtl(width=width, depth=depth)
-    return dataclasses.replace(pr, mesh=hmesh.to_skfem(mm), name="prandtl_fan")
+    domains = dict(pr.domains)
+    if F > 0:
+        domains["block"] = strength.Rigid()
+    return dataclasses.replace(pr, mesh=hmesh.to_skfem(mm), domains=domains,
+                               name="prandtl_fan" + ("_rigid_footing" if F > 0 else ""))

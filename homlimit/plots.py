@@ -334,7 +334,7 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     (colour, Pa) and its direction (short lines, length ∝ |σ₂|): the compression paths.
 
     ``static`` is a ``homlimit.static.StaticSolution``; at most ``n_ticks`` direction lines are
-    drawn (the most compressed triangles first). Added for issue 8 (static bound).
+    drawn (the most compressed triangles first); rigid bodies (no stress field) are grey.
     """
     plt = _pyplot()
     m = static.mesh
@@ -342,11 +342,15 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     fig, ax = plt.subplots(figsize=(7.0, 6.0))
     from matplotlib.colors import PowerNorm
 
-    comp = np.maximum(-s2, 0.0)
+    rigid = np.isnan(s2)  # rigid bodies carry no stress field: drawn grey
+    comp = np.where(rigid, 0.0, np.maximum(-s2, 0.0))
     # a power-law colour scale so that the wall's weak compression shows beside the façade's
-    tpc = ax.tripcolor(m.p[0], m.p[1], m.t.T, facecolors=comp, cmap="magma_r",
+    tpc = ax.tripcolor(m.p[0], m.p[1], m.t.T[~rigid], facecolors=comp[~rigid], cmap="magma_r",
                        norm=PowerNorm(0.4, vmin=0.0, vmax=max(comp.max(), 1e-30)),
                        edgecolors="none")
+    if rigid.any():
+        ax.tripcolor(m.p[0], m.p[1], m.t.T[rigid], facecolors=np.zeros(rigid.sum()),
+                     cmap="Greys", vmin=-1.0, vmax=3.0, edgecolors="none")
     fig.colorbar(tpc, ax=ax, label="compression −σ₂ (most compressive principal stress) [Pa]")
     c = m.p[:, m.t].mean(axis=1)
     if comp.max() > 0:

@@ -113,24 +113,7 @@ class Problem:
         return int(self.mesh.t.shape[1])
 
 
-class Rigid(strength.StrengthDomain):
-    """An infinitely strong, rigid material: π(d) = 0 if d = 0, +inf otherwise; G = R³.
-
-    Adapter for rigid blocks (e.g. the free-standing block): kinematic cone d = 0.
-    """
-
-    def is_admissible(self, sigma, tol: float = 1e-9):
-        return np.ones(np.shape(sigma)[:-1], bool)
-
-    def support(self, d, rtol: float = 1e-9):
-        d = np.asarray(d, float)
-        return np.where(np.all(np.abs(d) <= rtol, axis=-1), 0.0, np.inf)
-
-    def kinematic_cone(self) -> strength.ConicBlock:
-        return strength.ConicBlock(A=np.eye(3), D=np.zeros((3, 0)), e=np.zeros(3), n_eq=3)
-
-    def static_cone(self) -> strength.ConicBlock:
-        return strength.ConicBlock(A=np.zeros((0, 3)), D=np.zeros((0, 0)), e=np.zeros(0))
+Rigid = strength.Rigid  # re-exported: the rigid-block adapter lives with the domains
 
 
 # ---------------------------------------------------------------------------------------------

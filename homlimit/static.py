@@ -24,6 +24,7 @@ over elements or edges.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -32,7 +33,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .errors import ParameterError, SolverError, check_range
-from .strength import ConicBlock, StrengthDomain
+from .strength import ConicBlock, Rigid, StrengthDomain
 
 __all__ = [
     "StaticSolution",
@@ -309,6 +310,94 @@ def _independent_vertex_rows(R: sp.csr_matrix, row_node: np.ndarray, t: np.ndarr
     return keep
 
 
+# --------------------------------------------------------------------------- rigid bodies
+
+
+def rigid_bodies(E: dict, rigid: np.ndarray) -> tuple[np.ndarray, int]:
+    """Label the connected rigid regions: (body index per element, −1 if not rigid; count).
+
+    Rigid triangles sharing an edge move together (the kinematic program's velocity is
+    continuous), so each connected set of them is one body.
+    """
+    from scipy.sparse.csgraph import connected_components
+
+    nt = rigid.size
+    both = E["interior"] & rigid[E["tri"][0]] & rigid[np.maximum(E["tri"][1], 0)]
+    a, b = E["tri"][0, both], E["tri"][1, both]
+    graph = sp.coo_matrix((np.ones(a.size), (a, b)), shape=(nt, nt))
+    _, label = connected_components(graph, directed=False)
+    body = np.full(nt, -1)
+    uniq, body[rigid] = np.unique(label[rigid], return_inverse=True)
+    return body, uniq.size
+
+
+class _NodalForces:
+    """Forces on rigid bodies at points, gathered as sparse terms; 3 equilibrium rows per body.
+
+    A force component is Σ coefficient × unknown + constant (in units of s_ref × length). A
+    traction linear along an edge acts on the body as the consistent end forces
+    L (t_k/3 + t_j/6) at end k (exact resultant and moment); ``lumped`` puts L t_k/2 at end k
+    instead: concentrated forces, exact for a joint whose traction set is a cone (no cohesion,
+    no tension), as at the toe of a tilting block.
+    """
+
+    def __init__(self, p, t, E, body, n_body, area):
+        self.p, self.E, self.body, self.n_body = p, E, body, n_body
+        self.terms, self.consts = [], []
+        rig = np.flatnonzero(body >= 0)
+        w = np.bincount(body[rig], area[rig], n_body)
+        cen = p[:, t[:, rig]].mean(axis=1)
+        self.centre = np.stack([np.bincount(body[rig], area[rig] * cen[c], n_body) / w
+                                for c in (0, 1)]) if n_body else np.zeros((2, 0))
+        self.ell = np.sqrt(w)
+
+    def add(self, b, xy, comp, terms, const=None):
+        """Force component ``comp`` at points xy (2, m) on bodies b (m,): Σ col·val + const."""
+        for col, val in terms:
+            self.terms.append((b, xy, comp, np.asarray(col), np.asarray(val, float)))
+        if const is not None:
+            self.consts.append((b, xy, comp, np.asarray(const, float)))
+
+    def traction(self, f, k, comp, terms, const=None, lumped=False, body_side=0):
+        """The traction at end k of edges f (value Σ col·val + const) on the body of side
+        ``body_side``, spread to the edge's two ends."""
+        if f.size == 0:
+            return
+        E = self.E
+        L = E["length"][f]
+        b = self.body[E["tri"][body_side, f]]
+        share = ((k, 0.5),) if lumped else ((k, 1.0 / 3.0), (1 - k, 1.0 / 6.0))
+        for end, w in share:
+            xy = self.p[:, E["ends"][end, f]]
+            self.add(b, xy, comp, [(c, w * L * v) for c, v in terms],
+                     None if const is None else w * L * const)
+
+    def equilibrium_rows(self, n_var: int):
+        """(M, e) with M x + e = 0: ΣF_x, ΣF_z and Σ r × F about each body's centroid, divided
+        by the body's size ℓ = √area (ℓ² for the moment) so that the coefficients are O(1)."""
+        nb, ell = self.n_body, self.ell
+
+        def rows(B, X, C, V):
+            r = X - self.centre[:, B]
+            arm = np.where(C == 0, -r[1], r[0])  # r × F = r_x F_z − r_z F_x
+            return (np.r_[3 * B + C, 3 * B + 2],
+                    np.r_[V / ell[B], V * arm / ell[B] ** 2])
+
+        cat = [np.concatenate(v, axis=-1) for v in zip(*[
+            (b, xy, np.full(b.size, c), np.broadcast_to(col, b.shape), val)
+            for b, xy, c, col, val in self.terms])]
+        B, X, C, COL, V = cat
+        R, VV = rows(B, X, C, V)
+        M = sp.coo_matrix((VV, (R, np.r_[COL, COL])), shape=(3 * nb, n_var)).tocsr()
+        e = np.zeros(3 * nb)
+        if self.consts:
+            B, X, C, V = [np.concatenate(v, axis=-1) for v in zip(*[
+                (b, xy, np.full(b.size, c), val) for b, xy, c, val in self.consts])]
+            R, VV = rows(B, X, C, V)
+            e = np.bincount(R, VV, 3 * nb)
+        return M, e
+
+
 # --------------------------------------------------------------------------- solution
 
 
@@ -320,7 +409,9 @@ class StaticSolution:
     components (σ_x, σ_z, τ_xz) in Pa; ``active`` (nt, 3) is the index of the active facet of the
     element's strength domain at each vertex (rows of its static cone counted as 'eq' rows
     skipped, each linear row one facet, each second-order cone one facet), or −1 where no facet
-    is active within ``active_tol``.
+    is active within ``active_tol``. ``rigid`` (nt,) marks elements of rigid regions
+    (``strength.Rigid``): each connected one is a body in equilibrium as a whole, its stress is
+    NaN.
     """
 
     multiplier: float
@@ -334,6 +425,7 @@ class StaticSolution:
     sizes: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
     velocity_dual: np.ndarray | None = None
+    rigid: np.ndarray | None = None
 
     @property
     def gap(self) -> float:
@@ -458,6 +550,9 @@ def solve_static(
     check_range("active_tol", active_tol, 0.0, lo_open=True)
     dNdx, dNdz, area = triangle_gradients(p, t)
     parts = _domain_per_element(mesh, domains, nt)
+    rigid = np.zeros(nt, bool)
+    for dom, els in parts:
+        rigid[els] |= isinstance(dom, Rigid)
     b_live = _region_values(mesh, live_body, "live_body", (2,), nt)
     b_dead = _region_values(mesh, dead_body, "dead_body", (2,), nt)
     bnd = getattr(mesh, "boundaries", None) or {}
@@ -469,6 +564,8 @@ def solve_static(
                                      f"allowed tags: {sorted(bnd)}")
     E = edge_tables(mesh)
     nf = E["ends"].shape[1]
+    body, n_body = rigid_bodies(E, rigid)
+    side_rigid = np.stack([rigid[E["tri"][0]], rigid[np.maximum(E["tri"][1], 0)] & E["interior"]])
     ends_xy = p[:, E["ends"]]  # (2 coords, 2 ends, nf)
 
     # prescribed tractions and support flags per edge
@@ -518,20 +615,20 @@ def solve_static(
 
     # 1. equilibrium in each triangle (2 rows), each row times the triangle's size h_e so that
     #    its coefficients are O(1): h_e div σ̂ + λ h_e b/s_ref + h_e b⁰/s_ref = 0
-    e_all = np.arange(nt)
-    h_e = np.sqrt(2.0 * area)
+    e_all = np.flatnonzero(~rigid)  # rigid elements carry no stress (one body each region)
+    h_e = np.sqrt(2.0 * area[e_all])
     for comp, terms in ((0, ((0, dNdx), (2, dNdz))), (1, ((2, dNdx), (1, dNdz)))):
-        rows = n_eq + e_all
+        rows = n_eq + np.arange(e_all.size)
         for c, g in terms:
             for i in range(3):
                 eq_rows.append(rows)
                 eq_cols.append(sig(e_all, i, c))
-                eq_vals.append(h_e * g[i])
+                eq_vals.append(h_e * g[i, e_all])
         eq_rows.append(rows)
-        eq_cols.append(np.full(nt, lam_col))
-        eq_vals.append(h_e * b_live[:, comp] / s_ref)
-        eq_rhs.append(h_e * b_dead[:, comp] / s_ref)
-        n_eq += nt
+        eq_cols.append(np.full(e_all.size, lam_col))
+        eq_vals.append(h_e * b_live[e_all, comp] / s_ref)
+        eq_rhs.append(h_e * b_dead[e_all, comp] / s_ref)
+        n_eq += e_all.size
 
     # traction σ n at end k of an edge seen from side s: x: σ_x n_x + τ n_z, z: σ_z n_z + τ n_x
     nx, nz = E["n"]
@@ -545,7 +642,7 @@ def solve_static(
     # 2. continuity across interior edges (4 rows): t(T1) − t(T2) = 0 at both ends
     n_equil = n_eq
     row_node = []  # the mesh node of every traction row (rows 2 and 3 are vertex-local)
-    fi = np.flatnonzero(E["interior"])
+    fi = np.flatnonzero(E["interior"] & ~side_rigid[0] & ~side_rigid[1])
     for k in (0, 1):
         for comp in (0, 1):
             rows = n_eq + np.arange(fi.size)
@@ -559,7 +656,7 @@ def solve_static(
             n_eq += fi.size
 
     # 3. boundary edges, unsupported components: t = λ t_live + t_dead at both ends
-    fb = np.flatnonzero(~E["interior"])
+    fb = np.flatnonzero(~E["interior"] & ~side_rigid[0])
     for comp in (0, 1):
         fc = fb[~fix[comp, fb]]
         for k in (0, 1):
@@ -578,11 +675,14 @@ def solve_static(
     # 4. joints to a fixed ground: σ n = σ_j n at both ends of each joint edge, σ_j ∈ G_j
     n_var = n_sig + 1
     j_rows, j_cols, j_vals, n_j = [], [], [], 0
-    joint_parts = []  # (domain, columns (n, 3) of its σ_j)
+    joint_parts = []  # (static cone block, columns (n, 3) of its σ_j)
+    forces = _NodalForces(p, t, E, body, n_body, area)  # what acts on each rigid body
     for tag, dom in (interfaces or {}).items():
-        f = np.asarray(bnd[tag])
-        cols = n_var + np.arange(6 * f.size).reshape(2, f.size, 3)  # [end, edge, comp]
-        n_var += 6 * f.size
+        f_all = np.asarray(bnd[tag])
+        cols_all = n_var + np.arange(6 * f_all.size).reshape(2, f_all.size, 3)  # [end, edge, σ]
+        n_var += 6 * f_all.size
+        on_body = side_rigid[0, f_all]
+        f, cols = f_all[~on_body], cols_all[:, ~on_body]
         for k in (0, 1):
             for comp in (0, 1):
                 rows = n_j + np.arange(f.size)
@@ -597,17 +697,65 @@ def solve_static(
                     j_cols += [cols[k, :, c]]
                     j_vals += [-val]
                 n_j += f.size
-        joint_parts.append((dom, cols.reshape(-1, 3)))
+        # on a rigid body the joint acts through its traction σ_j n, linear along the edge,
+        # plus concentrated end forces ρ_j n with ρ_j in the recession cone of G_j (a contact
+        # force at a toe). For a cone G_j (dry joint) the concentrated part covers both.
+        blk = dom.static_cone()
+        cone = not np.any(blk.e)
+        fb_, cb_ = f_all[on_body], cols_all[:, on_body]
+        kinds = [(cb_, True)]
+        if not cone:
+            rec = n_var + np.arange(6 * fb_.size).reshape(2, fb_.size, 3)
+            n_var += 6 * fb_.size
+            kinds = [(cb_, False), (rec, True)]
+            joint_parts.append((dataclasses.replace(blk, e=np.zeros_like(blk.e)),
+                                rec.reshape(-1, 3)))
+        for cc, lumped in kinds:
+            for k in (0, 1):
+                for comp in (0, 1):
+                    cj = [(0, 2), (1, 2)][comp]
+                    nn_ = [(nx[fb_], nz[fb_]), (nz[fb_], nx[fb_])][comp]
+                    forces.traction(fb_, k, comp, [(cc[k, :, c], v) for c, v in zip(cj, nn_)],
+                                    lumped=lumped)
+        joint_parts.append((blk, cols_all.reshape(-1, 3)))
+
+    # 4b. rigid bodies: body forces, prescribed tractions, reactions on supports, and the
+    #     tractions of the continuum elements across their boundary
+    if n_body:
+        rb = np.flatnonzero(rigid)
+        cen = p[:, t[:, rb]].mean(axis=1)
+        for comp in (0, 1):
+            forces.add(body[rb], cen, comp, [(np.full(rb.size, lam_col),
+                                              area[rb] * b_live[rb, comp] / s_ref)],
+                       area[rb] * b_dead[rb, comp] / s_ref)
+        fbb = np.flatnonzero(~E["interior"] & side_rigid[0] & ~is_joint)
+        for comp in (0, 1):
+            fixed, free_ = fbb[fix[comp, fbb]], fbb[~fix[comp, fbb]]
+            for k in (0, 1):
+                forces.traction(free_, k, comp, [(np.full(free_.size, lam_col),
+                                                  t_live[comp, k, free_] / s_ref)],
+                                const=t_dead[comp, k, free_] / s_ref)
+                reac = n_var + np.arange(fixed.size)  # free reaction at each supported end
+                n_var += fixed.size
+                forces.traction(fixed, k, comp, [(reac, np.ones(fixed.size))], lumped=True)
+        for s_c in (0, 1):  # continuum on side s_c, body on the other: −(σ n_out) on the body
+            fcb = np.flatnonzero(E["interior"] & ~side_rigid[s_c] & side_rigid[1 - s_c])
+            sgn = -1.0 if s_c == 0 else 1.0
+            for k in (0, 1):
+                for comp in (0, 1):
+                    forces.traction(fcb, k, comp, [(c, sgn * v) for c, v in
+                                                   traction_terms(s_c, k, comp, fcb)],
+                                    body_side=1 - s_c)
 
     # 5. strength at the three vertices of every triangle, domain by domain (scaled by s_ref)
     groups = {"eq": [], "lin": [], "soc": []}
     socs = []
     dom_rows = []  # per part: (elements, block, offsets of its lin/soc rows) for 'active'
-    cone_parts = [(dom, els, np.stack([sig(np.repeat(els, 3), np.tile(np.arange(3), els.size), c)
-                                       for c in range(3)], axis=1)) for dom, els in parts]
-    cone_parts += [(dom, None, cols) for dom, cols in joint_parts]
-    for dom, els, cols in cone_parts:
-        blk = dom.static_cone()
+    cone_parts = [(dom.static_cone(), els,
+                   np.stack([sig(np.repeat(els, 3), np.tile(np.arange(3), els.size), c)
+                             for c in range(3)], axis=1)) for dom, els in parts]
+    cone_parts += [(blk, None, cols) for blk, cols in joint_parts]
+    for blk, els, cols in cone_parts:
         blk = ConicBlock(A=blk.A, D=blk.D, e=blk.e / s_ref, n_eq=blk.n_eq, n_lin=blk.n_lin,
                          soc=blk.soc)
         st = _stack_block(blk, cols, n_var)
@@ -646,6 +794,9 @@ def solve_static(
                                                       np.concatenate(j_cols))),
                             shape=(n_j, n_var)).tocsr()
         M_eq, b_eq = sp.vstack([M_eq, M_j], format="csr"), np.r_[b_eq, np.zeros(n_j)]
+    if n_body:
+        M_b, b_b = forces.equilibrium_rows(n_var)
+        M_eq, b_eq = sp.vstack([M_eq, M_b], format="csr"), np.r_[b_eq, b_b]
     n_eq = M_eq.shape[0]
     blocks = [M_eq]
     rhs = [b_eq]
@@ -666,14 +817,20 @@ def solve_static(
     M = sp.vstack(blocks, format="csc")
     M.eliminate_zeros()
     e_vec = np.concatenate(rhs)
+    # the stress columns of rigid elements are unused: leave them out of the program
+    live = np.ones(n_var, bool)
+    rb = np.flatnonzero(rigid)
+    live[(9 * rb[:, None] + np.arange(9)).reshape(-1)] = False
+    M_full, M = M, M[:, live]
     timings["assembly"] = time.perf_counter() - t0
 
     # Clarabel: min qᵀx s.t. A x + s = b, s ∈ K, with s = M x + e  ⇒  A = −M, b = e
     t1 = time.perf_counter()
     q = np.zeros(n_var)
     q[lam_col] = -1.0
+    q = q[live]
     tol = 1e-7 if socs else 1e-9
-    P = sp.csc_matrix((n_var, n_var))
+    P = sp.csc_matrix((q.size, q.size))
     attempts = []
     for retry in RETRIES if retries else RETRIES[:1]:
         opts = {**CLARABEL_DEFAULTS, "tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
@@ -702,7 +859,8 @@ def solve_static(
         why = next((v for k, v in causes.items() if k in status), why_default)
         raise SolverError(f"static limit analysis ended with Clarabel status {status}: {why}",
                           status=status)
-    x = np.asarray(res.x)
+    x = np.zeros(n_var)
+    x[live] = res.x
     lam = float(x[lam_col])
     # the dropped rows must hold too (they do unless prescribed tractions contradict at a node)
     resid = np.abs(M_eq_full @ x + b_eq_full).max(initial=0.0)
@@ -712,10 +870,11 @@ def solve_static(
                           f"dropping dependent traction rows; the prescribed tractions are "
                           f"inconsistent at some boundary node", status="Inconsistent")
     stress = (x[:n_sig] * s_ref).reshape(nt, 3, 3)
+    stress[rigid] = np.nan  # a rigid body's inner stresses are not determined
 
     # active facet per vertex from the slacks of the lin rows and SOC cones
     active = np.full((nt, 3), -1)
-    s_all = M @ x + e_vec
+    s_all = M_full @ x + e_vec
     off_lin = n_eq_total
     off_soc = off_lin + sum(g[0][3] for g in groups["lin"])
     for info in dom_rows:
@@ -740,14 +899,15 @@ def solve_static(
             act = np.where(val <= active_tol, k, -1)
             active[els] = act.reshape(els.size, 3)
     timings["post"] = time.perf_counter() - t1 - timings["solve"]
-    sizes = {"triangles": nt, "variables": n_var, "rows": M.shape[0], "nnz": M.nnz,
-             "equilibrium_rows": n_eq, "soc_cones": len(socs), "attempts": attempts}
+    sizes = {"triangles": nt, "variables": int(live.sum()), "rows": M.shape[0], "nnz": M.nnz,
+             "equilibrium_rows": n_eq, "soc_cones": len(socs), "rigid_bodies": n_body,
+             "attempts": attempts}
     z = np.asarray(res.z)
     return StaticSolution(multiplier=lam, stress=stress, active=active, mesh=mesh, status=status,
                           primal_objective=-float(res.obj_val),
                           dual_objective=-float(res.obj_val_dual),
                           iterations=int(res.iterations), sizes=sizes, timings=timings,
-                          velocity_dual=z[:n_eq])
+                          velocity_dual=z[:n_eq], rigid=rigid)
 
 
 def static_from_problem(problem, **kwargs) -> StaticSolution:

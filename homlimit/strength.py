@@ -108,7 +108,7 @@ class StrengthDomain(ABC):
 # Concrete domains
 # ---------------------------------------------------------------------------------------------
 
-__all__ += ["Homogenised", "BedJoints", "Tresca", "MohrCoulomb"]
+__all__ += ["Homogenised", "BedJoints", "Tresca", "MohrCoulomb", "Rigid"]
 
 
 def _norm(x: np.ndarray) -> np.ndarray:
@@ -449,3 +449,25 @@ class MohrCoulomb(StrengthDomain):
         A = np.array([[-0.5 * s, -0.5 * s, 0.0], [0.5, -0.5, 0.0], [0.0, 0.0, 1.0]])
         return ConicBlock(A=A, D=np.zeros((3, 0)), e=np.array([self.cohesion * self.cos, 0, 0]),
                           soc=(3,))
+
+
+class Rigid(StrengthDomain):
+    """An infinitely strong, rigid material: π(d) = 0 if d = 0, +inf otherwise; G = R³.
+
+    For rigid blocks (e.g. the free-standing block). Kinematic cone: d = 0. The static program
+    does not put stresses in a rigid region: each connected rigid region is one body in
+    equilibrium under the resultants on its boundary (``homlimit.static``).
+    """
+
+    def is_admissible(self, sigma, tol: float = 1e-9):
+        return np.ones(np.shape(sigma)[:-1], bool)
+
+    def support(self, d, rtol: float = 1e-9):
+        d = np.asarray(d, float)
+        return np.where(np.all(np.abs(d) <= rtol, axis=-1), 0.0, np.inf)
+
+    def kinematic_cone(self) -> ConicBlock:
+        return ConicBlock(A=np.eye(3), D=np.zeros((3, 0)), e=np.zeros(3), n_eq=3)
+
+    def static_cone(self) -> ConicBlock:
+        return ConicBlock(A=np.zeros((0, 3)), D=np.zeros((0, 0)), e=np.zeros(0))

@@ -12,7 +12,7 @@ import functools
 import numpy as np
 import pytest
 
-from homlimit import problems
+from homlimit import problems, strength
 from homlimit.bracket import bracket, prandtl_fan
 from homlimit.params import Case, Masonry, Wall
 
@@ -27,6 +27,11 @@ def _block(eps):
     m = problems.crossed_mesh(xs, zs).with_boundaries(
         {"base": lambda x: np.abs(x[1]) < 1e-9}).with_subdomains({"facade": lambda x: x[0] > -1})
     return dataclasses.replace(prob, mesh=m)
+
+
+def _cohesive_block():
+    prob = problems.free_block(b=0.5, h=3.0, f=0.6, n_b=2)
+    return dataclasses.replace(prob, interfaces={"base": strength.BedJoints(0.6, 1500.0, 2000.0)})
 
 
 def _tsection(name, h, n_b):
@@ -54,7 +59,12 @@ CASES = {
                                                                   growth=1.3),
     "vertical_cut_coarse": lambda: problems.vertical_cut(h_min=0.1, h_max=0.25),
     "vertical_cut_fine": lambda: problems.vertical_cut(h_min=0.05, h_max=0.25),
+    "rigid_block": lambda: problems.free_block(b=0.5, h=3.0, n_b=2),
     "rigid_block_eps0.01": lambda: _block(0.01),
+    "rigid_block_squat": lambda: problems.free_block(b=0.5, h=0.5, f=0.6, n_b=2),
+    "rigid_block_cohesive": _cohesive_block,
+    "prandtl_rigid_footing": lambda: prandtl_fan(size=0.3, h_min=0.03, radius=0.5, n_fan=12,
+                                                 footing=0.25),
     "bedjoint_block": lambda: problems.free_block(b=0.5, h=3.0, n_b=2, interior="bedjoints"),
 }
 TABLE1 = ("B1", "B2", "B3", "B4", "B5", "B6", "C1", "C2", "C3", "C4", "C5", "C6")
@@ -107,12 +117,37 @@ def test_vertical_cut_brackets_published_bounds():
 
 
 def test_rigid_block_both_bounds_b_over_h():
-    """Upper bound b/h to solver precision; lower bound (b − 2ε/3)/h → b/h as the toe edge ε → 0."""
-    b, h, eps = 0.5, 3.0, 0.01
-    br = run("rigid_block_eps0.01")
-    assert br.upper == pytest.approx(b / h, rel=1e-7)
-    assert br.lower == pytest.approx((b - 2 * eps / 3) / h, rel=1e-6)
-    assert (b / h - br.lower) / (b / h) < eps / b
+    """Free-standing rigid block on a dry bed joint: both bounds b/h to solver precision, on a
+    coarse mesh and on one graded to the toe (b = 0.5 m, h = 3 m); a squat one slides at f."""
+    b, h = 0.5, 3.0
+    for name in ("rigid_block", "rigid_block_eps0.01"):
+        br = run(name)
+        assert br.lower == pytest.approx(b / h, rel=1e-7), name
+        assert br.upper == pytest.approx(b / h, rel=1e-7), name
+        assert br.rel_gap < 1e-7, name
+    br = run("rigid_block_squat")
+    assert br.lower == pytest.approx(0.6, rel=1e-7) and br.upper == pytest.approx(0.6, rel=1e-7)
+
+
+def test_rigid_block_on_cohesive_joint_both_bounds_exact():
+    """Tensile strength T_h = 2000 Pa on the joint: λ = (W b + T_h b²)/(W h), W = γ b h."""
+    b, h, t_h = 0.5, 3.0, 2000.0
+    W = 2000.0 * 9.81 * b * h
+    exact = (W * b + t_h * b * b) / (W * h)
+    br = run("rigid_block_cohesive")
+    assert br.lower == pytest.approx(exact, rel=1e-7)
+    assert br.upper == pytest.approx(exact, rel=1e-7)
+
+
+def test_rigid_footing_brackets_prandtl():
+    """Rough rigid footing (a Rigid region bonded to the soil) on weightless Tresca: 2 + π."""
+    br = run("prandtl_rigid_footing")
+    assert br.static.sizes["rigid_bodies"] == 1
+    assert br.lower <= PRANDTL <= br.upper
+    assert br.rel_gap < 0.05, f"gap {br.rel_gap:.4f}"
+    # virtual power splits the gap over the soil's elements; the body's elements contribute 0
+    assert br.element_gap.sum() == pytest.approx(br.gap, abs=1e-6 * br.upper)
+    assert np.all(br.element_gap[br.static.rigid] == 0.0)
 
 
 def test_gap_splits_over_elements_by_virtual_power():

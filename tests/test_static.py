@@ -1,7 +1,7 @@
 """Static (lower-bound) program: exact closed forms, independent admissibility checks, errors.
 
-References are independent of the code: uniaxial strength 2k of a Tresca block, the statics of a
-rigid block on a no-tension frictional joint with piecewise-linear contact pressure, and a
+References are independent of the code: uniaxial strength 2k of a Tresca block, the statics of
+rigid blocks on no-tension frictional and on cohesive joints (hand equilibrium), and a
 checker that recomputes equilibrium and traction continuity of the returned stress field from
 the mesh alone.
 """
@@ -100,22 +100,96 @@ def test_vertical_cut_field_is_statically_admissible():
     assert sol.multiplier <= problems.VERTICAL_CUT_LB
 
 
-@pytest.mark.parametrize("eps", [0.05, 0.01])
-def test_rigid_block_on_bed_joint_closed_form(eps):
-    """A rigid block (b × h) on a no-tension frictional joint, horizontal load λ × weight.
+# ------------------------------------------------------------- rigid bodies (strength.Rigid)
+# A rigid block on a joint to the ground: hand statics of one body (3 equations) and the
+# joint's traction set. Tilting about the toe needs a concentrated contact force there, which
+# the program represents (end forces in the recession cone of the joint's domain).
 
-    With contact pressure linear on each base edge, the resultant can come no closer to the toe
-    than ε/3 (a triangular pressure on the toe edge of length ε): λ⁻ = (b − 2ε/3)/h exactly.
-    """
-    b, h = 0.5, 3.0
-    prob = problems.free_block(b=b, h=h, n_b=2)
+B, H, F, UNIT_WEIGHT = 0.5, 3.0, 0.6, 2000.0 * 9.81
+
+
+def _graded_block(eps, b=B, h=H):
     xs = problems.graded(0, b, eps, b / 2, foci=(0,), growth=1.6)
     zs = problems.graded(0, h, eps, b / 2, foci=(0,), growth=1.6)
-    assert xs[1] == pytest.approx(eps)
-    m = problems.crossed_mesh(xs, zs).with_boundaries(
+    return problems.crossed_mesh(xs, zs).with_boundaries(
         {"base": lambda x: np.abs(x[1]) < 1e-9}).with_subdomains({"facade": lambda x: x[0] > -1})
-    sol = solve_static(**static_inputs(dataclasses.replace(prob, mesh=m)))
-    assert sol.multiplier == pytest.approx((b - 2 * eps / 3) / h, rel=1e-6)
+
+
+@pytest.mark.parametrize("b, h, n_b", [(0.5, 3.0, 1), (0.5, 3.0, 2), (0.4, 5.0, 3)])
+def test_rigid_block_tilts_at_b_over_h(b, h, n_b):
+    """Dry bed joint, horizontal load λ × weight: moment about the toe W b/2 = λ W h/2."""
+    sol = solve_static(**static_inputs(problems.free_block(b=b, h=h, f=F, n_b=n_b)))
+    assert sol.multiplier == pytest.approx(b / h, rel=1e-7)
+    assert sol.sizes["rigid_bodies"] == 1 and sol.rigid.all()
+    assert np.isnan(sol.stress).all()
+
+
+def test_rigid_block_on_a_graded_mesh_is_still_b_over_h():
+    """The mesh does not matter for one rigid body (a continuum block would give
+    (b − 2ε/3)/h: linear contact pressure on the toe edge ε puts the resultant ε/3 inside)."""
+    prob = dataclasses.replace(problems.free_block(b=B, h=H, f=F), mesh=_graded_block(0.01))
+    sol = solve_static(**static_inputs(prob))
+    assert sol.multiplier == pytest.approx(B / H, rel=1e-7)
+
+
+def test_squat_rigid_block_slides_at_f():
+    """b = h: tilting needs λ = 1 > f, so the block slides at λ = f (|V| <= f N, N = W)."""
+    sol = solve_static(**static_inputs(problems.free_block(b=0.5, h=0.5, f=F)))
+    assert sol.multiplier == pytest.approx(F, rel=1e-7)
+
+
+@pytest.mark.parametrize("tension, cohesion", [(2000.0, 1500.0), (5000.0, 4000.0)])
+def test_rigid_block_on_cohesive_joint(tension, cohesion):
+    """Joint with tensile strength T_h = min(T, C/f): tension T_h over the base plus a
+    concentrated compression at the toe, λ W h/2 = W b/2 + T_h b²/2."""
+    W = UNIT_WEIGHT * B * H
+    t_h = min(tension, cohesion / F)
+    exact = (W * B + t_h * B * B) / (W * H)
+    prob = dataclasses.replace(problems.free_block(b=B, h=H, f=F),
+                               interfaces={"base": strength.BedJoints(F, cohesion, tension)})
+    sol = solve_static(**static_inputs(prob))
+    assert sol.multiplier == pytest.approx(exact, rel=1e-7)
+
+
+def test_two_rigid_blocks_are_two_bodies():
+    """Two rigid regions not sharing an edge are two bodies, each in its own equilibrium: the
+    slender one (0.5 × 3) tilts at b/h = 1/6, the squat one (0.5 × 1) would hold up to 0.5."""
+    from homlimit import geometry
+    from homlimit import mesh as hmesh
+
+    mm = geometry.polygon_mesh(
+        {"left": [(0, 0), (0.5, 0), (0.5, 3), (0, 3)], "right": [(1, 0), (1.5, 0), (1.5, 1),
+                                                                   (1, 1)]},
+        {"base": [((0, 0), (1.5, 0))]}, size=0.5)
+    m = hmesh.to_skfem(mm)
+    w = (-UNIT_WEIGHT, 0.0), (0.0, -UNIT_WEIGHT)
+    sol = solve_static(m, {"left": strength.Rigid(), "right": strength.Rigid()},
+                       live_body=w[0], dead_body=w[1],
+                       interfaces={"base": strength.BedJoints(F)})
+    assert sol.sizes["rigid_bodies"] == 2
+    assert sol.multiplier == pytest.approx(0.5 / 3.0, rel=1e-7)
+
+
+def test_rigid_footing_on_tresca_soil_is_a_lower_bound():
+    """A rigid rough footing loaded on top, bonded to weightless Tresca soil: the body takes the
+    soil's tractions across its boundary; q/k = 2 + π for a rough footing too."""
+    from homlimit.bracket import prandtl_fan
+
+    prob = prandtl_fan(size=0.5, h_min=0.08, n_fan=6, footing=0.25)
+    sol = solve_static(**static_inputs(prob))
+    assert sol.sizes["rigid_bodies"] == 1
+    assert 4.5 < sol.multiplier <= problems.PRANDTL
+    soil = ~sol.rigid
+    assert np.all(strength.Tresca(1.0).is_admissible(sol.stress[soil], tol=1e-6))
+
+
+def test_unsupported_rigid_body_is_reported():
+    """A rigid block with no support and no joint cannot carry its weight: Infeasible."""
+    m = _block_mesh(1, 2)
+    with pytest.raises(SolverError) as exc:
+        solve_static(m, strength.Rigid(), live_body=(-1.0, 0.0), dead_body=(0.0, -1.0),
+                     retries=False)
+    assert "Infeasible" in exc.value.status
 
 
 def test_homogenised_field_is_admissible_and_compressive():
