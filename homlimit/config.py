@@ -112,6 +112,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "heights": Key(int, 6, "", lo=1, hi=200,
                        doc="collapse heights h tried by the FE impulse scan, λ = h/b spaced "
                            "geometrically from 2 to H/b (v̄_g of eq. 7 minimised over λ)"),
+        "static": Key(bool, True,
+                      doc="static lower bound of the whole wall's FE multiplier on the same "
+                          "mesh (the bracket λ⁻ <= λ <= λ⁺), its stress field in "
+                          "mechanism.vtu and stress.png (needs fe)"),
         "tol": Key(float, 0.0, "", lo=0.0, hi=1e-2,
                    doc="Clarabel gap and feasibility tolerance (0: the solver default of "
                        "homlimit.kinematic.SolverOptions)"),
@@ -145,6 +149,7 @@ class AnalysisConfig:
     fe: bool = True
     facade: str = "homogenised"
     heights: int = 6
+    static: bool = True
     tol: float = 0.0
 
 

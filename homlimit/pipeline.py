@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from .config import CaseConfig, load_case
-from .errors import ParameterError
+from .errors import MeshError, ParameterError
 from .params import Case
 
 __all__ = ["Progress", "Result", "crack_study_records", "dem_reference", "mesh_case",
@@ -181,6 +181,10 @@ class Result:
 
         lines = [f"FE, whole wall: {fe['n_triangles']} triangles, façade {fe['facade']}, "
                  f"collapse multiplier {num(fe['multiplier'], '.4g')} (acceleration / g)",
+                 *([f"  bracket: static {num(fe['lower_bound'], '.4g')} <= multiplier <= "
+                    f"kinematic {num(fe['multiplier'], '.4g')} (gap "
+                    f"{100 * fe['bracket_rel_gap']:.1f} %, same mesh)"]
+                   if fe.get("lower_bound") is not None else []),
                  f"  {fe['mechanism']} mechanism, hinge at x = {num(fe['hinge'][0], '.2f')} m, "
                  f"z = {num(fe['hinge'][1], '.2f')} m",
                  f"  crack: tan psi = {num(fe['tanpsi'])} ± {num(fe['tanpsi_uncertainty'])} "
@@ -266,6 +270,10 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
                        drawing=fields)
         full["h_part"] = case.wall.H
         scan.append(full)
+    static = None
+    if an.static:
+        with progress.stage("static lower bound of the whole wall", f"{n_tri} triangles"):
+            static = _static(config)
     ok = [r for r in scan if np.isfinite(r["vg_fe"])]
     crit = min(ok, key=lambda r: r["vg_fe"]) if ok else None
     fe = {
@@ -277,6 +285,11 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
         "tanpsi": full["tanpsi_fe"], "tanpsi_uncertainty": full["dtanpsi_fe"],
         "tanpsi_edges": list(full["tanpsi_fe_edges"]),
         "sqrt_cf_a": case.alpha, "f": case.masonry.f, "c_over_a": case.masonry.c / case.masonry.a,
+        # the static bound on the same mesh: λ⁻ <= λ <= λ⁺ = "multiplier"
+        "lower_bound": None if static is None else static.multiplier,
+        "bracket_rel_gap": None if static is None else
+        (full["multiplier_fe"] - static.multiplier)
+        / (0.5 * (full["multiplier_fe"] + static.multiplier)),
         # the critical collapse height (lowest v̄_g of the scan)
         "vg": None if crit is None else crit["vg_fe"],
         "vnorm": None if crit is None else crit["vnorm_fe"],
@@ -290,23 +303,39 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
                   "mechanism": r["mechanism_fe"], "tanpsi": r["tanpsi_fe"],
                   "vg_method": r["vg_method"]} for r in scan],
     }
-    return fe, (_whole_wall_fields(config, full) if fields else {})
+    return fe, (_whole_wall_fields(config, full, static) if fields else {})
 
 
-def _whole_wall_fields(config: CaseConfig, full: dict) -> dict:
+def _static(config: CaseConfig):
+    """The static lower bound (homlimit.static) of the whole wall, on the kinematic mesh."""
+    from .bracket import static_inputs
+    from .static import solve_static
+
+    return solve_static(**static_inputs(_problem(config)))
+
+
+def _whole_wall_fields(config: CaseConfig, full: dict, static=None) -> dict:
     """The whole wall's mechanism (``fe_impulse.analyse(drawing=True)``) as drawing data and
     a meshio mesh with its fields (the rigid-fit measures are recomputed from the solution:
-    no second solve)."""
+    no second solve), plus the static stress field as ``static_*`` cell data when given."""
     from .fe_impulse import p2_nodes
     from .mesh import from_skfem
     from .rigidfit import measure_mechanism
+    from .static import attach_cell_fields
 
     w = config.case.wall
     sol, plot = full.pop("solution"), full.pop("drawing")
     X, V, el, rho = p2_nodes(sol, {"facade": w.rho * w.gamma * w.s, "wall": w.gamma * w.s})
     mm = measure_mechanism(X, V, el, density=rho)
-    return {"mesh": from_skfem(sol.mesh), "mechanism": _mechanism_mesh(sol, mm, plot["crack"]),
-            "plot": plot}
+    out = {"mesh": from_skfem(sol.mesh), "mechanism": _mechanism_mesh(sol, mm, plot["crack"]),
+           "plot": plot}
+    if static is not None:
+        if not np.array_equal(static.mesh.t, sol.mesh.t):
+            raise MeshError("the static and kinematic meshes of the whole wall differ; the "
+                            "stress field cannot be attached to mechanism.vtu")
+        out["mechanism"] = attach_cell_fields(out["mechanism"], static)
+        out["static"] = static
+    return out
 
 
 def _mechanism_mesh(sol, mm, crack):
@@ -468,6 +497,11 @@ def _write(result: Result, out: Path, progress: Progress) -> dict[str, Path]:
             if "plot" in art:
                 files["mechanism_png"] = plots.plot_mechanism(
                     out / "mechanism.png", art["plot"], result.case, title=title)
+            if "static" in art:
+                files["stress_png"] = plots.plot_stress(
+                    out / "stress.png", art["static"],
+                    title=f"{title}: lower-bound stress field, λ⁻ = "
+                          f"{art['static'].multiplier:.4g}")
     if result.fe and result.fe.get("scan"):
         files["fe_scan_csv"] = report.write_csv(out / "fe_scan.csv", result.fe["scan"])
     if cfg.vtu and "mechanism" in result.artifacts:

@@ -431,7 +431,11 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
                                       s["mechanism_II"]["vg"])
     files = {k: Path(v) for k, v in s["files"].items()}
     assert set(files) == {"summary_json", "vg_lambda_png", "mesh_png", "mechanism_png",
-                          "mechanism_vtu", "fe_scan_csv"}
+                          "mechanism_vtu", "fe_scan_csv", "stress_png"}
+    # the static bound on the same mesh: below the FE upper bound and the hinge + fan
+    assert 0.5 * fe["multiplier"] < fe["lower_bound"] <= fan.lam <= fe["multiplier"]
+    mean = 0.5 * (fe["multiplier"] + fe["lower_bound"])
+    assert fe["bracket_rel_gap"] == pytest.approx((fe["multiplier"] - fe["lower_bound"]) / mean)
     import csv
 
     scan = list(csv.DictReader(files["fe_scan_csv"].open()))
@@ -442,6 +446,14 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
         assert key in mech.cell_data, key
     tri = next(c.data for c in mech.cells if c.type == "triangle")
     assert len(tri) == fe["n_triangles"]
+    # the lower-bound stress field rides along: eq. 15 holds on every triangle (mean stress)
+    from homlimit.strength import Homogenised
+
+    sig = np.stack([mech.cell_data[f"static_{k}"][0] for k in ("sigma_x", "sigma_z", "tau_xz")],
+                   axis=1)
+    scale = np.abs(sig).max()
+    assert np.all(Homogenised(0.3, 0.2, 0.6).is_admissible(sig / scale, tol=1e-6))
+    assert set(np.unique(mech.cell_data["static_active_facet"][0])) <= {-1, 0, 1, 2, 3}
     crack = next(c.data for c in mech.cells if c.type == "line")     # the crack polyline
     crack_pts = mech.points[np.unique(crack)]
     assert np.all(crack_pts[:, 0] > 0.5)                             # inside the wall, x > b
@@ -452,6 +464,7 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     assert_png(files["mesh_png"], (9 * 120, int(7.5 * 120)))
     assert_png(files["mechanism_png"], (int(7.5 * 120), 8 * 120))
     assert_png(files["vg_lambda_png"], (8 * 120, int(5.5 * 120)))
+    assert_png(files["stress_png"], (7 * 120, 6 * 120))
 
 
 def test_crack_study_one_point(tmp_path):
