@@ -34,8 +34,9 @@ def test_work_both_branches_agree_to_1e10(points):
     lam, rho, alpha, beta, rng = points
     th_r = beta / lam * rng.uniform(1.0, 5.0, lam.size)
     th_l = beta / lam * rng.uniform(0.05, 0.999, lam.size)
-    assert rel(work_I(th_r, lam, rho, alpha, beta), A1.work_right(th_r, lam, rho, alpha, beta)) < 1e-10
-    assert rel(work_I(th_l, lam, rho, alpha, beta), A1.work_left(th_l, lam, rho, alpha, beta)) < 1e-10
+    args = (lam, rho, alpha, beta)
+    assert rel(work_I(th_r, *args), A1.work_right(th_r, *args)) < 1e-10
+    assert rel(work_I(th_l, *args), A1.work_left(th_l, *args)) < 1e-10
 
 
 def test_theta_m_is_a_root_of_the_symbolic_quartic(points):

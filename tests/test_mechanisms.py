@@ -105,7 +105,7 @@ def test_vectorised_evaluation_equals_scalar_calls():
 @pytest.mark.parametrize("lam, rho, t", [(6.3, 12.0, math.sqrt(0.4)), (3.4, 5.0, math.sqrt(0.8)),
                                          (10.0, 2.0, 1.5)])
 def test_eq17_eq20_against_direct_integration_of_the_body(lam, rho, t):
-    """Façade strip (density ρ) + wedge b <= x <= b + z tanψ (density 1), integrated by quadrature."""
+    """Façade strip (density ρ) + wedge b <= x <= b + z tanψ (density 1), by quadrature."""
     b = 1.0
     h = lam * b
 

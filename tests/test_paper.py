@@ -1,7 +1,6 @@
 """Table 1 data shipped in the package, and Figure 2 drawn to a PNG."""
 
 import numpy as np
-import pytest
 
 from homlimit.paper import table1
 
