@@ -1,9 +1,9 @@
-"""Lower and upper bounds side by side: Prandtl, vertical cut, and the Table 1 T-sections.
+"""Lower and upper bounds side by side: Prandtl, vertical cut, blocks, Table 1 T-sections.
 
 Prints, per mesh: triangles, λ⁻ (static), λ⁺ (kinematic), relative gap (λ⁺ − λ⁻)/mean, and the
 seconds of each bound. The T-section section prints the markdown table of docs/static.md.
 
-    python benchmarks/bench_bracket.py [prandtl] [cut] [tsection]     (default: all three)
+    python benchmarks/bench_bracket.py [prandtl] [cut] [blocks] [tsection]   (default: all)
 """
 
 from __future__ import annotations
@@ -45,6 +45,21 @@ def cut():
         _row(f"crossed h_min={h_min}", pr.n_triangles, bracket(pr))
 
 
+def blocks():
+    _head("Free-standing block b=0.5 h=3 on a dry bed joint, rigid", f"b/h = {0.5 / 3:.6f}")
+    for n_b in (1, 2, 4):
+        pr = problems.free_block(b=0.5, h=3.0, n_b=n_b)
+        _row(f"rigid, n_b={n_b}", pr.n_triangles, bracket(pr))
+    _head("The same block of bed-joint masonry (continuum)", "below b/h (docs/kinematic.md)")
+    for n_b in (2, 4, 8):
+        pr = problems.free_block(b=0.5, h=3.0, n_b=n_b, interior="bedjoints")
+        _row(f"bed joints, n_b={n_b}", pr.n_triangles, bracket(pr))
+    _head("Prandtl with a rigid rough footing 0.25 thick", f"2+π = {2 + math.pi:.5f}")
+    for size, h_min, n_fan in ((0.4, 0.05, 8), (0.3, 0.03, 12), (0.2, 0.02, 16)):
+        pr = prandtl_fan(size=size, h_min=h_min, radius=0.5, n_fan=n_fan, footing=0.25)
+        _row(f"fan size={size} h={h_min} rays={n_fan}", pr.n_triangles, bracket(pr))
+
+
 def tsection():
     print("\n## T-section (homogenised eq. 15 in façade and wall), multiplier a/g")
     levels = ((1.0, 1), (0.5, 2), (0.25, 4))
@@ -66,6 +81,6 @@ def tsection():
 
 
 if __name__ == "__main__":
-    which = sys.argv[1:] or ["prandtl", "cut", "tsection"]
+    which = sys.argv[1:] or ["prandtl", "cut", "blocks", "tsection"]
     for name in which:
-        {"prandtl": prandtl, "cut": cut, "tsection": tsection}[name]()
+        {"prandtl": prandtl, "cut": cut, "blocks": blocks, "tsection": tsection}[name]()
