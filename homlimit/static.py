@@ -503,6 +503,80 @@ class StaticSolution:
             meshio.write(tmp, self.to_meshio())
 
 
+# --------------------------------------------------------------------------- solvers
+
+
+def _solve_direct(M, e, q, cones, tol, retries, solver_settings, verbose) -> dict:
+    """Clarabel on min qᵀx s.t. M x + e ∈ K, i.e. A x + s = b, s ∈ K with A = −M, b = e; a
+    stalled solve is retried with the settings of ``RETRIES``."""
+    import clarabel
+
+    P = sp.csc_matrix((q.size, q.size))
+    attempts = []
+    for retry in RETRIES if retries else RETRIES[:1]:
+        opts = {**CLARABEL_DEFAULTS, "tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
+                **retry, **(solver_settings or {})}
+        settings = clarabel.DefaultSettings()
+        settings.verbose = bool(verbose)
+        for key, val in opts.items():
+            setattr(settings, key, val)
+        res = clarabel.DefaultSolver(P, q, -M, e, cones, settings).solve()
+        status = str(res.status).split(".")[-1]
+        attempts.append((retry, status, int(res.iterations)))
+        if status not in _STALLED:
+            break
+    return {"x": np.asarray(res.x), "z": np.asarray(res.z), "status": status,
+            "obj": float(res.obj_val), "obj_dual": float(res.obj_val_dual),
+            "iterations": int(res.iterations), "attempts": attempts}
+
+
+_CVXPY_STATUS = {"optimal": "Solved", "optimal_inaccurate": "AlmostSolved",
+                 "infeasible": "PrimalInfeasible", "infeasible_inaccurate": "PrimalInfeasible",
+                 "unbounded": "DualInfeasible", "unbounded_inaccurate": "DualInfeasible"}
+
+
+def _solve_cvxpy(M, e, q, layout, tol, solver, solver_settings, verbose) -> dict:
+    """The same program through cvxpy: M x + e = 0 on the first n_zero rows, >= 0 on the next
+    n_lin, then one second-order cone per entry of ``socs`` (cones of equal size batched)."""
+    import cvxpy as cp
+
+    n_zero, n_lin, socs = layout
+    if socs and solver.upper() == "HIGHS":
+        raise ParameterError(f"cvxpy_solver = {solver!r} is out of range for a program with "
+                             f"{len(socs)} second-order cones: allowed a conic solver "
+                             f"('CLARABEL', 'SCS', ...)")
+    M = sp.csr_matrix(M)
+    x = cp.Variable(q.size)
+    cons = [M[:n_zero] @ x + e[:n_zero] == 0]
+    if n_lin:
+        cons.append(M[n_zero:n_zero + n_lin] @ x + e[n_zero:n_zero + n_lin] >= 0)
+    dims = np.asarray(socs, int)
+    start = n_zero + n_lin + np.r_[0, np.cumsum(dims)[:-1]].astype(int)
+    for d in np.unique(dims):
+        rows = start[dims == d][:, None] + np.arange(d)  # (cones, d)
+        t = M[rows[:, 0]] @ x + e[rows[:, 0]]
+        X = cp.vstack([M[rows[:, j]] @ x + e[rows[:, j]] for j in range(1, d)])
+        cons.append(cp.SOC(t, X, axis=0))
+    prob = cp.Problem(cp.Minimize(q @ x), cons)
+    if solver.upper() == "CLARABEL":
+        opts = {**CLARABEL_DEFAULTS, "tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
+                **RETRIES[0], **(solver_settings or {})}
+    else:
+        opts = dict(solver_settings or {})
+    try:
+        prob.solve(solver=solver.upper(), verbose=bool(verbose), **opts)
+    except cp.error.SolverError as exc:
+        return {"x": None, "z": None, "status": f"SolverError ({exc})", "obj": np.nan,
+                "obj_dual": np.nan, "iterations": 0, "attempts": [(solver, "SolverError", 0)]}
+    status = _CVXPY_STATUS.get(prob.status, str(prob.status))
+    iters = int(prob.solver_stats.num_iters or 0)
+    ok = x.value is not None
+    return {"x": x.value if ok else None,
+            "z": -np.asarray(cons[0].dual_value) if ok else None, "status": status,
+            "obj": float(prob.value) if ok else np.nan, "obj_dual": np.nan,
+            "iterations": iters, "attempts": [(solver, status, iters)]}
+
+
 # --------------------------------------------------------------------------- the program
 
 
@@ -521,6 +595,8 @@ def solve_static(
     active_tol: float = 1e-6,
     retries: bool = True,
     verbose: bool = False,
+    backend: str = "direct",
+    cvxpy_solver: str = "CLARABEL",
 ) -> StaticSolution:
     """Largest live multiplier λ⁻ carried by a statically admissible linear stress field.
 
@@ -540,9 +616,15 @@ def solve_static(
     solver_settings : overrides of Clarabel settings (defaults ``CLARABEL_DEFAULTS``, tolerance
         1e-9 for a linear program, 1e-7 with second-order cones).
     retries : on a stalled solve, retry with the settings of ``RETRIES`` in turn.
+    backend : "direct" (default: the program handed to Clarabel as assembled) or "cvxpy" (the
+        same matrices as a cvxpy problem, the kinematic program's path; solved by
+        ``cvxpy_solver``, e.g. "CLARABEL", or "HIGHS" for a linear program). Without retries;
+        ``dual_objective`` is NaN there.
     """
     import clarabel
 
+    if backend not in ("direct", "cvxpy"):
+        raise ParameterError(f"backend = {backend!r} is out of range: allowed 'direct', 'cvxpy'")
     timings = {}
     t0 = time.perf_counter()
     p, t = np.asarray(mesh.p, float), np.asarray(mesh.t)
@@ -824,26 +906,18 @@ def solve_static(
     M_full, M = M, M[:, live]
     timings["assembly"] = time.perf_counter() - t0
 
-    # Clarabel: min qᵀx s.t. A x + s = b, s ∈ K, with s = M x + e  ⇒  A = −M, b = e
     t1 = time.perf_counter()
     q = np.zeros(n_var)
     q[lam_col] = -1.0
     q = q[live]
     tol = 1e-7 if socs else 1e-9
-    P = sp.csc_matrix((q.size, q.size))
-    attempts = []
-    for retry in RETRIES if retries else RETRIES[:1]:
-        opts = {**CLARABEL_DEFAULTS, "tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
-                **retry, **(solver_settings or {})}
-        settings = clarabel.DefaultSettings()
-        settings.verbose = bool(verbose)
-        for key, val in opts.items():
-            setattr(settings, key, val)
-        res = clarabel.DefaultSolver(P, q, -M, e_vec, cones, settings).solve()
-        status = str(res.status).split(".")[-1]
-        attempts.append((retry, status, int(res.iterations)))
-        if status not in _STALLED:
-            break
+    n_lin = sum(g[0][3] for g in groups["lin"])
+    if backend == "direct":
+        res = _solve_direct(M, e_vec, q, cones, tol, retries, solver_settings, verbose)
+    else:
+        res = _solve_cvxpy(M, e_vec, q, (n_eq_total, n_lin, socs), tol, cvxpy_solver,
+                           solver_settings, verbose)
+    status, attempts = res["status"], res["attempts"]
     timings["solve"] = time.perf_counter() - t1
     if status != "Solved":
         causes = {"PrimalInfeasible": "no admissible stress field carries the dead loads "
@@ -860,7 +934,7 @@ def solve_static(
         raise SolverError(f"static limit analysis ended with Clarabel status {status}: {why}",
                           status=status)
     x = np.zeros(n_var)
-    x[live] = res.x
+    x[live] = res["x"]
     lam = float(x[lam_col])
     # the dropped rows must hold too (they do unless prescribed tractions contradict at a node)
     resid = np.abs(M_eq_full @ x + b_eq_full).max(initial=0.0)
@@ -902,12 +976,11 @@ def solve_static(
     sizes = {"triangles": nt, "variables": int(live.sum()), "rows": M.shape[0], "nnz": M.nnz,
              "equilibrium_rows": n_eq, "soc_cones": len(socs), "rigid_bodies": n_body,
              "attempts": attempts}
-    z = np.asarray(res.z)
+    z = res["z"]
     return StaticSolution(multiplier=lam, stress=stress, active=active, mesh=mesh, status=status,
-                          primal_objective=-float(res.obj_val),
-                          dual_objective=-float(res.obj_val_dual),
-                          iterations=int(res.iterations), sizes=sizes, timings=timings,
-                          velocity_dual=z[:n_eq], rigid=rigid)
+                          primal_objective=-res["obj"], dual_objective=-res["obj_dual"],
+                          iterations=res["iterations"], sizes=sizes, timings=timings,
+                          velocity_dual=None if z is None else z[:n_eq], rigid=rigid)
 
 
 def static_from_problem(problem, **kwargs) -> StaticSolution:

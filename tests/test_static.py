@@ -276,3 +276,36 @@ def test_invariant_under_units():
     b = solve_static(**static_inputs(problems.vertical_cut(h_min=0.1, h_max=0.3, H=7.0,
                                                            k=4.0e4)))
     assert b.multiplier == pytest.approx(a.multiplier, rel=1e-6)
+
+
+# ------------------------------------------------------------------ the cvxpy path, HiGHS
+
+
+def test_cvxpy_backend_reproduces_the_direct_program():
+    """The same matrices through cvxpy → Clarabel (the kinematic program's path): same λ⁻."""
+    prob = problems.vertical_cut(h_min=0.1, h_max=0.3)                  # second-order cones
+    a = solve_static(**static_inputs(prob))
+    b = solve_static(**static_inputs(prob), backend="cvxpy")
+    assert b.multiplier == pytest.approx(a.multiplier, rel=1e-7)
+    assert np.allclose(b.stress, a.stress, atol=1e-4 * np.abs(a.stress).max())
+
+
+def test_highs_simplex_confirms_the_linear_programs():
+    """An independent LP solver (HiGHS through cvxpy) on eq. 15 and on the rigid block."""
+    from homlimit.params import Case
+
+    tsec = problems.t_section(Case(), h=1.0, n_b=1, growth=1.3)
+    a = solve_static(**static_inputs(tsec))
+    h = solve_static(**static_inputs(tsec), backend="cvxpy", cvxpy_solver="HIGHS")
+    assert h.multiplier == pytest.approx(a.multiplier, rel=1e-7)
+    block = solve_static(**static_inputs(problems.free_block(b=B, h=H, f=F)), backend="cvxpy",
+                         cvxpy_solver="HIGHS")
+    assert block.multiplier == pytest.approx(B / H, rel=1e-12)          # a vertex solution
+
+
+def test_backend_choices_are_checked():
+    prob = problems.vertical_cut(h_min=0.2, h_max=0.3)
+    with pytest.raises(ParameterError, match="backend = 'mosek'"):
+        solve_static(**static_inputs(prob), backend="mosek")
+    with pytest.raises(ParameterError, match="cvxpy_solver = 'HIGHS'"):
+        solve_static(**static_inputs(prob), backend="cvxpy", cvxpy_solver="HIGHS")
