@@ -317,7 +317,8 @@ def _static(config: CaseConfig):
 def _whole_wall_fields(config: CaseConfig, full: dict, static=None) -> dict:
     """The whole wall's mechanism (``fe_impulse.analyse(drawing=True)``) as drawing data and
     a meshio mesh with its fields (the rigid-fit measures are recomputed from the solution:
-    no second solve), plus the static stress field as ``static_*`` cell data when given."""
+    no second solve), plus the static stress field as ``static_*`` cell data and each
+    triangle's share of the bracket's gap as ``bracket_gap`` when given."""
     from .fe_impulse import p2_nodes
     from .mesh import from_skfem
     from .rigidfit import measure_mechanism
@@ -333,8 +334,13 @@ def _whole_wall_fields(config: CaseConfig, full: dict, static=None) -> dict:
         if not np.array_equal(static.mesh.t, sol.mesh.t):
             raise MeshError("the static and kinematic meshes of the whole wall differ; the "
                             "stress field cannot be attached to mechanism.vtu")
-        out["mechanism"] = attach_cell_fields(out["mechanism"], static)
-        out["static"] = static
+        from .bracket import gap_contributions
+
+        mech = attach_cell_fields(out["mechanism"], static)
+        gap = gap_contributions(static, sol)  # per-triangle share of λ⁺ − λ⁻ (virtual power)
+        mech.cell_data["bracket_gap"] = [gap] + [np.full(len(b.data), np.nan)
+                                                 for b in mech.cells[1:]]
+        out["mechanism"], out["static"] = mech, static
     return out
 
 

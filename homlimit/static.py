@@ -12,7 +12,10 @@ admissible* for the live multiplier λ when
 - t = λ t_live + t_dead on free boundaries, for every traction component whose displacement
   component is not supported (a roller u_x = 0 leaves t_x free and imposes t_z);
 - σ ∈ G at the three vertices of every triangle, which for a convex G and a linear σ means
-  σ ∈ G everywhere in the triangle.
+  σ ∈ G everywhere in the triangle;
+- regions of ``strength.Rigid`` carry no stress: each connected one is a body whose resultant
+  force and moment vanish (body forces, boundary tractions, the tractions of the neighbouring
+  triangles, reactions, and joint forces including concentrated ones at the joint's ends).
 
 By the static theorem of limit analysis the largest such λ, λ⁻, is a lower bound of the
 collapse multiplier (for the discrete problem as posed: see docs/static.md on truncated

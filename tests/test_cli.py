@@ -454,6 +454,10 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     scale = np.abs(sig).max()
     assert np.all(Homogenised(0.3, 0.2, 0.6).is_admissible(sig / scale, tol=1e-6))
     assert set(np.unique(mech.cell_data["static_active_facet"][0])) <= {-1, 0, 1, 2, 3}
+    # virtual power: the triangles' shares of the gap add up to λ⁺ − λ⁻, each >= 0
+    share = mech.cell_data["bracket_gap"][0]
+    assert share.sum() == pytest.approx(fe["multiplier"] - fe["lower_bound"], rel=1e-4)
+    assert share.min() >= -1e-6 * fe["multiplier"]
     crack = next(c.data for c in mech.cells if c.type == "line")     # the crack polyline
     crack_pts = mech.points[np.unique(crack)]
     assert np.all(crack_pts[:, 0] > 0.5)                             # inside the wall, x > b
