@@ -53,10 +53,21 @@ Traction = np.ndarray | tuple | Callable[[np.ndarray, np.ndarray], np.ndarray]
 # 1e-9 for a linear program and 1e-7 with second-order cones (tighter stalls). The equilibrium
 # programs are more degenerate (many optimal stress fields away from the mechanism), so a
 # static regularisation 1e-7 (Clarabel's default 1e-8 stalled on most Prandtl meshes) comes
-# first; a stalled solve is retried with 1e-6, then faer, then Clarabel's defaults.
+# first; a stalled solve is retried with 1e-6, then the other factorisation, then Clarabel's
+# defaults. Above FAER_ABOVE unknowns faer on one thread factors faster than qdldl (measured,
+# docs/static.md: 7091 triangles 26 s against 45 s; a tie near 4 000 triangles; two threads
+# are slower on a 2-core machine).
 CLARABEL_DEFAULTS = {"direct_solve_method": "qdldl", "max_iter": 300}
+FAER_ABOVE = 30_000
 RETRIES = ({"static_regularization_constant": 1e-7}, {"static_regularization_constant": 1e-6},
-           {"direct_solve_method": "faer"}, {})
+           "other factorisation", {})
+
+
+def clarabel_defaults(n_unknowns: int) -> dict:
+    """Clarabel settings for a static program of ``n_unknowns`` unknowns (before overrides)."""
+    if n_unknowns > FAER_ABOVE:
+        return {**CLARABEL_DEFAULTS, "direct_solve_method": "faer", "max_threads": 1}
+    return dict(CLARABEL_DEFAULTS)
 _STALLED = ("AlmostSolved", "NumericalError", "InsufficientProgress", "MaxIterations")
 
 
@@ -516,8 +527,12 @@ def _solve_direct(M, e, q, cones, tol, retries, solver_settings, verbose) -> dic
 
     P = sp.csc_matrix((q.size, q.size))
     attempts = []
+    base = clarabel_defaults(q.size)
     for retry in RETRIES if retries else RETRIES[:1]:
-        opts = {**CLARABEL_DEFAULTS, "tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
+        if isinstance(retry, str):  # the other factorisation
+            other = "qdldl" if base["direct_solve_method"] == "faer" else "faer"
+            retry = {"direct_solve_method": other, "max_threads": 1}
+        opts = {**base, "tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
                 **retry, **(solver_settings or {})}
         settings = clarabel.DefaultSettings()
         settings.verbose = bool(verbose)
@@ -562,8 +577,8 @@ def _solve_cvxpy(M, e, q, layout, tol, solver, solver_settings, verbose) -> dict
         cons.append(cp.SOC(t, X, axis=0))
     prob = cp.Problem(cp.Minimize(q @ x), cons)
     if solver.upper() == "CLARABEL":
-        opts = {**CLARABEL_DEFAULTS, "tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
-                **RETRIES[0], **(solver_settings or {})}
+        opts = {**clarabel_defaults(q.size), "tol_gap_abs": tol, "tol_gap_rel": tol,
+                "tol_feas": tol, **RETRIES[0], **(solver_settings or {})}
     else:
         opts = dict(solver_settings or {})
     try:
@@ -616,7 +631,7 @@ def solve_static(
         of its edges the traction σ n must equal σ_j n for some σ_j in that domain (the static
         dual of testing the jump sym([v] ⊗ n) by the same domain in the kinematic program).
     stress_scale : reference stress [Pa] for scaling the program (default from the data).
-    solver_settings : overrides of Clarabel settings (defaults ``CLARABEL_DEFAULTS``, tolerance
+    solver_settings : overrides of Clarabel settings (defaults ``clarabel_defaults``, tolerance
         1e-9 for a linear program, 1e-7 with second-order cones).
     retries : on a stalled solve, retry with the settings of ``RETRIES`` in turn.
     backend : "direct" (default: the program handed to Clarabel as assembled) or "cvxpy" (the

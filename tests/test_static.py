@@ -309,3 +309,17 @@ def test_backend_choices_are_checked():
         solve_static(**static_inputs(prob), backend="mosek")
     with pytest.raises(ParameterError, match="cvxpy_solver = 'HIGHS'"):
         solve_static(**static_inputs(prob), backend="cvxpy", cvxpy_solver="HIGHS")
+
+
+def test_faer_on_one_thread_gives_the_same_bound():
+    """The factorisation chosen above static.FAER_ABOVE unknowns (faer, one thread) against
+    qdldl on a small program: the same λ⁻."""
+    from homlimit.static import FAER_ABOVE, clarabel_defaults
+
+    assert clarabel_defaults(FAER_ABOVE + 1)["direct_solve_method"] == "faer"
+    assert clarabel_defaults(FAER_ABOVE)["direct_solve_method"] == "qdldl"
+    prob = problems.vertical_cut(h_min=0.1, h_max=0.3)
+    a = solve_static(**static_inputs(prob))
+    b = solve_static(**static_inputs(prob),
+                     solver_settings={"direct_solve_method": "faer", "max_threads": 1})
+    assert b.multiplier == pytest.approx(a.multiplier, rel=1e-7)
