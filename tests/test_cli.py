@@ -471,6 +471,21 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     assert_png(files["stress_png"], (7 * 120, 6 * 120))
 
 
+def test_run_without_the_static_bound(tmp_path):
+    """[analysis] static = false: no bracket, no stress picture, no static_* fields."""
+    import meshio
+
+    case = tmp_path / "coarse.toml"
+    case.write_text(FE_CASE.replace("heights = 2", "heights = 1\nstatic = false"))
+    res = CliRunner().invoke(app, ["run", str(case), "--json", "--out", str(tmp_path / "o")])
+    assert res.exit_code == 0, res.output
+    s = json.loads(res.stdout)
+    assert s["fe"]["lower_bound"] is None and s["fe"]["bracket_rel_gap"] is None
+    assert "stress_png" not in s["files"]
+    mech = meshio.read(s["files"]["mechanism_vtu"])
+    assert not any(k.startswith("static_") for k in mech.cell_data)
+
+
 def test_crack_study_one_point(tmp_path):
     """`homlimit crack-study` on a one-point grid: the record beside eq. 16 and the hinge + fan."""
     import csv
