@@ -777,6 +777,11 @@ def solve_static(
     j_rows, j_cols, j_vals, n_j = [], [], [], 0
     joint_parts = []  # (static cone block, columns (n, 3) of its σ_j)
     forces = _NodalForces(p, t, E, body, n_body, area)  # what acts on each rigid body
+
+    def joint_terms(cols, k, comp, f):  # σ_j n at end k: x uses (σ_x, τ), z uses (σ_z, τ)
+        nn_ = [(nx[f], nz[f]), (nz[f], nx[f])][comp]
+        return [(cols[k, :, c], v) for c, v in zip([(0, 2), (1, 2)][comp], nn_)]
+
     for tag, dom in (interfaces or {}).items():
         f_all = np.asarray(bnd[tag])
         cols_all = n_var + np.arange(6 * f_all.size).reshape(2, f_all.size, 3)  # [end, edge, σ]
@@ -790,11 +795,9 @@ def solve_static(
                     j_rows += [rows]
                     j_cols += [col]
                     j_vals += [val]
-                cj = [(0, 2), (1, 2)][comp]  # σ_j n: x uses (σ_x, τ), z uses (σ_z, τ)
-                nn_ = [(nx[f], nz[f]), (nz[f], nx[f])][comp]
-                for c, val in zip(cj, nn_):
+                for col, val in joint_terms(cols, k, comp, f):
                     j_rows += [rows]
-                    j_cols += [cols[k, :, c]]
+                    j_cols += [col]
                     j_vals += [-val]
                 n_j += f.size
         # on a rigid body the joint acts through its traction σ_j n, linear along the edge,
@@ -813,9 +816,7 @@ def solve_static(
         for cc, lumped in kinds:
             for k in (0, 1):
                 for comp in (0, 1):
-                    cj = [(0, 2), (1, 2)][comp]
-                    nn_ = [(nx[fb_], nz[fb_]), (nz[fb_], nx[fb_])][comp]
-                    forces.traction(fb_, k, comp, [(cc[k, :, c], v) for c, v in zip(cj, nn_)],
+                    forces.traction(fb_, k, comp, joint_terms(cc, k, comp, fb_),
                                     lumped=lumped)
         joint_parts.append((blk, cols_all.reshape(-1, 3)))
 
