@@ -63,6 +63,15 @@ RETRIES = ({"static_regularization_constant": 1e-7}, {"static_regularization_con
            "other factorisation", {})
 
 
+def _clarabel_opts(n_unknowns: int, tol: float, *overrides) -> dict:
+    """Clarabel settings: size-dependent defaults, tolerance ``tol``, then ``overrides``."""
+    opts = {**clarabel_defaults(n_unknowns), "tol_gap_abs": tol, "tol_gap_rel": tol,
+            "tol_feas": tol}
+    for o in overrides:
+        opts.update(o or {})
+    return opts
+
+
 def clarabel_defaults(n_unknowns: int) -> dict:
     """Clarabel settings for a static program of ``n_unknowns`` unknowns (before overrides)."""
     if n_unknowns > FAER_ABOVE:
@@ -438,7 +447,6 @@ class StaticSolution:
     iterations: int
     sizes: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
-    velocity_dual: np.ndarray | None = None
     rigid: np.ndarray | None = None
 
     @property
@@ -527,13 +535,12 @@ def _solve_direct(M, e, q, cones, tol, retries, solver_settings, verbose) -> dic
 
     P = sp.csc_matrix((q.size, q.size))
     attempts = []
-    base = clarabel_defaults(q.size)
     for retry in RETRIES if retries else RETRIES[:1]:
         if isinstance(retry, str):  # the other factorisation
-            other = "qdldl" if base["direct_solve_method"] == "faer" else "faer"
-            retry = {"direct_solve_method": other, "max_threads": 1}
-        opts = {**base, "tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
-                **retry, **(solver_settings or {})}
+            method = clarabel_defaults(q.size)["direct_solve_method"]
+            retry = {"direct_solve_method": "qdldl" if method == "faer" else "faer",
+                     "max_threads": 1}
+        opts = _clarabel_opts(q.size, tol, retry, solver_settings)
         settings = clarabel.DefaultSettings()
         settings.verbose = bool(verbose)
         for key, val in opts.items():
@@ -543,7 +550,7 @@ def _solve_direct(M, e, q, cones, tol, retries, solver_settings, verbose) -> dic
         attempts.append((retry, status, int(res.iterations)))
         if status not in _STALLED:
             break
-    return {"x": np.asarray(res.x), "z": np.asarray(res.z), "status": status,
+    return {"x": np.asarray(res.x), "status": status,
             "obj": float(res.obj_val), "obj_dual": float(res.obj_val_dual),
             "iterations": int(res.iterations), "attempts": attempts}
 
@@ -577,20 +584,18 @@ def _solve_cvxpy(M, e, q, layout, tol, solver, solver_settings, verbose) -> dict
         cons.append(cp.SOC(t, X, axis=0))
     prob = cp.Problem(cp.Minimize(q @ x), cons)
     if solver.upper() == "CLARABEL":
-        opts = {**clarabel_defaults(q.size), "tol_gap_abs": tol, "tol_gap_rel": tol,
-                "tol_feas": tol, **RETRIES[0], **(solver_settings or {})}
+        opts = _clarabel_opts(q.size, tol, RETRIES[0], solver_settings)
     else:
         opts = dict(solver_settings or {})
     try:
         prob.solve(solver=solver.upper(), verbose=bool(verbose), **opts)
     except cp.error.SolverError as exc:
-        return {"x": None, "z": None, "status": f"SolverError ({exc})", "obj": np.nan,
+        return {"x": None, "status": f"SolverError ({exc})", "obj": np.nan,
                 "obj_dual": np.nan, "iterations": 0, "attempts": [(solver, "SolverError", 0)]}
     status = _CVXPY_STATUS.get(prob.status, str(prob.status))
     iters = int(prob.solver_stats.num_iters or 0)
     ok = x.value is not None
-    return {"x": x.value if ok else None,
-            "z": -np.asarray(cons[0].dual_value) if ok else None, "status": status,
+    return {"x": x.value if ok else None, "status": status,
             "obj": float(prob.value) if ok else np.nan, "obj_dual": np.nan,
             "iterations": iters, "attempts": [(solver, status, iters)]}
 
@@ -643,6 +648,12 @@ def solve_static(
 
     if backend not in ("direct", "cvxpy"):
         raise ParameterError(f"backend = {backend!r} is out of range: allowed 'direct', 'cvxpy'")
+    if backend == "cvxpy":
+        import cvxpy as cp
+
+        if str(cvxpy_solver).upper() not in cp.installed_solvers():
+            raise ParameterError(f"cvxpy_solver = {cvxpy_solver!r} is out of range: allowed an "
+                                 f"installed cvxpy solver {sorted(cp.installed_solvers())}")
     timings = {}
     t0 = time.perf_counter()
     p, t = np.asarray(mesh.p, float), np.asarray(mesh.t)
@@ -921,7 +932,7 @@ def solve_static(
     # the stress columns of rigid elements are unused: leave them out of the program
     live = np.ones(n_var, bool)
     rb = np.flatnonzero(rigid)
-    live[(9 * rb[:, None] + np.arange(9)).reshape(-1)] = False
+    live[sig(rb[:, None, None], np.arange(3)[:, None], np.arange(3)).ravel()] = False
     M_full, M = M, M[:, live]
     timings["assembly"] = time.perf_counter() - t0
 
@@ -995,11 +1006,10 @@ def solve_static(
     sizes = {"triangles": nt, "variables": int(live.sum()), "rows": M.shape[0], "nnz": M.nnz,
              "equilibrium_rows": n_eq, "soc_cones": len(socs), "rigid_bodies": n_body,
              "attempts": attempts}
-    z = res["z"]
     return StaticSolution(multiplier=lam, stress=stress, active=active, mesh=mesh, status=status,
                           primal_objective=-res["obj"], dual_objective=-res["obj_dual"],
                           iterations=res["iterations"], sizes=sizes, timings=timings,
-                          velocity_dual=None if z is None else z[:n_eq], rigid=rigid)
+                          rigid=rigid)
 
 
 def static_from_problem(problem, **kwargs) -> StaticSolution:

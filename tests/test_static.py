@@ -307,6 +307,8 @@ def test_backend_choices_are_checked():
     prob = problems.vertical_cut(h_min=0.2, h_max=0.3)
     with pytest.raises(ParameterError, match="backend = 'mosek'"):
         solve_static(**static_inputs(prob), backend="mosek")
+    with pytest.raises(ParameterError, match="cvxpy_solver = 'NOSUCH'"):
+        solve_static(**static_inputs(prob), backend="cvxpy", cvxpy_solver="NOSUCH")
     with pytest.raises(ParameterError, match="cvxpy_solver = 'HIGHS'"):
         solve_static(**static_inputs(prob), backend="cvxpy", cvxpy_solver="HIGHS")
 
