@@ -253,8 +253,10 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
     ``mechanism`` a meshio mesh with the fields, ``plot`` the drawing data; empty unless
     ``fields``).
     """
+    from .bracket import static_inputs
     from .fe_impulse import analyse, h_scan
     from .kinematic import SolverOptions
+    from .static import solve_static
 
     case, an = config.case, config.analysis
     options = SolverOptions(tol=an.tol or None, verbose=verbose)
@@ -264,7 +266,8 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
         for lam in progress.bar(lams[:-1], "FE analyses over h"):
             scan += h_scan(case, [lam], mesh_size=config.mesh.size, facade=an.facade,
                            options=options)
-    n_tri = _problem(config).n_triangles                       # meshing is cheap
+    whole = _problem(config)                  # the whole wall's problem, for the static bound
+    n_tri = whole.n_triangles
     with progress.stage("FE mechanism of the whole wall", f"{n_tri} triangles, P2"):
         full = analyse(case, config.mesh.size, an.facade, z0=0.0, options=options,
                        drawing=fields)
@@ -273,7 +276,7 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
     static = None
     if an.static:
         with progress.stage("static lower bound of the whole wall", f"{n_tri} triangles"):
-            static = _static(config)
+            static = solve_static(**static_inputs(whole))
     ok = [r for r in scan if np.isfinite(r["vg_fe"])]
     crit = min(ok, key=lambda r: r["vg_fe"]) if ok else None
     fe = {
@@ -304,14 +307,6 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
                   "vg_method": r["vg_method"]} for r in scan],
     }
     return fe, (_whole_wall_fields(config, full, static) if fields else {})
-
-
-def _static(config: CaseConfig):
-    """The static lower bound (homlimit.static) of the whole wall, on the kinematic mesh."""
-    from .bracket import static_inputs
-    from .static import solve_static
-
-    return solve_static(**static_inputs(_problem(config)))
 
 
 def _whole_wall_fields(config: CaseConfig, full: dict, static=None) -> dict:
