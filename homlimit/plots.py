@@ -200,6 +200,18 @@ def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
     return _save(fig, path)
 
 
+def _identity_axes(ax, top: float, label: str, xlabel: str, ylabel: str, fontsize: int):
+    """Square axes from 0 to 1.1 × ``top`` with the line measured = predicted (``label``)."""
+    lim = [0.0, 1.1 * top if top > 0 else 1.0]
+    ax.plot(lim, lim, "k--", lw=1, label=label)
+    ax.set_xlim(lim)
+    ax.set_ylim(lim)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=fontsize, loc="upper left")
+
+
 def plot_crack_study(path: str | Path, records: list[dict], title: str = "crack-angle study"
                      ) -> Path:
     """The crack-angle study: the FE crack against the closed-form slopes.
@@ -238,14 +250,8 @@ def plot_crack_study(path: str | Path, records: list[dict], title: str = "crack-
         ax.scatter(pred, meas, c=col, marker=markers[fac], edgecolors="k", zorder=2,
                    label=f"FE 50 % line{', façade ' + fac if fac else ''}")
         top = max(top, pred.max(), (meas + err).max())
-    lim = [0.0, 1.1 * top if top > 0 else 1.0]
-    ax.plot(lim, lim, "k--", lw=1, label="tan ψ = √(cf/a) (eq. 16)")
-    ax.set_xlim(lim)
-    ax.set_ylim(lim)
-    ax.set_xlabel("predicted slope √(cf/a) [-]")
-    ax.set_ylabel("measured crack slope tan ψ (50 % participation line) [-]")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left")
+    _identity_axes(ax, top, "tan ψ = √(cf/a) (eq. 16)", "predicted slope √(cf/a) [-]",
+                   "measured crack slope tan ψ (50 % participation line) [-]", fontsize=8)
     if edges:
         ax2 = axes[0, 1]
         top = 0.0
@@ -263,14 +269,9 @@ def plot_crack_study(path: str | Path, records: list[dict], title: str = "crack-
             ax2.scatter(hi, t2, facecolors="none", edgecolors=col, marker=markers[fac],
                         linewidths=1.5, label=f"fixed-side edge vs max(f, c/a), {fac}")
             top = max(top, hi.max(), t1.max(), t2.max())
-        lim = [0.0, 1.1 * top if top > 0 else 1.0]
-        ax2.plot(lim, lim, "k--", lw=1, label="edge = closed-form hinge + fan edge")
-        ax2.set_xlim(lim)
-        ax2.set_ylim(lim)
-        ax2.set_xlabel("closed-form fan edge: min(f, c/a) or max(f, c/a) [-]")
-        ax2.set_ylabel("measured fan edge tan ψ [-]")
-        ax2.grid(alpha=0.3)
-        ax2.legend(fontsize=7, loc="upper left")
+        _identity_axes(ax2, top, "edge = closed-form hinge + fan edge",
+                       "closed-form fan edge: min(f, c/a) or max(f, c/a) [-]",
+                       "measured fan edge tan ψ [-]", fontsize=7)
     sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
     fig.colorbar(sm, ax=list(axes.ravel()), label="joint friction f [-]", shrink=0.9)
     fig.suptitle(title)
