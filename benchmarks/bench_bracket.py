@@ -12,8 +12,9 @@ import math
 import sys
 import time
 
-from homlimit import paper, problems
-from homlimit.bracket import bracket, prandtl_fan
+from homlimit.closed_form import paper
+from homlimit.fe import problems
+from homlimit.fe.bracket import bracket, prandtl_fan
 
 
 def _row(name, n, br):

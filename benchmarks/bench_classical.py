@@ -14,8 +14,8 @@ import time
 
 import numpy as np
 
-from homlimit.kinematic import solve_kinematic
-from homlimit.problems import (
+from homlimit.fe.kinematic import solve_kinematic
+from homlimit.fe.problems import (
     PRANDTL,
     VERTICAL_CUT_UB,
     mohr_coulomb_footing,

@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from homlimit.mechanisms import critical_I, critical_II, lam_max_II, vnorm_I
+from homlimit.closed_form.mechanisms import critical_I, critical_II, lam_max_II, vnorm_I
 
 
 def best_of(fn, n=5):

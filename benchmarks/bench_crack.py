@@ -16,13 +16,13 @@ import math
 import sys
 import time
 
-from homlimit.crack import fan_edges, fan_ray
-from homlimit.fan import optimise_fan
-from homlimit.fe_impulse import p2_nodes, ray_conforming_mesh
-from homlimit.kinematic import SolverOptions, solve_kinematic
+from homlimit.closed_form.fan import optimise_fan
+from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+from homlimit.fe.problems import t_section
+from homlimit.mechanism.crack import fan_edges, fan_ray
+from homlimit.mechanism.fe_impulse import p2_nodes, ray_conforming_mesh
+from homlimit.mechanism.rigidfit import measure_mechanism
 from homlimit.params import Case, Masonry, Wall
-from homlimit.problems import t_section
-from homlimit.rigidfit import measure_mechanism
 
 
 def run(case, prob):

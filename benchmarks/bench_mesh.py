@@ -8,8 +8,8 @@ meshio -> skfem time, smallest angle, and the element-count ratio to the previou
 
 import time
 
-from homlimit.geometry import tsection
-from homlimit.mesh import quality, to_skfem
+from homlimit.fe.geometry import tsection
+from homlimit.fe.mesh import quality, to_skfem
 
 
 def main():

@@ -27,9 +27,9 @@ CASE = dict(H=9.0, L=6.0, s=0.5, b=0.5, l=6.0, a=0.3, c=0.2, f=0.6)   # Table 1,
 
 
 def one(h: float, solver: str, method: str) -> dict:
-    from homlimit.kinematic import SolverOptions, solve_kinematic
+    from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+    from homlimit.fe.problems import t_section
     from homlimit.params import Case, Masonry, Wall
-    from homlimit.problems import t_section
 
     k = CASE
     case = Case(wall=Wall(H=k["H"], L=k["L"], s=k["s"], b=k["b"], l=k["l"]),

@@ -15,10 +15,10 @@ import argparse
 import dataclasses
 import time
 
-from homlimit.kinematic import SolverOptions, solve_kinematic
+from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+from homlimit.fe.problems import t_section
+from homlimit.fe.strength import Homogenised
 from homlimit.params import Case, Masonry, Wall
-from homlimit.problems import t_section
-from homlimit.strength import Homogenised
 
 
 class GeneratorForm:

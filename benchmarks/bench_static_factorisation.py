@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import sys
 
-from homlimit import problems
-from homlimit.bracket import prandtl_fan, static_inputs
+from homlimit.fe import problems
+from homlimit.fe.bracket import prandtl_fan, static_inputs
+from homlimit.fe.static import FAER_ABOVE, solve_static
 from homlimit.params import Case
-from homlimit.static import FAER_ABOVE, solve_static
 
 SETTINGS = {"qdldl": {"direct_solve_method": "qdldl"},
             "faer 1 thread": {"direct_solve_method": "faer", "max_threads": 1},

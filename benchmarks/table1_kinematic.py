@@ -1,8 +1,8 @@
 """Kinematic FE multiplier and rotation centre of the T-section for every Table 1 geometry.
 
 Prints, per test of homlimit/data/table1_dem.csv: the FE upper bound λ⁺ (Homogenised eq. 15 in
-wall and façade), the rotation centre O of a rigid rotation fitted (homlimit.rigidfit) to the
-moving nodes, and beside them the closed-form hinge + fan optimum (homlimit.fan) with its hinge
+wall and façade), the rotation centre O of a rigid rotation fitted (mechanism.rigidfit) to the
+moving nodes, and beside them the closed-form hinge + fan optimum (closed_form.fan) with its hinge
 height z0 and fan edges T1, T2. Optional: --facade bedjoints, --h 0.125.
 
     python benchmarks/table1_kinematic.py [--h 0.15] [--facade homogenised]
@@ -15,11 +15,11 @@ import csv
 import time
 from importlib.resources import files
 
-from homlimit.fan import optimise_fan
-from homlimit.kinematic import SolverOptions, solve_kinematic
+from homlimit.closed_form.fan import optimise_fan
+from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+from homlimit.fe.problems import t_section
+from homlimit.mechanism.rigidfit import fit_rigid
 from homlimit.params import Case, Masonry, Wall
-from homlimit.problems import t_section
-from homlimit.rigidfit import fit_rigid
 
 
 def table1_cases():

@@ -1,6 +1,6 @@
 """Crack-angle study: the FE mechanism's crack against tan ψ = √(cf/a) (eq. 16), f and c/a.
 
-Runs ``homlimit.studies.crack_angle_study`` over c/a ∈ {0.5, 0.75, 1, 1.5, 2, 3} and
+Runs ``homlimit.app.studies.crack_angle_study`` over c/a ∈ {0.5, 0.75, 1, 1.5, 2, 3} and
 f ∈ {0.3, 0.6, 0.9}, both façade models, the default mesh (h = 0.5 m) and a finer one
 (h = 0.25 m), and writes
 
@@ -20,9 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
-from homlimit.crack import fan_ray
-from homlimit.report import write_csv
-from homlimit.studies import CRACK_COLUMNS, crack_angle_study
+from homlimit.app.report import write_csv
+from homlimit.app.studies import CRACK_COLUMNS, crack_angle_study
+from homlimit.mechanism.crack import fan_ray
 
 
 def read_csv(path: Path) -> list[dict]:

@@ -5,9 +5,9 @@ limit analysis (cvxpy + Clarabel) that finds the collapse mechanism and its crac
 energy-based impulse criterion that turns any mechanism into a collapse ground velocity.
 """
 
+from .app.pipeline import run
 from .errors import HomlimitError, MeshError, ParameterError, SolverError
 from .params import Case, Masonry, Wall
-from .pipeline import run
 
 __version__ = "0.1.0"
 

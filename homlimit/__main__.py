@@ -1,5 +1,5 @@
 """``python -m homlimit ...`` ≡ the ``homlimit`` console script."""
 
-from .cli import main
+from .app.cli import main
 
 main()

@@ -3,14 +3,14 @@
     python meshes/make_reference.py
 
 Each file is the x–z section (façade 0 <= x <= b, transversal wall b <= x <= b + L, height H)
-meshed by homlimit.geometry.tsection and written by homlimit.mesh.write as gmsh 2.2 ASCII with
+meshed by homlimit.fe.geometry.tsection and written by homlimit.fe.mesh.write as gmsh 2.2 ASCII with
 physical groups facade, wall, base, outer, top, end, junction.
 """
 
 from pathlib import Path
 
-from homlimit.geometry import tsection
-from homlimit.mesh import write
+from homlimit.fe.geometry import tsection
+from homlimit.fe.mesh import write
 
 HERE = Path(__file__).resolve().parent
 

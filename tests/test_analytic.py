@@ -5,7 +5,7 @@ import pytest
 
 from analytic import mechanism_I as A1
 from analytic import mechanism_II as A2
-from homlimit.mechanisms import geometry_II, theta_m_I, theta_m_I_eq14, vnorm_II, work_I
+from homlimit.closed_form.mechanisms import geometry_II, theta_m_I, theta_m_I_eq14, vnorm_II, work_I
 
 
 def test_identities_and_misprints():

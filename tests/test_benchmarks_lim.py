@@ -14,8 +14,8 @@ import math
 import numpy as np
 import pytest
 
-from homlimit.kinematic import solve_kinematic
-from homlimit.problems import (
+from homlimit.fe.kinematic import solve_kinematic
+from homlimit.fe.problems import (
     PRANDTL,
     VERTICAL_CUT_LB,
     VERTICAL_CUT_UB,

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from scipy.spatial import Delaunay
 
-from homlimit.body import RigidBody, triangle_moments
 from homlimit.errors import ParameterError
+from homlimit.impulse.body import RigidBody, triangle_moments
 
 
 def _triangulate_convex(corners, n_inner, rng):

@@ -12,8 +12,8 @@ import functools
 import numpy as np
 import pytest
 
-from homlimit import problems, strength
-from homlimit.bracket import bracket, prandtl_fan
+from homlimit.fe import problems, strength
+from homlimit.fe.bracket import bracket, prandtl_fan
 from homlimit.params import Case, Masonry, Wall
 
 PRANDTL = 2.0 + np.pi
@@ -212,7 +212,7 @@ def test_static_field_attached_to_the_mechanism_vtu(tmp_path):
     """The lower-bound stresses ride along the mechanism's .vtu as cell data."""
     import meshio
 
-    from homlimit.static import attach_cell_fields
+    from homlimit.fe.static import attach_cell_fields
 
     br = run("vertical_cut_coarse")
     m = attach_cell_fields(br.kinematic.to_meshio(), br.static)

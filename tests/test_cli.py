@@ -25,8 +25,8 @@ from test_report import assert_png
 from typer.testing import CliRunner
 
 import homlimit
-from homlimit import pipeline
-from homlimit.cli import app
+from homlimit.app import pipeline
+from homlimit.app.cli import app
 from homlimit.errors import SolverError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -223,7 +223,7 @@ def test_examples_match_golden(example):
     """Every example case against its golden expected.json (closed-form numbers)."""
     import dataclasses
 
-    from homlimit.config import load_case
+    from homlimit.app.config import load_case
 
     golden_path = EXAMPLES / example / "expected.json"
     assert golden_path.is_file(), f"missing golden file {golden_path}"  # never auto-created
@@ -350,7 +350,7 @@ def test_mesh_command_writes_vtu_and_png(tmp_path):
     assert info["mesh"] == {"size": 0.8}
     import meshio
 
-    from homlimit.mesh import read
+    from homlimit.fe.mesh import read
 
     raw = meshio.read(info["files"]["mesh_vtu"])
     tri = np.concatenate([c.data for c in raw.cells if c.type == "triangle"])
@@ -409,7 +409,7 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     forms and the hinge + fan, result files re-opened, the FE body's v̄_g recomputed."""
     import meshio
 
-    from homlimit.fan import optimise_fan
+    from homlimit.closed_form.fan import optimise_fan
     from homlimit.params import Case
 
     case = tmp_path / "coarse.toml"
@@ -419,7 +419,7 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     s = json.loads(res.stdout)
     assert_closed_form(s, ref_B1)
     fe = s["fe"]
-    # the hinge + fan of the prototype (homlimit.fan, closed form): the FE upper bound lies
+    # the hinge + fan of the prototype (closed_form.fan): the FE upper bound lies
     # above it and approaches it under refinement (+1.4 % measured at this 1200-triangle mesh)
     fan = optimise_fan(Case())
     assert fan.lam <= fe["multiplier"] <= 1.02 * fan.lam
@@ -447,7 +447,7 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     tri = next(c.data for c in mech.cells if c.type == "triangle")
     assert len(tri) == fe["n_triangles"]
     # the lower-bound stress field rides along: eq. 15 holds on every triangle (mean stress)
-    from homlimit.strength import Homogenised
+    from homlimit.fe.strength import Homogenised
 
     sig = np.stack([mech.cell_data[f"static_{k}"][0] for k in ("sigma_x", "sigma_z", "tau_xz")],
                    axis=1)

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from homlimit import pipeline
-from homlimit.config import (
+from homlimit.app import pipeline
+from homlimit.app.config import (
     SCHEMA,
     CaseConfig,
     ConfigError,

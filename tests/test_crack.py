@@ -13,13 +13,13 @@ import numpy as np
 import pytest
 import skfem as fem
 
-from homlimit.crack import crack_line, fan_edges, mechanism_type
-from homlimit.fan import fan_participation, fan_velocity, optimise_fan
-from homlimit.fe_impulse import p2_nodes, ray_conforming_mesh
-from homlimit.kinematic import SolverOptions, solve_kinematic
+from homlimit.closed_form.fan import fan_participation, fan_velocity, optimise_fan
+from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+from homlimit.fe.problems import t_section
+from homlimit.mechanism.crack import crack_line, fan_edges, mechanism_type
+from homlimit.mechanism.fe_impulse import p2_nodes, ray_conforming_mesh
+from homlimit.mechanism.rigidfit import measure_mechanism
 from homlimit.params import Case, Masonry, Wall
-from homlimit.problems import t_section
-from homlimit.rigidfit import measure_mechanism
 
 
 def _p2_mesh(nx, nz, W=6.5, H=9.0):

@@ -4,8 +4,7 @@ import numpy as np
 import pytest
 from scipy.optimize import nnls
 
-from homlimit.errors import ParameterError
-from homlimit.fan import (
+from homlimit.closed_form.fan import (
     fan_admissible,
     fan_multiplier,
     fan_participation,
@@ -16,7 +15,8 @@ from homlimit.fan import (
     wedge_admissible,
     wedge_multiplier,
 )
-from homlimit.mechanisms import geometry_II
+from homlimit.closed_form.mechanisms import geometry_II
+from homlimit.errors import ParameterError
 from homlimit.params import Case, Masonry, Wall
 
 

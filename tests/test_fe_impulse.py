@@ -7,12 +7,12 @@ import numpy as np
 import pytest
 import skfem as fem
 
-from homlimit.body import RigidBody
-from homlimit.fan import optimise_fan
-from homlimit.fe_impulse import analyse, generalised_impulse, ray_conforming_mesh
-from homlimit.mechanisms import geometry_II
+from homlimit.closed_form.fan import optimise_fan
+from homlimit.closed_form.mechanisms import geometry_II
+from homlimit.impulse.body import RigidBody
+from homlimit.mechanism.fe_impulse import analyse, generalised_impulse, ray_conforming_mesh
+from homlimit.mechanism.rigidfit import measure_mechanism
 from homlimit.params import Case, Masonry, Wall
-from homlimit.rigidfit import measure_mechanism
 
 
 def test_crack_conforming_mesh_body_matches_mechanism_II():
@@ -68,7 +68,7 @@ def test_fe_analysis_end_to_end_on_a_coarse_mesh():
 
 def test_fe_mechanism_keys_and_minimum_of_the_scan():
     """The Table 1 columns: the scan's minimum of v̄_g, with λ = h/b from the hinge height."""
-    from homlimit.fe_impulse import fe_mechanism
+    from homlimit.mechanism.fe_impulse import fe_mechanism
 
     case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
     r = fe_mechanism(case, mesh_size=0.5, lams=[4.0, 8.0])
@@ -85,7 +85,7 @@ def test_prescribed_mechanism_II_field_through_the_fe_pipeline():
     """Mechanism II's field (rotation about the outer toe behind the crack from the inner
     corner, rest at rest) on the P2 nodes of a crack-conforming mesh: the rigid fit finds the
     toe, and the body inside the 50 % line reproduces eqs 17 and 20 to 1e-6."""
-    from homlimit.fe_impulse import fe_body
+    from homlimit.mechanism.fe_impulse import fe_body
 
     case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
     w, alpha, z_h = case.wall, case.alpha, 5.0

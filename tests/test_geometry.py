@@ -9,10 +9,10 @@ import gmsh
 import numpy as np
 import pytest
 
-from homlimit import geometry
 from homlimit.errors import MeshError, ParameterError
-from homlimit.geometry import gmsh_session, polygon_mesh, tsection
-from homlimit.mesh import element_areas, to_skfem
+from homlimit.fe import geometry
+from homlimit.fe.geometry import gmsh_session, polygon_mesh, tsection
+from homlimit.fe.mesh import element_areas, to_skfem
 
 H, B, L = 9.0, 0.5, 6.0           # Table 1, B1
 

@@ -5,8 +5,8 @@ import math
 import pytest
 
 from homlimit import ParameterError
-from homlimit.body import RigidBody
 from homlimit.impulse import collapse_velocity, rigid_restoring_work, theta_dot0
+from homlimit.impulse.body import RigidBody
 
 G = 9.81
 

@@ -14,8 +14,8 @@ import pytest
 from skfem import MeshTri
 
 from homlimit.errors import ParameterError, SolverError
-from homlimit.kinematic import SolverOptions, discretise, solve_kinematic
-from homlimit.operators import (
+from homlimit.fe.kinematic import SolverOptions, discretise, solve_kinematic
+from homlimit.fe.operators import (
     body_force_power,
     boundary_jump_operator,
     element_areas,
@@ -25,9 +25,9 @@ from homlimit.operators import (
     traction_power,
     vertex_points,
 )
+from homlimit.fe.problems import Problem, crossed_mesh, free_block, graded, prandtl, t_section
+from homlimit.fe.strength import Homogenised, Tresca
 from homlimit.params import Case, Masonry, Wall
-from homlimit.problems import Problem, crossed_mesh, free_block, graded, prandtl, t_section
-from homlimit.strength import Homogenised, Tresca
 
 CASE = Case(wall=Wall(H=9.0, L=6.0, s=0.5, b=0.5, l=6.0), masonry=Masonry(0.3, 0.2, 0.6),
             name="B1")
@@ -261,9 +261,9 @@ def test_base_of_the_failing_part_z0_is_a_translation():
 
 @pytest.mark.parametrize("mesher", ["crossed", "gmsh"])
 def test_t_section_approaches_the_closed_form_hinge_and_fan_from_above(mesher):
-    """homlimit.fan's hinge + fan optimum (exact polygon integrals, an independent family that
+    """closed_form.fan.s hinge + fan optimum (exact polygon integrals, an independent family that
     the prototype matched to 3e-5 on ray-conforming meshes) is approached from above."""
-    from homlimit.fan import optimise_fan
+    from homlimit.closed_form.fan import optimise_fan
 
     lam_fan = optimise_fan(CASE).lam
     lam = solve_kinematic(t_section(CASE, h=0.5, mesher=mesher)).multiplier

@@ -10,9 +10,7 @@ from hypothesis import strategies as st
 from scipy import integrate, optimize
 
 from homlimit import Case, Masonry, ParameterError, Wall
-from homlimit.body import RigidBody
-from homlimit.impulse import collapse_velocity
-from homlimit.mechanisms import (
+from homlimit.closed_form.mechanisms import (
     critical_I,
     critical_II,
     geometry_II,
@@ -24,7 +22,9 @@ from homlimit.mechanisms import (
     vnorm_II,
     work_I,
 )
-from homlimit.paper import table1, table1_rows
+from homlimit.closed_form.paper import table1, table1_rows
+from homlimit.impulse import collapse_velocity
+from homlimit.impulse.body import RigidBody
 
 
 # ------------------------------------------------------------------ mechanism I

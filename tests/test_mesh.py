@@ -8,10 +8,10 @@ import meshio
 import numpy as np
 import pytest
 
-from homlimit import geometry
-from homlimit import mesh as hm
 from homlimit.errors import MeshError, ParameterError
-from homlimit.geometry import tsection
+from homlimit.fe import geometry
+from homlimit.fe import mesh as hm
+from homlimit.fe.geometry import tsection
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from homlimit.paper import table1
+from homlimit.closed_form.paper import table1
 
 
 def test_table1_is_shipped_and_consistent_with_its_own_columns():
@@ -19,7 +19,7 @@ def test_table1_is_shipped_and_consistent_with_its_own_columns():
 def test_figure2_png(tmp_path):
     from matplotlib.image import imread
 
-    from homlimit.plots import figure2
+    from homlimit.app.plots import figure2
 
     path = figure2(tmp_path / "fig2.png")
     img = imread(path)
@@ -31,8 +31,8 @@ def test_figure2_png(tmp_path):
 def test_table1_png(tmp_path):
     from matplotlib.image import imread
 
-    from homlimit.paper import table1_rows
-    from homlimit.plots import plot_table1
+    from homlimit.app.plots import plot_table1
+    from homlimit.closed_form.paper import table1_rows
 
     img = imread(plot_table1(tmp_path / "t1.png", table1_rows()))
     assert img.shape[0] > 500 and img.shape[1] > 700

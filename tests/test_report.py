@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from homlimit import report
+from homlimit.app import report
 
 
 def assert_png(path, size_px=None):
@@ -78,7 +78,7 @@ def test_vtu_round_trip(tmp_path):
 
 
 def test_vtu_keeps_named_sets_and_region_tags(tmp_path):
-    from homlimit.mesh import read
+    from homlimit.fe.mesh import read
 
     pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
     cells = [("line", np.array([[0, 1]])), ("triangle", np.array([[0, 1, 2], [1, 3, 2]]))]
@@ -93,7 +93,7 @@ def test_vtu_keeps_named_sets_and_region_tags(tmp_path):
     raw = meshio.read(p)
     np.testing.assert_array_equal(raw.cell_data["region"][1], [2, 1])   # wall = 2, facade = 1
     np.testing.assert_array_equal(raw.point_data["speed"], np.arange(4.0))
-    back = read(p)                                      # homlimit.mesh restores the sets
+    back = read(p)                                      # homlimit.fe.mesh restores the sets
     assert {k: [list(i) for i in v] for k, v in back.cell_sets.items()} == \
         {k: [list(i) for i in v] for k, v in sets.items()}
 
@@ -111,7 +111,7 @@ def test_mesh_and_mechanism_pictures(tmp_path):
     """plot_mesh and plot_mechanism on a small hand-made two-region mesh."""
     import meshio
 
-    from homlimit import plots
+    from homlimit.app import plots
     from homlimit.params import Case
 
     x, z = np.meshgrid(np.linspace(0, 1.5, 7), np.linspace(0, 3, 9))
@@ -139,7 +139,7 @@ def test_mesh_and_mechanism_pictures(tmp_path):
 
 
 def test_crack_study_picture(tmp_path):
-    from homlimit import plots
+    from homlimit.app import plots
 
     recs = [{"c_over_a": ca, "f": f, "tanpsi_fe": math.sqrt(ca * f) * 1.05, "facade": fac}
             for ca in (0.5, 1.0, 2.0) for f in (0.3, 0.6, 0.9)

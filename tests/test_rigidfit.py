@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 import skfem as fem
 
+from homlimit.closed_form.fan import fan_strain_rate, fan_velocity
 from homlimit.errors import ParameterError
-from homlimit.fan import fan_strain_rate, fan_velocity
-from homlimit.rigidfit import fit_rigid, measure_mechanism, p2_energy
+from homlimit.mechanism.rigidfit import fit_rigid, measure_mechanism, p2_energy
 
 
 def _p2_mesh(nx=24, nz=32, W=3.0, H=4.0):

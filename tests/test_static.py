@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
-from homlimit import problems, strength
-from homlimit.bracket import static_inputs
 from homlimit.errors import ParameterError, SolverError
-from homlimit.static import solve_static
+from homlimit.fe import problems, strength
+from homlimit.fe.bracket import static_inputs
+from homlimit.fe.static import solve_static
 
 
 def _block_mesh(nx=4, nz=8, b=1.0, h=2.0):
@@ -154,8 +154,8 @@ def test_rigid_block_on_cohesive_joint(tension, cohesion):
 def test_two_rigid_blocks_are_two_bodies():
     """Two rigid regions not sharing an edge are two bodies, each in its own equilibrium: the
     slender one (0.5 × 3) tilts at b/h = 1/6, the squat one (0.5 × 1) would hold up to 0.5."""
-    from homlimit import geometry
-    from homlimit import mesh as hmesh
+    from homlimit.fe import geometry
+    from homlimit.fe import mesh as hmesh
 
     mm = geometry.polygon_mesh(
         {"left": [(0, 0), (0.5, 0), (0.5, 3), (0, 3)], "right": [(1, 0), (1.5, 0), (1.5, 1),
@@ -173,7 +173,7 @@ def test_two_rigid_blocks_are_two_bodies():
 def test_rigid_footing_on_tresca_soil_is_a_lower_bound():
     """A rigid rough footing loaded on top, bonded to weightless Tresca soil: the body takes the
     soil's tractions across its boundary; q/k = 2 + π for a rough footing too."""
-    from homlimit.bracket import prandtl_fan
+    from homlimit.fe.bracket import prandtl_fan
 
     prob = prandtl_fan(size=0.5, h_min=0.08, n_fan=6, footing=0.25)
     sol = solve_static(**static_inputs(prob))
@@ -227,7 +227,7 @@ def test_stress_fields_and_vtu_round_trip(tmp_path):
 
 
 def test_plot_stress(tmp_path):
-    from homlimit.plots import plot_stress
+    from homlimit.app.plots import plot_stress
 
     m = _block_mesh(2, 4)
     sol = solve_static(m, strength.Tresca(1.0), live_traction={"top": (0.0, -1.0)},
@@ -316,7 +316,7 @@ def test_backend_choices_are_checked():
 def test_faer_on_one_thread_gives_the_same_bound():
     """The factorisation chosen above static.FAER_ABOVE unknowns (faer, one thread) against
     qdldl on a small program: the same λ⁻."""
-    from homlimit.static import FAER_ABOVE, clarabel_defaults
+    from homlimit.fe.static import FAER_ABOVE, clarabel_defaults
 
     assert clarabel_defaults(FAER_ABOVE + 1)["direct_solve_method"] == "faer"
     assert clarabel_defaults(FAER_ABOVE)["direct_solve_method"] == "qdldl"

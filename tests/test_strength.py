@@ -1,6 +1,6 @@
 """Strength domains: π(d) against brute-force maximisation of σ·d, conic forms against π and G.
 
-References are independent of homlimit.strength: eq. 15 is typed in from the paper, the cone
+References are independent of homlimit.fe.strength: eq. 15 is typed in from the paper, the cone
 closed form from the mechanics note, the cohesive extension is rebuilt from its micro stress
 field, and maxima come from HiGHS (scipy.optimize.linprog) or from sampling the boundary.
 """
@@ -13,7 +13,14 @@ import pytest
 from scipy.optimize import linprog
 
 from homlimit.errors import ParameterError
-from homlimit.strength import BedJoints, ConicBlock, Homogenised, MohrCoulomb, Tresca, jump_strain
+from homlimit.fe.strength import (
+    BedJoints,
+    ConicBlock,
+    Homogenised,
+    MohrCoulomb,
+    Tresca,
+    jump_strain,
+)
 
 A_, C_, F_ = 0.3, 0.2, 0.6  # Table 1, B1 (c/a = 0.667 >= f)
 

@@ -8,7 +8,7 @@
   .msh (gmsh 2.2: physical groups), .vtu and .xdmf (one 0/1 cell array "set:<name>" per set).
   Files are written whole or not at all (temporary file + os.replace); .xdmf is written with
   inline XML data so that it is a single file.
-- ``cached(builder, **params)``: a mesh from ``homlimit.geometry`` generated once per set of
+- ``cached(builder, **params)``: a mesh from ``homlimit.fe.geometry`` generated once per set of
   parameters and kept under ``meshes/cache/`` (or $HOMLIMIT_MESH_CACHE).
 """
 
@@ -22,8 +22,8 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from ._io import atomic_path
-from .errors import MeshError, ParameterError
+from .._io import atomic_path
+from ..errors import MeshError, ParameterError
 
 __all__ = ["to_skfem", "from_skfem", "read", "write", "cached", "cache_dir", "element_areas",
            "quality"]
@@ -208,7 +208,7 @@ def cache_dir() -> Path:
 
 def cached(builder: str = "tsection", directory: str | os.PathLike | None = None,
            **params) -> meshio.Mesh:
-    """The mesh ``homlimit.geometry.<builder>(**params)``, generated once and read afterwards.
+    """The mesh ``homlimit.fe.geometry.<builder>(**params)``, generated once and read afterwards.
 
     The file name is a hash of the builder name, its parameters and the gmsh version.
     """

@@ -43,8 +43,8 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from scipy.optimize import minimize
 
-from .errors import ParameterError, check_range
-from .params import Case
+from ..errors import ParameterError, check_range
+from ..params import Case
 
 __all__ = [
     "FACADE_MODELS",

@@ -25,8 +25,8 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import ParameterError, SolverError, check_range
 from . import operators as ops
-from .errors import ParameterError, SolverError, check_range
 from .problems import Problem
 from .solution import KinematicSolution
 
@@ -205,10 +205,10 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
     """Collapse multiplier λ⁺ (strict upper bound) and mechanism of ``problem``."""
     if not isinstance(problem, Problem):
         raise ParameterError(f"problem = {type(problem).__name__} is out of range: allowed a "
-                             f"homlimit.problems.Problem")
+                             f"homlimit.fe.problems.Problem")
     if not isinstance(options, SolverOptions):
         raise ParameterError(f"options = {type(options).__name__} is out of range: allowed a "
-                             f"homlimit.kinematic.SolverOptions")
+                             f"homlimit.fe.kinematic.SolverOptions")
     blocks = {reg: dom.kinematic_cone() for reg, dom in problem.domains.items()}
     jblocks = {bnd: dom.kinematic_cone() for bnd, dom in problem.interfaces.items()}
     conic = any(b.soc for b in [*blocks.values(), *jblocks.values()])

@@ -3,7 +3,7 @@
 ``homlimit run CASE.toml``, ``python -m homlimit run CASE.toml`` and ``homlimit.run(CASE)`` all
 call ``run`` below, which
 
-1. validates the case (``homlimit.config``), before any computation;
+1. validates the case (``homlimit.app.config``), before any computation;
 2. evaluates the closed-form mechanisms I (eqs 8–14) and II (eqs 16–20) at their critical
    slenderness, and their v̄_g(λ) curves;
 3. when ``[analysis] fe`` is on, meshes the T-section, solves the finite-element kinematic
@@ -15,12 +15,12 @@ The other commands' work is here too: ``table1_records``, ``crack_study_records`
 ``mesh_case``. Each analysis module is reached through one private function, the only seam
 between the user-facing layer and the analyses:
 
-    _closed_form        homlimit.mechanisms (mechanism_I, mechanism_II, vnorm_I, vnorm_II)
-    _problem, _mesh     homlimit.problems.t_section, homlimit.mesh.from_skfem
-    _fe                 homlimit.fe_impulse.h_scan (FE mechanism, crack, v̄_g per height)
-    _whole_wall_fields  homlimit.rigidfit, homlimit.mesh (fields of the whole wall's solution)
-    _fe_table_columns   homlimit.fe_impulse.fe_mechanism (Table 1's FE columns)
-    _crack_study        homlimit.studies.crack_angle_study
+    _closed_form        homlimit.closed_form.mechanisms (mechanism_I, mechanism_II, vnorm_I, vnorm_II)
+    _problem, _mesh     homlimit.fe.problems.t_section, homlimit.fe.mesh.from_skfem
+    _fe                 homlimit.mechanism.fe_impulse.h_scan (FE mechanism, crack, v̄_g per height)
+    _whole_wall_fields  homlimit.mechanism.rigidfit, homlimit.fe.mesh (fields of the whole wall's solution)
+    _fe_table_columns   homlimit.mechanism.fe_impulse.fe_mechanism (Table 1's FE columns)
+    _crack_study        homlimit.app.studies.crack_angle_study
 """
 
 from __future__ import annotations
@@ -37,9 +37,9 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MeshError, ParameterError
+from ..params import Case
 from .config import CaseConfig, load_case
-from .errors import MeshError, ParameterError
-from .params import Case
 
 __all__ = ["Progress", "Result", "crack_study_records", "dem_reference", "mesh_case",
            "output_dir", "run", "table1_records"]
@@ -88,7 +88,7 @@ class Result:
     """Everything one ``run`` produced: inputs, closed-form and FE results, files written."""
 
     config: CaseConfig
-    mechanism_I: Any = None       # homlimit.mechanisms.MechanismResult
+    mechanism_I: Any = None       # homlimit.closed_form.mechanisms.MechanismResult
     mechanism_II: Any = None
     curves: dict = field(default_factory=dict)   # λ and v̄_g(λ) of both mechanisms
     fe: dict | None = None
@@ -118,7 +118,7 @@ class Result:
 
     def to_dict(self) -> dict:
         """The JSON summary: every input, every result, the package version."""
-        from . import __version__
+        from .. import __version__
 
         c = self.case
         return {
@@ -224,7 +224,7 @@ def dem_reference(case: Case) -> dict | None:
 # ----------------------------------------------------------------------------- the analyses
 def _closed_form(config: CaseConfig) -> tuple[Any, Any, dict]:
     """Mechanisms I and II at their critical λ, and v̄_g(λ) over 0 < λ <= H/b (seam: mechanisms)."""
-    from . import mechanisms as mech
+    from ..closed_form import mechanisms as mech
 
     case, an = config.case, config.analysis
     tanpsi = an.tanpsi or None  # 0 in the case file: eq. 16's √(cf/a)
@@ -244,7 +244,7 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
         ) -> tuple[dict, dict]:
     """The finite-element mechanism, its crack and its collapse ground velocity.
 
-    Numbers come from homlimit.fe_impulse.h_scan: one FE analysis of the part above
+    Numbers come from homlimit.mechanism.fe_impulse.h_scan: one FE analysis of the part above
     z0 = H − h per collapse height h (λ = h/b from 2 to H/b) giving the multiplier, rigid fit,
     crack mid-line and edges, mechanism type and v̄_g. The critical FE mechanism is the
     scan's lowest v̄_g (eq. 7 minimised over λ). The pictures and mechanism.vtu show the
@@ -253,10 +253,10 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
     ``mechanism`` a meshio mesh with the fields, ``plot`` the drawing data; empty unless
     ``fields``).
     """
-    from .bracket import static_inputs
-    from .fe_impulse import analyse, h_scan
-    from .kinematic import SolverOptions
-    from .static import solve_static
+    from ..fe.bracket import static_inputs
+    from ..fe.kinematic import SolverOptions
+    from ..fe.static import solve_static
+    from ..mechanism.fe_impulse import analyse, h_scan
 
     case, an = config.case, config.analysis
     options = SolverOptions(tol=an.tol or None, verbose=verbose)
@@ -314,10 +314,10 @@ def _whole_wall_fields(config: CaseConfig, full: dict, static=None) -> dict:
     a meshio mesh with its fields (the rigid-fit measures are recomputed from the solution:
     no second solve), plus the static stress field as ``static_*`` cell data and each
     triangle's share of the bracket's gap as ``bracket_gap`` when given."""
-    from .fe_impulse import p2_nodes
-    from .mesh import from_skfem
-    from .rigidfit import measure_mechanism
-    from .static import attach_cell_fields
+    from ..fe.mesh import from_skfem
+    from ..fe.static import attach_cell_fields
+    from ..mechanism.fe_impulse import p2_nodes
+    from ..mechanism.rigidfit import measure_mechanism
 
     w = config.case.wall
     sol, plot = full.pop("solution"), full.pop("drawing")
@@ -329,7 +329,7 @@ def _whole_wall_fields(config: CaseConfig, full: dict, static=None) -> dict:
         if not np.array_equal(static.mesh.t, sol.mesh.t):
             raise MeshError("the static and kinematic meshes of the whole wall differ; the "
                             "stress field cannot be attached to mechanism.vtu")
-        from .bracket import gap_contributions
+        from ..fe.bracket import gap_contributions
 
         mech = attach_cell_fields(out["mechanism"], static)
         gap = gap_contributions(static, sol)  # per-triangle share of λ⁺ − λ⁻ (virtual power)
@@ -365,24 +365,24 @@ def _mechanism_mesh(sol, mm, crack):
 
 
 def _problem(config: CaseConfig, z0: float = 0.0):
-    """The FE T-section problem of the case (seam: homlimit.problems.t_section)."""
-    from .problems import t_section
+    """The FE T-section problem of the case (seam: homlimit.fe.problems.t_section)."""
+    from ..fe.problems import t_section
 
     return t_section(config.case, z0=z0, facade=config.analysis.facade, h=config.mesh.size)
 
 
 def _mesh(config: CaseConfig):
     """The T-section mesh the FE analysis uses, as a meshio.Mesh with named regions and
-    boundaries (seam: homlimit.mesh.from_skfem)."""
-    from .mesh import from_skfem
+    boundaries (seam: homlimit.fe.mesh.from_skfem)."""
+    from ..fe.mesh import from_skfem
 
     return from_skfem(_problem(config).mesh)
 
 
 def _fe_table_columns(case: Case, mesh_size: float, heights: int, verbose: bool) -> dict:
-    """The FE body's Table 1 columns (seam: homlimit.fe_impulse.fe_mechanism)."""
-    from .fe_impulse import fe_mechanism
-    from .kinematic import SolverOptions
+    """The FE body's Table 1 columns (seam: homlimit.mechanism.fe_impulse.fe_mechanism)."""
+    from ..fe.kinematic import SolverOptions
+    from ..mechanism.fe_impulse import fe_mechanism
 
     r = fe_mechanism(case, mesh_size=mesh_size, lams=_scan_lams(case, heights),
                      options=SolverOptions(verbose=verbose))
@@ -400,7 +400,7 @@ def _scan_lams(case: Case, heights: int) -> np.ndarray:
 
 
 def _crack_study(progress: Progress, verbose: bool, **grid) -> list[dict]:
-    """Records of the crack-angle study (seam: homlimit.studies.crack_angle_study)."""
+    """Records of the crack-angle study (seam: homlimit.app.studies.crack_angle_study)."""
     from .studies import crack_angle_study
 
     return crack_angle_study(verbose=verbose, progress=progress, **grid)
@@ -410,12 +410,12 @@ def _crack_study(progress: Progress, verbose: bool, **grid) -> list[dict]:
 def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 10,
                    tests: list[str] | None = None, verbose: bool = False,
                    progress: Progress | None = None) -> list[dict]:
-    """Table 1 reproduced (homlimit.paper.table1_rows), optionally with the FE body's columns
+    """Table 1 reproduced (homlimit.closed_form.paper.table1_rows), optionally with the FE body's columns
     lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe
-    (homlimit.fe_impulse.fe_mechanism over ``heights`` collapse heights, λ from 2 to H/b).
+    (homlimit.mechanism.fe_impulse.fe_mechanism over ``heights`` collapse heights, λ from 2 to H/b).
     ``tests``: a subset of the test names (B1 ... C6)."""
-    from .errors import check_range
-    from .paper import table1, table1_rows
+    from ..closed_form.paper import table1, table1_rows
+    from ..errors import check_range
 
     progress = progress or Progress(False)
     check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
@@ -442,9 +442,9 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 10,
 def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
                         c_over_a=None, frictions=None, facades=None, verbose: bool = False,
                         progress: Progress | None = None) -> list[dict]:
-    """The crack-angle study over a grid of c/a and f (homlimit.studies.crack_angle_study):
+    """The crack-angle study over a grid of c/a and f (homlimit.app.studies.crack_angle_study):
     each grid argument left None takes the study's default."""
-    from .errors import check_range
+    from ..errors import check_range
 
     check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
     if finer is not None:

@@ -78,7 +78,7 @@ class KinematicSolution:
         """Write ``to_meshio()`` to a .vtu file, whole or not at all (temp file + os.replace)."""
         import meshio
 
-        from ._io import atomic_path
+        from .._io import atomic_path
 
         with atomic_path(path) as tmp:
             meshio.write(tmp, self.to_meshio(), file_format="vtu")

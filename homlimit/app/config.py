@@ -25,8 +25,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from .errors import ParameterError, check_range
-from .params import Case, Masonry, Wall
+from ..errors import ParameterError, check_range
+from ..params import Case, Masonry, Wall
 
 __all__ = ["AnalysisConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig", "OutputConfig",
            "SCHEMA", "default_case", "load_case", "schema_markdown"]
@@ -96,7 +96,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
     "mesh": {
         "size": Key(float, 0.25, "m", **_POS,
                     doc="element spacing of the T-section mesh along z, and in the wall far "
-                        "from the junction (homlimit.problems.t_section h; 4 columns across "
+                        "from the junction (homlimit.fe.problems.t_section h; 4 columns across "
                         "the façade, graded towards the junction)"),
     },
     "analysis": {
@@ -118,7 +118,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
                           "mechanism.vtu and stress.png (needs fe)"),
         "tol": Key(float, 0.0, "", lo=0.0, hi=1e-2,
                    doc="Clarabel gap and feasibility tolerance (0: the solver default of "
-                       "homlimit.kinematic.SolverOptions)"),
+                       "homlimit.fe.kinematic.SolverOptions)"),
     },
     "output": {
         "dir": Key(str, "", doc="output folder (empty: homlimit-out/<name>/; --out overrides)"),
@@ -134,7 +134,7 @@ TOP_LEVEL = {"name": Key(str, "", doc="case name, used in titles and the output 
 
 @dataclass(frozen=True)
 class MeshConfig:
-    """[mesh]: the T-section triangulation of ``homlimit.problems.t_section``."""
+    """[mesh]: the T-section triangulation of ``homlimit.fe.problems.t_section``."""
 
     size: float = 0.25
 

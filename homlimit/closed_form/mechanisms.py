@@ -27,9 +27,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .body import RigidBody
-from .errors import ParameterError, check_range
-from .params import Case
+from ..errors import ParameterError, check_range
+from ..impulse.body import RigidBody
+from ..params import Case
 
 __all__ = [
     "work_I",

@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import math
 
+from ..errors import check_range
+from ..params import G_STANDARD
 from .body import RigidBody
-from .errors import check_range
-from .params import G_STANDARD
 
 __all__ = ["theta_dot0", "rigid_restoring_work", "collapse_velocity"]
 

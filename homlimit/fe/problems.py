@@ -20,9 +20,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from skfem import MeshTri
 
+from ..errors import ParameterError, check_range
+from ..params import Case
 from . import strength
-from .errors import ParameterError, check_range
-from .params import Case
 
 __all__ = [
     "Problem",
@@ -57,7 +57,7 @@ class Problem:
     """What a limit analysis bounds, per unit out-of-plane thickness, SI units.
 
     mesh           skfem MeshTri with named ``subdomains`` (regions) and ``boundaries``
-    domains        region → strength domain (``homlimit.strength``); regions cover every
+    domains        region → strength domain (``homlimit.fe.strength``); regions cover every
                    triangle exactly once
     supports       boundary → "fixed" (both velocity components zero), "x" or "z" (one zero)
     interfaces     boundary → strength domain of a joint between the body and a fixed ground

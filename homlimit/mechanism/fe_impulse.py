@@ -1,6 +1,6 @@
 """From a finite-element mechanism to the failing body, its crack and the collapse ground velocity.
 
-Glue between the kinematic solver (``homlimit.kinematic``), the rigid fit (``rigidfit``), the
+Glue between the kinematic solver (``homlimit.fe.kinematic``), the rigid fit (``rigidfit``), the
 crack measurement (``crack``), the closed-form hinge + fan (``fan``) and the impulse criterion
 (``impulse``, eqs 4–7).
 
@@ -37,12 +37,12 @@ import math
 import numpy as np
 from skfem import Basis, ElementTriP2
 
-from .body import RigidBody
+from ..closed_form.fan import optimise_fan
+from ..errors import ParameterError, check_range
+from ..impulse.body import RigidBody
+from ..impulse.criterion import collapse_velocity
+from ..params import Case
 from .crack import fan_edges, mechanism_type
-from .errors import ParameterError, check_range
-from .fan import optimise_fan
-from .impulse import collapse_velocity
-from .params import Case
 from .rigidfit import measure_mechanism, p2_energy
 
 __all__ = ["p2_nodes", "ray_conforming_mesh", "GeneralisedImpulse", "generalised_impulse",
@@ -226,8 +226,8 @@ def analyse(case: Case, mesh_size: float = 0.25, facade: str = "homogenised", z0
     velocity at the mesh vertices, the 50 % line ``crack``, the 10 % and 90 % lines
     ``crack_edges`` (polylines) and the ``hinge``; and ``out["solution"]`` (the
     KinematicSolution, e.g. for ``write_vtu``)."""
-    from .kinematic import SolverOptions, solve_kinematic
-    from .problems import t_section
+    from ..fe.kinematic import SolverOptions, solve_kinematic
+    from ..fe.problems import t_section
 
     w = case.wall
     prob = t_section(case, z0=z0, facade=facade, h=mesh_size)

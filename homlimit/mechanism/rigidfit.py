@@ -12,7 +12,7 @@ zone's nodes next to the block pass a loose test and bias the fit) while each de
 the fixed part; the rest are neither (a smeared crack, a fan, a second body).
 
 Per node the participation p = v·v_R / |v_R|² is 1 on the block and 0 on the fixed part (the
-crack is an iso-line of p, see ``homlimit.crack``). Per P2 element: the local spin over ω
+crack is an iso-line of p, see ``homlimit.mechanism.crack``). Per P2 element: the local spin over ω
 (1 on the block, 0 fixed, 1/2 in a hinge + fan's fan) and the strain-rate intensity |d|/ω.
 
 The kinetic-energy measures use the exact P2 mass matrix, ∫ρ|v|² = Σ_e ρ_e v_eᵀ M_e v_e.
@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ParameterError, check_range
+from ..errors import ParameterError, check_range
 
 __all__ = ["RigidFit", "fit_rigid", "MechanismMeasures", "measure_mechanism", "p2_energy",
            "p2_gradients_at_centroid", "MECHANISM_TYPES"]

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .errors import ParameterError, SolverError, check_range
+from ..errors import ParameterError, SolverError, check_range
 from .strength import ConicBlock, Rigid, StrengthDomain
 
 __all__ = [
@@ -519,7 +519,7 @@ class StaticSolution:
         """Write ``to_meshio()`` to ``path`` (any meshio format) whole or not at all."""
         import meshio
 
-        from ._io import atomic_path
+        from .._io import atomic_path
 
         with atomic_path(path) as tmp:
             meshio.write(tmp, self.to_meshio())
@@ -1013,7 +1013,7 @@ def solve_static(
 
 
 def static_from_problem(problem, **kwargs) -> StaticSolution:
-    """Run ``solve_static`` on a solver-agnostic Problem (homlimit.problems); see bracket.py."""
+    """Run ``solve_static`` on a solver-agnostic Problem (homlimit.fe.problems); see bracket.py."""
     from .bracket import _static_inputs
 
     return solve_static(**_static_inputs(problem), **kwargs)

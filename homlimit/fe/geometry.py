@@ -10,7 +10,7 @@ starts (ParameterError naming the parameter).
 - ``tsection``: the façade strip 0 <= x <= b and the transversal wall b <= x <= b + L,
   z0 <= z <= H, conforming along the junction x = b (paper, Figure 1).
 
-The output mesh is the only mesh currency before scikit-fem (see ``homlimit.mesh``):
+The output mesh is the only mesh currency before scikit-fem (see ``homlimit.fe.mesh``):
 points (n, 3) with z-coordinate 0 (the plane is x–z, stored as the first two columns);
 one cell block per physical group ("triangle" for regions, "line" for named segments);
 ``cell_sets`` {name: [indices per block]}, ``cell_data["gmsh:physical"]`` and
@@ -26,7 +26,7 @@ from contextlib import contextmanager
 import meshio
 import numpy as np
 
-from .errors import MeshError, ParameterError, check_range
+from ..errors import MeshError, ParameterError, check_range
 
 __all__ = ["gmsh_session", "polygon_mesh", "tsection", "TSECTION_REGIONS",
            "TSECTION_BOUNDARIES"]

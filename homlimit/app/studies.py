@@ -2,7 +2,7 @@
 
 ``crack_angle_study``: the crack of the FE mechanism of the whole T-section (base fixed at
 z = 0) over a grid of block proportions c/a and joint frictions f, for both façade models and
-two mesh sizes, beside the closed forms: the hinge + fan optimum (``homlimit.fan``; edges
+two mesh sizes, beside the closed forms: the hinge + fan optimum (``closed_form.fan``; edges
 min/max(f, c/a) where admissible) and mechanism II's rigid wedge at tan ψ = √(cf/a).
 The wall is Table 1's B2 (H = 9 m, L = 6 m, b = 0.5 m, ρ = 12) with a = 0.2 m and c = (c/a) a.
 """
@@ -15,11 +15,11 @@ import time
 
 import numpy as np
 
-from .errors import SolverError, check_range
-from .fan import optimise_fan, optimise_wedge
-from .fe_impulse import analyse
-from .kinematic import SolverOptions
-from .params import Case, Masonry, Wall
+from ..closed_form.fan import optimise_fan, optimise_wedge
+from ..errors import SolverError, check_range
+from ..fe.kinematic import SolverOptions
+from ..mechanism.fe_impulse import analyse
+from ..params import Case, Masonry, Wall
 
 __all__ = ["crack_angle_study", "C_OVER_A", "FRICTIONS", "STUDY_WALL", "CRACK_COLUMNS"]
 

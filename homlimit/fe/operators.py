@@ -34,7 +34,7 @@ from skfem import (
     asm,
 )
 
-from .errors import ParameterError
+from ..errors import ParameterError
 from .mesh import element_areas
 
 __all__ = [

@@ -13,7 +13,7 @@ Every domain G exposes the same interface, consumed by the kinematic (upper-boun
 - ``kinematic_cone()``: a ConicBlock with π(d) = min_y cx·d + cy·y  s.t.  A d + D y + e ∈ K;
 - ``static_cone()``: a ConicBlock with σ ∈ G  ⇔  ∃y: A σ + D y + e ∈ K.
 A ConicBlock describes ONE point; programs stack it over all points with sparse/batched algebra
-(see ``homlimit.conic``), never with per-point Python objects.
+(see ``homlimit.fe.conic``), never with per-point Python objects.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .errors import check_range
+from ..errors import check_range
 
 __all__ = ["ConicBlock", "StrengthDomain", "jump_strain"]
 
@@ -456,7 +456,7 @@ class Rigid(StrengthDomain):
 
     For rigid blocks (e.g. the free-standing block). Kinematic cone: d = 0. The static program
     does not put stresses in a rigid region: each connected rigid region is one body in
-    equilibrium under the resultants on its boundary (``homlimit.static``).
+    equilibrium under the resultants on its boundary (``homlimit.fe.static``).
     """
 
     def is_admissible(self, sigma, tol: float = 1e-9):

@@ -1,8 +1,8 @@
 """The crack of a finite-element mechanism: level sets of the block's participation.
 
-Given a P2 velocity field and its rigid fit (``homlimit.rigidfit``: block rotating at ω about
+Given a P2 velocity field and its rigid fit (``rigidfit``: block rotating at ω about
 O), the participation p = v·v_R/|v_R|² is 1 on the block and 0 on the fixed part. A sharp crack
-is a jump of p smeared over about one element; a hinge + fan (``homlimit.fan``) spreads it over
+is a jump of p smeared over about one element; a hinge + fan (``closed_form.fan``) spreads it over
 a wedge of rays from the hinge, p(t) = (1 + T1 t)(T2 − t) / ((T2 − T1)(1 + t²)) along the ray
 x − x_O = t (z − z_O).
 
@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from .errors import ParameterError, check_range
+from ..errors import ParameterError, check_range
 from .rigidfit import MechanismMeasures
 
 __all__ = ["CrackLine", "FanEdges", "crack_line", "fan_edges", "p2_subtriangles",
@@ -198,7 +198,7 @@ def fan_edges(X: np.ndarray, elements: np.ndarray, mm: MechanismMeasures, b: flo
     """Both edges and the mid-line of the deforming zone beside the block.
 
     The slopes T(p) of the level sets p ∈ ``levels`` are fitted with the fan model
-    t(p; T1, T2) (rays from the hinge, ``homlimit.fan.fan_participation``); T_mid is the
+    t(p; T1, T2) (rays from the hinge, ``homlimit.closed_form.fan.fan_participation``); T_mid is the
     50 % line's own fitted slope. Keyword arguments go to ``crack_line``.
     """
     lines = {lv: crack_line(X, elements, mm, b, level=lv, **kw) for lv in levels}

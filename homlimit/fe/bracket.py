@@ -1,6 +1,6 @@
 """Bracket a collapse multiplier between the static (lower) and kinematic (upper) bounds.
 
-    λ⁻ (static, ``homlimit.static``)  <=  λ  <=  λ⁺ (kinematic, ``homlimit.kinematic``)
+    λ⁻ (static, ``homlimit.fe.static``)  <=  λ  <=  λ⁺ (kinematic, ``homlimit.fe.kinematic``)
 
 Both programs consume the same ``problems.Problem``. On one mesh, the gap splits exactly over
 the elements: for the kinematic field u (continuous P2, u = 0 on supports, P_live(u) = 1) and the
@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ParameterError, check_range
+from ..errors import ParameterError, check_range
 from .static import StaticSolution, solve_static
 
 __all__ = ["Bracket", "bracket", "static_inputs", "gap_contributions", "prandtl_fan"]
@@ -35,7 +35,7 @@ def static_inputs(problem) -> dict:
                  "dead_traction", "interfaces"):
         if not hasattr(problem, name):
             raise ParameterError(f"problem = {type(problem).__name__} is out of range: allowed a "
-                                 f"homlimit.problems.Problem (missing {name!r})")
+                                 f"homlimit.fe.problems.Problem (missing {name!r})")
     return {"mesh": problem.mesh, "domains": dict(problem.domains),
             "supports": dict(problem.supports), "interfaces": dict(problem.interfaces),
             "live_body": dict(problem.live_body) or None,

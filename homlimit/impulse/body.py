@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ParameterError, check_range
+from ..errors import ParameterError, check_range
 
 __all__ = ["RigidBody", "triangle_moments"]
 

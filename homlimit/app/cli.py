@@ -25,7 +25,7 @@ from typing import Annotated
 
 import typer
 
-from .errors import HomlimitError, MeshError, ParameterError, SolverError
+from ..errors import HomlimitError, MeshError, ParameterError, SolverError
 
 __all__ = ["app", "main"]
 

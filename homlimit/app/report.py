@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._io import atomic_path
+from .._io import atomic_path
 
 __all__ = ["atomic_path", "format_table", "to_jsonable", "write_csv", "write_json",
            "region_tags", "write_figure", "write_text",
@@ -94,7 +94,7 @@ def write_vtu(path: str | Path, mesh) -> Path:
     """Write a meshio.Mesh as VTU for ParaView, atomically, without modifying ``mesh``.
 
     Point and cell data are kept; named sets become 0/1 cell data "set:<name>" (the encoding
-    ``homlimit.mesh.read`` restores as cell_sets) and an integer cell field "region"
+    ``homlimit.fe.mesh.read`` restores as cell_sets) and an integer cell field "region"
     (see ``region_tags``)."""
     import meshio
 

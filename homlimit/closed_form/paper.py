@@ -7,8 +7,8 @@ import csv
 from dataclasses import dataclass
 from importlib import resources
 
+from ..params import Case, Masonry, Wall
 from .mechanisms import mechanism_I, mechanism_II
-from .params import Case, Masonry, Wall
 
 __all__ = ["DemResult", "table1", "table1_rows"]
 

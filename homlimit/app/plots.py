@@ -1,7 +1,7 @@
 """Pictures (PNG) of meshes, mechanisms, v̄_g(λ) curves and studies.
 
 matplotlib is imported lazily, with the non-interactive Agg backend, so importing homlimit never
-pulls in a GUI. Every picture is written atomically (``homlimit.report.write_figure``), with axis
+pulls in a GUI. Every picture is written atomically (``report.write_figure``), with axis
 labels in SI units and a title naming the case. Frame: x from the façade's outer face into the
 building, z up (see homlimit.params).
 """
@@ -289,8 +289,8 @@ def figure2(path: str | Path, rho=None) -> Path:
     for II, λ tan ψ <= L/b); Table 1's DEM results as markers. All curves come from one
     vectorised call per mechanism.
     """
-    from .mechanisms import critical_I, critical_II, lam_max_II
-    from .paper import table1
+    from ..closed_form.mechanisms import critical_I, critical_II, lam_max_II
+    from ..closed_form.paper import table1
 
     plt = _pyplot()
     rho = np.linspace(1.0, 20.0, 96) if rho is None else np.asarray(rho, float)
@@ -334,7 +334,7 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     """The lower-bound stress field: the most compressive principal stress σ₂ per triangle
     (colour, Pa) and its direction (short lines, length ∝ |σ₂|): the compression paths.
 
-    ``static`` is a ``homlimit.static.StaticSolution``; at most ``n_ticks`` direction lines are
+    ``static`` is a ``homlimit.fe.static.StaticSolution``; at most ``n_ticks`` direction lines are
     drawn (the most compressed triangles first); rigid bodies (no stress field) are grey.
     """
     plt = _pyplot()

@@ -1,0 +1,1 @@
+"""The application layer: case files, the pipeline, reports, pictures and the command line."""
