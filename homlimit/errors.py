@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["HomlimitError", "ParameterError", "MeshError", "SolverError", "check_range"]
+__all__ = ["HomlimitError", "ParameterError", "MeshError", "SolverError", "check_choice",
+           "check_range"]
 
 
 class HomlimitError(Exception):
@@ -61,3 +62,11 @@ def check_range(
         rng = " and ".join(parts) if parts else f"{name} finite"
         raise ParameterError(f"{name} = {value!r}{u} is out of range: allowed {rng}{u}")
     return x
+
+
+def check_choice(name: str, value, choices) -> object:
+    """Return ``value`` if it is one of ``choices``, else raise ParameterError naming both."""
+    if value not in tuple(choices):
+        raise ParameterError(f"{name} = {value!r} is out of range: allowed one of "
+                             + ", ".join(repr(c) for c in choices))
+    return value

@@ -11,9 +11,12 @@ from dataclasses import dataclass, fields
 
 from .errors import ParameterError, check_range
 
-__all__ = ["Wall", "Masonry", "Case", "G_STANDARD"]
+__all__ = ["Wall", "Masonry", "Case", "G_STANDARD", "FACADE_MODELS"]
 
 G_STANDARD = 9.81  # m/s², the value used throughout the paper's examples
+# strength of the façade in the section plane: eq. 15 like the wall, or bed joints only (its
+# blocks run through the thickness b)
+FACADE_MODELS = ("homogenised", "bedjoints")
 
 
 @dataclass(frozen=True)

@@ -114,7 +114,7 @@ def ref_C4():
 
 def assert_closed_form(summary: dict, ref: dict):
     """λ to 2e-3 (the minimum over λ is flat), v̄_g/√(gb) to 2e-5 relative."""
-    m1, II = summary["mechanism_I"], summary["mechanism_II"]
+    m1, II = summary["mechanisms"]["I"], summary["mechanisms"]["II"]
     assert m1["lam"] == pytest.approx(ref["lam_I"], rel=2e-3)
     assert m1["vnorm"] == pytest.approx(ref["vnorm_I"], rel=2e-5)
     assert II["lam"] == pytest.approx(ref["lam_II"], rel=2e-5)
@@ -154,7 +154,7 @@ def test_console_script_runs_case_file_json(tmp_path, ref_C4):
     assert s["critical"]["mechanism"] == "I" and s["critical"]["vnorm"] < DEM["C4"][1]
     files = {k: Path(v) for k, v in s["files"].items()}
     assert set(files) == {"summary_json", "vg_lambda_png"}
-    assert json.loads(files["summary_json"].read_text())["mechanism_I"] == s["mechanism_I"]
+    assert json.loads(files["summary_json"].read_text())["mechanisms"] == s["mechanisms"]
     assert_png(files["vg_lambda_png"], (8 * 120, int(5.5 * 120)))
 
 
@@ -233,9 +233,8 @@ def test_examples_match_golden(example):
     s = homlimit.run(cfg, write=False).to_dict()
     assert s["case"] == golden["case"]
     for key, rtol in golden["rtol"].items():
-        mech, name = ("mechanism_I", key[:-2]) if key.endswith("_I") else \
-            ("mechanism_II", key[:-3])
-        assert s[mech][name] == pytest.approx(golden[key], rel=rtol), key
+        name, mech = key.rsplit("_", 1)
+        assert s["mechanisms"][mech][name] == pytest.approx(golden[key], rel=rtol), key
     assert s["dem_table1"]["lambda_v"] == golden["dem_table1"]["lam"]
     assert s["dem_table1"]["vg_norm"] == golden["dem_table1"]["vnorm"]
 
@@ -307,7 +306,7 @@ def test_bad_option_value_exits_2(tmp_path):
     assert res.exit_code == 2
     assert "mesh_size = -1.0 m is out of range: allowed 0 < mesh_size" in res.stderr
     res = CliRunner().invoke(app, ["table1", "-t", "B9", "--out", str(tmp_path)])
-    assert res.exit_code == 2 and "test = 'B9' is out of range: allowed one of B1" in res.stderr
+    assert res.exit_code == 2 and "test = 'B9' is out of range: allowed one of 'B1'" in res.stderr
 
 
 # ----------------------------------------------------------------------------- other commands
@@ -427,8 +426,8 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     assert fe["n_triangles"] > 0 and len(fe["scan"]) == 2
     assert [r["h_part"] for r in fe["scan"]] == [pytest.approx(1.0), pytest.approx(9.0)]
     assert fe["vg"] == min(r["vg"] for r in fe["scan"] if r["vg"] is not None)  # NaN: null
-    assert s["critical"]["vg"] == min(fe["vg"], s["mechanism_I"]["vg"],
-                                      s["mechanism_II"]["vg"])
+    assert s["critical"]["vg"] == min(fe["vg"], s["mechanisms"]["I"]["vg"],
+                                      s["mechanisms"]["II"]["vg"])
     files = {k: Path(v) for k, v in s["files"].items()}
     assert set(files) == {"summary_json", "vg_lambda_png", "mesh_png", "mechanism_png",
                           "mechanism_vtu", "fe_scan_csv", "stress_png"}

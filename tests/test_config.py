@@ -163,7 +163,7 @@ def test_nothing_is_computed_before_validation(monkeypatch):
         raise AssertionError("computation started on an invalid case")
 
     monkeypatch.setattr(pipeline, "_closed_form", boom)
-    monkeypatch.setattr(pipeline, "_fe", boom)
+    monkeypatch.setattr(pipeline, "fe_result", boom)
     with pytest.raises(ConfigError):
         pipeline.run({**B1, "wall": {**B1["wall"], "H": float("nan")}}, write=False)
 

@@ -10,7 +10,9 @@ import skfem as fem
 from homlimit.closed_form.fan import optimise_fan
 from homlimit.closed_form.mechanisms import geometry_II
 from homlimit.impulse.body import RigidBody
-from homlimit.mechanism.fe_impulse import analyse, generalised_impulse, ray_conforming_mesh
+from homlimit.fe.problems import t_section
+from homlimit.mechanism.analysis import analyse, fe_result
+from homlimit.mechanism.fe_impulse import generalised_impulse, ray_conforming_mesh
 from homlimit.mechanism.rigidfit import measure_mechanism
 from homlimit.params import Case, Masonry, Wall
 
@@ -55,30 +57,28 @@ def test_fe_analysis_end_to_end_on_a_coarse_mesh():
     and mid-line agree with the closed form within the element-size uncertainty, and a v̄_g
     bracketed by the two body models."""
     case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
-    r = analyse(case, mesh_size=0.5, z0=3.0)
+    r = analyse(case, t_section(case, z0=3.0, h=0.5))
     opt = optimise_fan(case, z_base=3.0)
-    assert r["mechanism_fe"] == "hinge+fan"
-    assert r["multiplier_fe"] >= opt.lam
-    assert abs(r["O"][1] - opt.z0) < 0.5
-    assert abs(r["tanpsi_fe"] - case.alpha) <= r["dtanpsi_fe"]
-    assert r["lam_fe"] == pytest.approx((case.wall.H - r["O"][1]) / case.wall.b)
-    assert r["vnorm_fe"] == pytest.approx(r["vg_fe"] / math.sqrt(9.81 * 0.5))
-    assert 0.2 < r["vnorm_fe"] < 1.0
+    assert r.kind == "hinge+fan"
+    assert r.multiplier >= opt.lam
+    assert abs(r.O[1] - opt.z0) < 0.5
+    assert abs(r.tanpsi - case.alpha) <= r.tanpsi_uncertainty
+    assert r.lam == pytest.approx((case.wall.H - r.O[1]) / case.wall.b)
+    assert r.vnorm == pytest.approx(r.vg / math.sqrt(9.81 * 0.5))
+    assert 0.2 < r.vnorm < 1.0
 
 
-def test_fe_mechanism_keys_and_minimum_of_the_scan():
+def test_fe_result_critical_is_the_minimum_of_the_scan():
     """The Table 1 columns: the scan's minimum of v̄_g, with λ = h/b from the hinge height."""
-    from homlimit.mechanism.fe_impulse import fe_mechanism
-
     case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
-    r = fe_mechanism(case, mesh_size=0.5, lams=[4.0, 8.0])
-    for key in ("lam_fe", "vnorm_fe", "tanpsi_fe", "tanpsi_fe_edges", "mechanism_fe", "h", "O",
-                "omega", "multiplier_fe", "vg_method"):
-        assert key in r
-    assert r["vnorm_fe"] == pytest.approx(min(s["vnorm_fe"] for s in r["scan"]))
-    assert r["mechanism_fe"] in ("rigid", "hinge+fan", "distributed")
-    assert len(r["tanpsi_fe_edges"]) == 2
-    assert r["lam_fe"] == pytest.approx(r["h"] / 0.5)
+    res = fe_result(case, [4.0, 8.0, case.wall.lam_max], mesh_size=0.5)
+    r = res.critical
+    assert [round(m.h_part, 9) for m in res.scan] == [2.0, 4.0, 9.0]
+    assert r.vnorm == pytest.approx(min(m.vnorm for m in res.scan))
+    assert r.kind in ("rigid", "hinge+fan", "distributed")
+    assert len(r.tanpsi_edges) == 2
+    assert r.lam == pytest.approx(r.h / 0.5)
+    assert res.as_dict()["vnorm"] == r.vnorm and len(res.as_dict()["scan"]) == 3
 
 
 def test_prescribed_mechanism_II_field_through_the_fe_pipeline():

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from homlimit import _io
 from homlimit.app import report
 
 
@@ -29,7 +30,7 @@ def assert_png(path, size_px=None):
 def test_json_round_trip_with_numpy_and_non_finite(tmp_path):
     data = {"a": np.float64(1.5), "n": np.int64(3), "v": np.arange(3.0), "bad": math.inf,
             "nan": float("nan"), "flag": np.bool_(True), "nested": [{"x": (1, 2)}]}
-    p = report.write_json(tmp_path / "sub" / "r.json", data)
+    p = report.write(tmp_path / "sub" / "r.json", data)
     back = json.loads(p.read_text())
     assert back == {"a": 1.5, "n": 3, "v": [0.0, 1.0, 2.0], "bad": None, "nan": None,
                     "flag": True, "nested": [{"x": [1, 2]}]}
@@ -37,9 +38,9 @@ def test_json_round_trip_with_numpy_and_non_finite(tmp_path):
 
 def test_writes_are_whole_or_absent(tmp_path):
     p = tmp_path / "r.json"
-    report.write_json(p, {"ok": 1})
+    report.write(p, {"ok": 1})
     with pytest.raises(TypeError):
-        report.write_json(p, {"bad": object()})   # fails while serialising
+        report.write(p, {"bad": object()})   # fails while serialising
     assert json.loads(p.read_text()) == {"ok": 1}  # the previous file is untouched
 
     def crash(tmp):
@@ -47,9 +48,17 @@ def test_writes_are_whole_or_absent(tmp_path):
         raise RuntimeError("renderer died")
 
     with pytest.raises(RuntimeError):
-        report.write_figure(tmp_path / "x.png", crash)
+        _io.write_figure(tmp_path / "x.png", crash)
     assert not (tmp_path / "x.png").exists()
     assert sorted(f.name for f in tmp_path.iterdir()) == ["r.json"]  # no temporary left
+
+
+def test_unknown_suffix_is_a_parameter_error(tmp_path):
+    from homlimit.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="file suffix = '.docx' is out of range"):
+        report.write(tmp_path / "r.docx", {"ok": 1})
+    assert not list(tmp_path.iterdir())
 
 
 def test_csv_round_trip(tmp_path):
@@ -57,7 +66,7 @@ def test_csv_round_trip(tmp_path):
 
     recs = [{"c_over_a": 0.5, "f": 0.3, "tanpsi": None}, {"c_over_a": 1.0, "f": 0.6,
                                                           "tanpsi": 0.77}]
-    p = report.write_csv(tmp_path / "s.csv", recs)
+    p = report.write(tmp_path / "s.csv", recs)
     rows = list(csv.DictReader(p.open()))
     assert rows == [{"c_over_a": "0.5", "f": "0.3", "tanpsi": ""},
                     {"c_over_a": "1.0", "f": "0.6", "tanpsi": "0.77"}]
@@ -70,7 +79,7 @@ def test_vtu_round_trip(tmp_path):
     m = meshio.Mesh(pts, [("triangle", np.array([[0, 1, 2], [1, 3, 2]]))],
                     point_data={"velocity": pts[:, :2] * 2},
                     cell_data={"region": [np.array([1, 2])]})
-    p = report.write_vtu(tmp_path / "m.vtu", m)
+    p = report.write(tmp_path / "m.vtu", m)
     back = meshio.read(p)
     np.testing.assert_array_equal(back.points, pts)
     np.testing.assert_array_equal(back.point_data["velocity"], pts[:, :2] * 2)
@@ -88,7 +97,7 @@ def test_vtu_keeps_named_sets_and_region_tags(tmp_path):
     import meshio
 
     m = meshio.Mesh(pts, cells, point_data={"speed": np.arange(4.0)}, cell_sets=sets)
-    p = report.write_vtu(tmp_path / "m.vtu", m)
+    p = report.write(tmp_path / "m.vtu", m)
     assert set(m.cell_sets) == set(sets) and not m.cell_data      # the input is untouched
     raw = meshio.read(p)
     np.testing.assert_array_equal(raw.cell_data["region"][1], [2, 1])   # wall = 2, facade = 1

@@ -8,7 +8,8 @@
     homlimit mesh CASE.toml       the T-section mesh only, for inspection
 
 Every computing command takes ``--json`` (machine-readable on stdout, nothing else there),
-``--out DIR`` (default homlimit-out/NAME/) and ``-v`` (solver logs). Exit codes: 0 success,
+``--out DIR`` (default homlimit-out/NAME/), ``-v`` (solver logs) and ``-q`` (no progress);
+progress and logs go to stderr through ``logging``. Exit codes: 0 success,
 2 bad input (ParameterError, invalid case file, usage), 3 failure of a solver or of the mesher
 (SolverError, MeshError), with a one-line reason on stderr and no traceback.
 """
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 import functools
 import json
+import logging
 import os
 import sys
 from contextlib import contextmanager
@@ -41,12 +43,48 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print the results as JSON
                                                       "(nothing else there); no progress.")]
 OutOpt = Annotated[Path | None, typer.Option("--out", "-o", help="Output folder "
                                              "[default: homlimit-out/NAME/].")]
-VerboseOpt = Annotated[bool, typer.Option("--verbose", "-v", help="Show solver logs.")]
+VerboseOpt = Annotated[bool, typer.Option("--verbose", "-v", help="Show solver logs "
+                                                               "(debug level) on stderr.")]
+QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="Only warnings and errors on "
+                                                             "stderr (no progress).")]
 SetOpt = Annotated[list[str] | None, typer.Option(
     "--set", "-s", help="Override a case key before validation, e.g. --set mesh.size=0.5 "
                         "--set analysis.fe=false (repeatable).")]
 CaseArg = Annotated[Path | None, typer.Argument(help="Case file (TOML); see docs/case-file.md. "
                                                 "Omitted: the embedded default case (B1).")]
+
+
+_HANDLER: logging.Handler | None = None
+
+
+def _logging(verbose: bool = False, quiet: bool = False, as_json: bool = False):
+    """Progress and logs of the library on stderr: stages at INFO (the default), solver logs
+    at DEBUG (-v); only warnings with -q or --json (stdout carries the JSON document)."""
+    global _HANDLER
+    logger = logging.getLogger("homlimit")
+    if _HANDLER is not None:
+        logger.removeHandler(_HANDLER)
+    _HANDLER = logging.StreamHandler(sys.stderr)
+    _HANDLER.setFormatter(logging.Formatter("[homlimit] %(message)s"))
+    logger.addHandler(_HANDLER)
+    logger.propagate = False
+    logger.setLevel(logging.DEBUG if verbose else
+                    logging.WARNING if (quiet or as_json) else logging.INFO)
+
+
+def _version(value: bool):
+    if value:
+        from .pipeline import package_version
+
+        print(f"homlimit {package_version()}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(version: Annotated[bool | None, typer.Option(
+        "--version", callback=_version, is_eager=True,
+        help="Print the installed version and exit.")] = None):
+    """Out-of-plane collapse of masonry façades bonded to transversal walls."""
 
 
 def _fail(code: int, message: str):
@@ -110,19 +148,19 @@ def _stdout_quiet(enabled: bool):
 
 
 def _emit_json(stream, data):
-    from .report import to_jsonable
+    from .._io import to_jsonable
 
     stream.write(json.dumps(to_jsonable(data), indent=2, ensure_ascii=False) + "\n")
     stream.flush()
 
 
 def _run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
-              overrides: list[str] | None):
+              quiet: bool, overrides: list[str] | None):
     from .pipeline import run
 
+    _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout:
-        result = run(case, out=out, write=True, progress=not as_json, verbose=verbose,
-                     overrides=overrides)
+        result = run(case, out=out, write=True, overrides=overrides)
     if as_json:
         _emit_json(stdout, result.to_dict())
     else:
@@ -132,25 +170,26 @@ def _run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
 @app.command("run")
 @_guarded
 def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
-            verbose: VerboseOpt = False, overrides: SetOpt = None):
+            verbose: VerboseOpt = False, quiet: QuietOpt = False, overrides: SetOpt = None):
     """Run the full pipeline for one wall (no CASE: the embedded default, B1).
 
     Closed-form mechanisms I and II, the FE mechanism and its crack, the impulse criterion;
     prints a summary and writes summary.json, .vtu and PNG files."""
-    _run_case(case, as_json, out, verbose, overrides)
+    _run_case(case, as_json, out, verbose, quiet, overrides)
 
 
 @app.command()
 @_guarded
 def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
-         overrides: SetOpt = None):
+         quiet: QuietOpt = False, overrides: SetOpt = None):
     """Run the embedded default case: the paper's Table 1 wall B1 (H=9 m, b=0.5 m, ρ=12)."""
-    _run_case(None, as_json, out, verbose, overrides)
+    _run_case(None, as_json, out, verbose, quiet, overrides)
 
 
 @app.command()
 @_guarded
 def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
+           quiet: QuietOpt = False,
            fe: Annotated[bool, typer.Option("--fe", help="Add the finite-element body's "
                                             "columns (slow: one scan over h per wall).")]
            = False,
@@ -161,17 +200,15 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
            test: Annotated[list[str] | None, typer.Option(
                "--test", "-t", help="Only this Table 1 test, e.g. B1 (repeatable).")] = None):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
-    from . import report
-    from .pipeline import Progress, table1_records
+    from . import plots, report
+    from .pipeline import table1_records
 
     out = out or Path("homlimit-out") / "table1"
+    _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout:
-        rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test,
-                              verbose=verbose, progress=Progress(not as_json))
-        report.write_csv(out / "table1.csv", rows)
-        report.write_json(out / "table1.json", rows)
-        from . import plots
-
+        rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test)
+        report.write(out / "table1.csv", rows)
+        report.write(out / "table1.json", rows)
         plots.plot_table1(out / "table1.png", rows)
     if as_json:
         _emit_json(stdout, rows)
@@ -206,6 +243,7 @@ def figure2(as_json: JsonOpt = False, out: OutOpt = None):
 @app.command("crack-study")
 @_guarded
 def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
+                quiet: QuietOpt = False,
                 mesh_size: Annotated[float, typer.Option(help="FE mesh size [m].")] = 0.5,
                 finer: Annotated[float, typer.Option(help="A second, finer mesh size [m] "
                                                      "(0: none).")] = 0.25,
@@ -219,14 +257,14 @@ def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOp
                     help="Façade model: homogenised or bedjoints (repeat for both).")] = None):
     """The crack-angle study: the FE crack slope over a grid of c/a and f, beside √(cf/a)."""
     from . import plots, report
-    from .pipeline import Progress, crack_study_records
+    from .pipeline import crack_study_records
 
     out = out or Path("homlimit-out") / "crack-study"
+    _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout:
         records = crack_study_records(mesh_size=mesh_size, finer=finer or None, quick=quick,
-                                      c_over_a=c_over_a, frictions=friction, facades=facade,
-                                      verbose=verbose, progress=Progress(not as_json))
-        files = {"csv": report.write_csv(out / "crack_study.csv", records),
+                                      c_over_a=c_over_a, frictions=friction, facades=facade)
+        files = {"csv": report.write(out / "crack_study.csv", records),
                  "png": plots.plot_crack_study(out / "crack_study.png", records,
                                                title="crack-angle study: FE crack against "
                                                      "√(cf/a), f and c/a")}

@@ -26,7 +26,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError, check_range
-from ..params import Case, Masonry, Wall
+from ..mechanism.analysis import LAM_MIN
+from ..params import FACADE_MODELS, Case, Masonry, Wall
 
 __all__ = ["AnalysisConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig", "OutputConfig",
            "SCHEMA", "default_case", "load_case", "schema_markdown"]
@@ -106,7 +107,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "lam_points": Key(int, 200, "", lo=10, hi=100000,
                           doc="points of the v̄_g(λ) curves over 0 < λ <= H/b"),
         "fe": Key(bool, True, doc="finite-element kinematic mechanism, crack and impulse"),
-        "facade": Key(str, "homogenised", choices=("homogenised", "bedjoints"),
+        "facade": Key(str, "homogenised", choices=FACADE_MODELS,
                       doc="strength domain of the façade in the FE model (eq. 15, or bed "
                           "joints only)"),
         "heights": Key(int, 6, "", lo=1, hi=200,
@@ -276,11 +277,11 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
             problems.append(f"[mesh] size = {size!r} m is out of range: "
                             f"allowed 0 < size <= min(H, b + L) = {span:g} m")
         an = values["analysis"]
-        h_min = min(2.0 * case.wall.b, case.wall.H)   # the scan's lowest part, λ = 2
+        h_min = min(LAM_MIN * case.wall.b, case.wall.H)   # the scan's lowest part
         if an["fe"] and an["heights"] > 1 and size > h_min:
             problems.append(f"[mesh] size = {size!r} m is out of range: allowed size <= "
-                            f"min(2b, H) = {h_min:g} m, the height of the smallest part of "
-                            f"the FE impulse scan (or [analysis] heights = 1)")
+                            f"min({LAM_MIN:g}b, H) = {h_min:g} m, the height of the smallest "
+                            f"part of the FE impulse scan (or [analysis] heights = 1)")
     if problems:
         raise ConfigError(source, [p.strip() for p in problems])
     return CaseConfig(case=case, mesh=MeshConfig(**values["mesh"]),

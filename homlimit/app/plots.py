@@ -1,7 +1,7 @@
 """Pictures (PNG) of meshes, mechanisms, v̄_g(λ) curves and studies.
 
 matplotlib is imported lazily, with the non-interactive Agg backend, so importing homlimit never
-pulls in a GUI. Every picture is written atomically (``report.write_figure``), with axis
+pulls in a GUI. Every picture is written atomically (``_io.write_figure``), with axis
 labels in SI units and a title naming the case. Frame: x from the façade's outer face into the
 building, z up (see homlimit.params).
 """
@@ -29,7 +29,7 @@ def _pyplot():
 
 
 def _save(fig, path: str | Path) -> Path:
-    from .report import write_figure
+    from .._io import write_figure
 
     plt = _pyplot()
     try:
@@ -103,37 +103,38 @@ def plot_mesh(path: str | Path, mesh, title: str = "") -> Path:
     return _save(fig, path)
 
 
-def plot_vg_lambda(path: str | Path, curves: dict, mech_I, mech_II, *, fe: dict | None = None,
-                   dem: dict | None = None, title: str = "", b: float | None = None) -> Path:
+def plot_vg_lambda(path: str | Path, curves: dict, mechanisms: dict, *, fe=None, dem=None,
+                   title: str = "", b: float | None = None) -> Path:
     """Collapse ground velocity v̄_g against slenderness λ = h/b (eq. 7).
 
-    Mechanism I (eq. 10) and II (eqs 17–20) as curves with their critical points; the FE
-    body's scan over collapse heights and the paper's DEM value when available.
+    Mechanism I (eq. 10) and II (eqs 17–20) as curves; every mechanism of ``mechanisms``
+    (name → object with ``lam``, ``vg``) at its critical point; the FE scan over collapse
+    heights (``fe``: a ``mechanism.analysis.FEResult``) and the paper's DEM value (``dem``: a
+    ``paper.DemResult``) when given.
     """
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(8, 5.5))
     ax.plot(curves["lam_I"], curves["vg_I"], color="C0", label="mechanism I (detachment)")
     ax.plot(curves["lam_II"], curves["vg_II"], color="C1",
-            label=f"mechanism II (diagonal crack, tan ψ = {mech_II.tanpsi:.3f})")
-    for m, col in ((mech_I, "C0"), (mech_II, "C1")):
-        ax.plot([m.lam], [m.vg], "o", color=col, ms=8, mec="k",
-                label=f"critical {m.name}: λ = {m.lam:.2f}, v̄_g = {m.vg:.3f} m/s")
-    if fe and fe.get("scan"):
-        pts = sorted((r["lam"], r["vg"]) for r in fe["scan"]
-                     if r.get("vg") is not None and math.isfinite(r["vg"]))
+            label=f"mechanism II (diagonal crack, tan ψ = {mechanisms['II'].tanpsi:.3f})")
+    if fe is not None:
+        pts = sorted((m.lam, m.vg) for m in fe.scan if math.isfinite(m.vg))
         if pts:
             ax.plot(*zip(*pts), "s--", color="C2", mec="k",
                     label="finite-element body (one analysis per collapse height)")
-        if fe.get("vg") is not None and math.isfinite(fe["vg"]):
-            ax.plot([fe["lam"]], [fe["vg"]], "*", color="C2", ms=16, mec="k",
-                    label=f"critical FE: λ = {fe['lam']:.2f}, v̄_g = {fe['vg']:.3f} m/s")
-    if dem:
-        ax.plot([dem["lambda_v"]], [dem["vg"]], "D", color="C3", ms=9, mec="k",
-                label=f"DEM, paper's Table 1 ({dem['test']}): λ = {dem['lambda_v']:g}, "
-                      f"v̄_g = {dem['vg']:g} m/s")
+    styles = {"I": ("o", "C0", 8), "II": ("o", "C1", 8), "FE": ("*", "C2", 16)}
+    for name, m in mechanisms.items():
+        marker, col, ms = styles.get(name, ("^", "C4", 10))
+        if math.isfinite(m.vg):
+            ax.plot([m.lam], [m.vg], marker, color=col, ms=ms, mec="k",
+                    label=f"critical {name}: λ = {m.lam:.2f}, v̄_g = {m.vg:.3f} m/s")
+    if dem is not None:
+        ax.plot([dem.lam_v], [dem.vg], "D", color="C3", ms=9, mec="k",
+                label=f"DEM, paper's Table 1 ({dem.test}): λ = {dem.lam_v:g}, "
+                      f"v̄_g = {dem.vg:g} m/s")
     finite = np.concatenate([np.asarray(curves["vg_I"]), np.asarray(curves["vg_II"])])
     finite = finite[np.isfinite(finite)]
-    top = min(float(np.max(finite)), 2.5 * max(mech_I.vg, mech_II.vg))
+    top = min(float(np.max(finite)), 2.5 * max(mechanisms["I"].vg, mechanisms["II"].vg))
     ax.set_ylim(0.0, top * 1.05)
     ax.set_xlim(0.0, float(np.max(curves["lam_I"])) * 1.02)
     ax.set_xlabel("slenderness of the failing part λ = h/b [-]")

@@ -1,124 +1,44 @@
-"""Result files and the terminal summary.
+"""What a run shows and writes: the terminal summary, plain-text tables, the result meshes and
+one writer per file format.
 
-Every writer is atomic: it writes a temporary file in the destination folder and renames it over
-the target with ``os.replace``, so a file is either whole or absent (a crash or an error while
-writing leaves the previous file, or nothing). JSON summaries are plain data: numpy scalars and
-arrays become numbers and lists, non-finite floats become ``null``.
+``write(path, data)`` picks the writer from the file's suffix (``WRITERS``): JSON data, CSV
+records, a meshio mesh (.vtu, .xdmf, .msh) or a picture (a function that draws to a path).
+Every writer is whole-or-nothing (``homlimit._io``).
 """
 
 from __future__ import annotations
 
-import csv
-import io
-import json
 import math
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
-from .._io import atomic_path
+from .._io import write_csv, write_json
+from ..errors import ParameterError
+from ..fe import mesh as fe_mesh
 
-__all__ = ["atomic_path", "format_table", "to_jsonable", "write_csv", "write_json",
-           "region_tags", "write_figure", "write_text",
-           "write_vtu"]
+__all__ = ["WRITERS", "format_table", "mechanism_mesh", "summary_text", "write"]
 
-
-def write_text(path: str | Path, text: str) -> Path:
-    """Write ``text`` (UTF-8) to ``path`` atomically."""
-    with atomic_path(path) as tmp:
-        tmp.write_text(text, encoding="utf-8")
-    return Path(path)
-
-
-def to_jsonable(obj):
-    """Plain JSON data from dataclass-free nested containers of numbers, numpy values, paths."""
-    if isinstance(obj, Mapping):
-        return {str(k): to_jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [to_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return to_jsonable(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        x = float(obj)
-        return x if math.isfinite(x) else None
-    if isinstance(obj, Path):
-        return str(obj)
-    if obj is None or isinstance(obj, str):
-        return obj
-    raise TypeError(f"cannot write {type(obj).__name__} to JSON: {obj!r}")
+WRITERS: dict[str, Callable] = {
+    ".json": write_json,
+    ".csv": write_csv,
+    ".vtu": lambda path, mesh: fe_mesh.write(mesh, path),
+    ".xdmf": lambda path, mesh: fe_mesh.write(mesh, path),
+    ".msh": lambda path, mesh: fe_mesh.write(mesh, path),
+    ".png": lambda path, draw: draw(path),
+}
 
 
-def write_json(path: str | Path, data) -> Path:
-    """Write ``data`` as indented JSON, atomically."""
-    return write_text(path, json.dumps(to_jsonable(data), indent=2, ensure_ascii=False) + "\n")
-
-
-def write_csv(path: str | Path, records: Iterable[Mapping], columns: list[str] | None = None
-              ) -> Path:
-    """Write a list of flat records as CSV with a header row, atomically."""
-    records = [to_jsonable(r) for r in records]
-    if columns is None:
-        columns = list(dict.fromkeys(k for r in records for k in r))
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=columns, extrasaction="raise", lineterminator="\n")
-    w.writeheader()
-    for r in records:
-        w.writerow({k: ("" if r.get(k) is None else r.get(k)) for k in columns})
-    return write_text(path, buf.getvalue())
-
-
-def region_tags(mesh) -> list[np.ndarray]:
-    """Per cell block, the 1-based index of the named triangle set holding each cell (0: none).
-
-    The order of the sets is that of ``mesh.cell_sets`` restricted to sets holding triangles
-    (for a T-section: 1 = facade, 2 = wall)."""
-    sets = {k: v for k, v in (mesh.cell_sets or {}).items() if not k.startswith("gmsh:")}
-    tags = [np.zeros(len(c.data), np.int32) for c in mesh.cells]
-    k = 0
-    for name, idx in sets.items():
-        hits = [(j, np.asarray(i, int)) for j, i in enumerate(idx)
-                if j < len(mesh.cells) and mesh.cells[j].type == "triangle" and np.size(i)]
-        if hits:
-            k += 1
-            for j, i in hits:
-                tags[j][i] = k
-    return tags
-
-
-def write_vtu(path: str | Path, mesh) -> Path:
-    """Write a meshio.Mesh as VTU for ParaView, atomically, without modifying ``mesh``.
-
-    Point and cell data are kept; named sets become 0/1 cell data "set:<name>" (the encoding
-    ``homlimit.fe.mesh.read`` restores as cell_sets) and an integer cell field "region"
-    (see ``region_tags``)."""
-    import meshio
-
-    data = {k: list(v) for k, v in mesh.cell_data.items()}
-    sets = {k: v for k, v in (mesh.cell_sets or {}).items() if not k.startswith("gmsh:")}
-    if sets:
-        data["region"] = region_tags(mesh)
-        for name, idx in sets.items():
-            cols = [np.zeros(len(c.data), np.int32) for c in mesh.cells]
-            for j, i in enumerate(idx[:len(cols)]):
-                cols[j][np.asarray(i, int)] = 1
-            data[f"set:{name}"] = cols
-    copy = meshio.Mesh(mesh.points, mesh.cells, point_data=dict(mesh.point_data),
-                       cell_data=data, field_data=dict(mesh.field_data))
-    with atomic_path(path) as tmp:
-        meshio.write(tmp, copy, file_format="vtu")
-    return Path(path)
-
-
-def write_figure(path: str | Path, draw: Callable[[Path], None]) -> Path:
-    """Run ``draw(tmp_path)`` (which saves a picture there), then rename onto ``path``."""
-    with atomic_path(path) as tmp:
-        draw(tmp)
-    return Path(path)
+def write(path: str | Path, data) -> Path:
+    """Write ``data`` to ``path`` with the writer of its suffix (``WRITERS``)."""
+    path = Path(path)
+    writer = WRITERS.get(path.suffix.lower())
+    if writer is None:
+        raise ParameterError(f"file suffix = {path.suffix!r} is out of range: allowed one of "
+                             + ", ".join(WRITERS))
+    writer(path, data)
+    return path
 
 
 def _fmt(x) -> str:
@@ -146,3 +66,94 @@ def format_table(header: list[str], rows: list[list], title: str | None = None) 
     out += ["  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in
                       enumerate(zip(r, widths))) for r in cells]
     return "\n".join(out)
+
+
+# ----------------------------------------------------------------------------- the summary
+def summary_text(result) -> str:
+    """A readable terminal table of a ``pipeline.Result``: each mechanism's λ, h, v̄_g and
+    v̄_g/√(gb) beside the paper's DEM value, the FE details, the governing mechanism, files."""
+    c = result.case
+    rows = [[m.label, m.lam, m.h, m.vg, m.vnorm] for m in result.mechanisms.values()]
+    if result.dem:
+        d = result.dem
+        rows.append(["DEM, paper's Table 1", d.lam_v, d.h_v, d.vg, d.vg_norm])
+    head = (f"case {result.name}: H={c.wall.H:g} m, L={c.wall.L:g} m, s={c.wall.s:g} m, "
+            f"b={c.wall.b:g} m, l={c.wall.l:g} m; a={c.masonry.a:g} m, c={c.masonry.c:g} m, "
+            f"f={c.masonry.f:g}\n"
+            f"  rho=l/s={c.rho:.4g}  alpha^2=cf/a={c.alpha ** 2:.4g}  beta=c/b={c.beta:.4g}"
+            f"  (eq. 11)")
+    out = [head, "", format_table(["mechanism", "lambda=h/b", "h [m]", "vg [m/s]",
+                                   "vg/sqrt(gb)"], rows)]
+    if result.fe:
+        out += ["", _fe_lines(result.fe, c)]
+    crit = result.critical()
+    if crit:
+        out += ["", f"governing: {crit['mechanism']}, collapse ground velocity "
+                    f"vg = {crit['vg']:.3f} m/s (vg/sqrt(gb) = {crit['vnorm']:.3f})"]
+    if result.files:
+        out += ["", "files:"] + [f"  {v}" for v in result.files.values()]
+    return "\n".join(out)
+
+
+def _num(x, fmt=".3f") -> str:
+    return "–" if x is None or not math.isfinite(x) else format(x, fmt)
+
+
+def _fe_lines(fe, case) -> str:
+    """The FE block of the summary: the whole wall, its bracket, hinge, crack and scan."""
+    full, crit = fe.whole, fe.critical
+    e1, e2 = full.tanpsi_edges
+    lines = [f"FE, whole wall: {full.n_triangles} triangles, façade {full.facade}, "
+             f"collapse multiplier {_num(full.multiplier, '.4g')} (acceleration / g)"]
+    if fe.static is not None:
+        lines.append(f"  bracket: static {_num(fe.lower_bound, '.4g')} <= multiplier <= "
+                     f"kinematic {_num(full.multiplier, '.4g')} (gap "
+                     f"{100 * fe.bracket_rel_gap:.1f} %, same mesh)")
+    lines += [f"  {full.kind} mechanism, hinge at x = {_num(full.O[0], '.2f')} m, "
+              f"z = {_num(full.O[1], '.2f')} m",
+              f"  crack: tan psi = {_num(full.tanpsi)} ± {_num(full.tanpsi_uncertainty)} "
+              f"(50 % line), edges {_num(e1)} .. {_num(e2)}",
+              f"         sqrt(cf/a) = {case.alpha:.3f} (eq. 16), f = {case.masonry.f:.3f}, "
+              f"c/a = {case.masonry.c / case.masonry.a:.3f}"]
+    if crit is not None:
+        lines += [f"  impulse: lowest vg over {len(fe.scan)} collapse heights at "
+                  f"h = {_num(crit.h, '.2f')} m", f"         ({crit.vg_method})"]
+    return "\n".join(lines)
+
+
+# ----------------------------------------------------------------------------- result meshes
+def mechanism_mesh(fe):
+    """The whole wall's mechanism as a meshio mesh for ParaView: the solution's fields
+    (velocity, dissipation, intensity, region, stress estimate), the block participation and
+    label per triangle, the detected crack (the 50 % line) as a line block and, with the static
+    bound, its stress field (``static_*``) and each triangle's share of the bracket's gap."""
+    import meshio
+
+    from ..fe.bracket import gap_contributions
+    from ..fe.static import attach_cell_fields
+
+    full = fe.whole
+    m = full.solution.to_meshio()
+    crack = full.drawing()["crack"]
+    cells = [meshio.CellBlock("triangle", m.cells[0].data)]
+    data = {k: [np.asarray(v[0], float)] for k, v in m.cell_data.items()}
+    data["participation"] = [np.asarray(full.measures.participation, float)]
+    data["label"] = [np.asarray(full.measures.label, float)]
+    pts = m.points
+    if crack is not None and len(crack) > 1:
+        k0 = len(pts)
+        pts = np.vstack([pts, np.c_[crack, np.zeros(len(crack))]])
+        cells.append(meshio.CellBlock("line", np.c_[np.arange(len(crack) - 1),
+                                                    np.arange(1, len(crack))] + k0))
+        for v in data.values():
+            v.append(np.full((len(crack) - 1,) + v[0].shape[1:], np.nan))
+        data["crack"] = [np.zeros(len(cells[0].data)), np.ones(len(crack) - 1)]
+    pdata = {k: np.vstack([v, np.zeros((len(pts) - len(v),) + v.shape[1:])])
+             for k, v in m.point_data.items()}
+    out = meshio.Mesh(pts, cells, point_data=pdata, cell_data=data)
+    if fe.static is not None:
+        out = attach_cell_fields(out, fe.static)
+        gap = gap_contributions(fe.static, full.solution)  # share of λ⁺ − λ⁻ (virtual power)
+        out.cell_data["bracket_gap"] = [gap] + [np.full(len(b.data), np.nan)
+                                                for b in out.cells[1:]]
+    return out

@@ -10,6 +10,7 @@ The wall is Table 1's B2 (H = 9 m, L = 6 m, b = 0.5 m, ρ = 12) with a = 0.2 m a
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 import time
 
@@ -18,10 +19,13 @@ import numpy as np
 from ..closed_form.fan import optimise_fan, optimise_wedge
 from ..errors import SolverError, check_range
 from ..fe.kinematic import SolverOptions
-from ..mechanism.fe_impulse import analyse
-from ..params import Case, Masonry, Wall
+from ..fe.problems import t_section
+from ..mechanism.analysis import analyse
+from ..params import FACADE_MODELS, Case, Masonry, Wall
 
 __all__ = ["crack_angle_study", "C_OVER_A", "FRICTIONS", "STUDY_WALL", "CRACK_COLUMNS"]
+
+log = logging.getLogger(__name__)
 
 C_OVER_A = (0.5, 0.75, 1.0, 1.5, 2.0, 3.0)
 FRICTIONS = (0.3, 0.6, 0.9)
@@ -43,13 +47,13 @@ def _deg(t: float) -> float:
 
 
 def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
-                      c_over_a=C_OVER_A, frictions=FRICTIONS,
-                      facades=("homogenised", "bedjoints"), wall: Wall = STUDY_WALL,
-                      verbose: bool = False, progress=None) -> list[dict]:
+                      c_over_a=C_OVER_A, frictions=FRICTIONS, facades=FACADE_MODELS,
+                      wall: Wall = STUDY_WALL, options=None) -> list[dict]:
     """Crack-angle records, one per (c/a, f, façade, mesh size); keys ``CRACK_COLUMNS``.
 
     mesh_size: the default mesh (``problems.t_section``'s h) [m]; finer: a second, finer mesh
-    (None: skip); quick: c/a ∈ {0.5, 1, 3}, f ∈ {0.3, 0.9} and the default mesh only.
+    (None: skip); quick: c/a ∈ {0.5, 1, 3}, f ∈ {0.3, 0.9} and the default mesh only;
+    options: ``SolverOptions`` of the kinematic solves.
     """
     mesh_size = check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
     sizes = [mesh_size]
@@ -60,19 +64,19 @@ def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick:
         c_over_a, frictions = (0.5, 1.0, 3.0), (0.3, 0.9)
     grid = [(ca, f, fac, h) for ca in c_over_a for f in frictions for fac in facades
             for h in sizes]
-    if progress is not None and hasattr(progress, "bar"):
-        grid = progress.bar(grid, "crack-angle study")
+    options = options or SolverOptions()
     recs = []
-    for ca, f, fac, h in grid:
+    for k, (ca, f, fac, h) in enumerate(grid):
         ca = check_range("c_over_a", ca, 0.0, lo_open=True)
         case = Case(dataclasses.replace(wall), Masonry(a=_A, c=ca * _A, f=f),
                     name=f"c/a={ca:g},f={f:g}")
         t0 = time.perf_counter()
+        problem = t_section(case, facade=fac, h=h)
         try:
-            fe = analyse(case, mesh_size=h, facade=fac)
+            fe = analyse(case, problem, options)
         except SolverError:  # Clarabel stalled short of 1e-9: retry at 1e-7, then give up
             try:
-                fe = analyse(case, mesh_size=h, facade=fac, options=SolverOptions(tol=1e-7))
+                fe = analyse(case, problem, dataclasses.replace(options, tol=1e-7))
             except SolverError as exc:
                 recs.append({"c_over_a": ca, "f": f, "facade": fac, "mesh_size": h,
                              "mechanism_fe": f"solver failed: {exc.status}"})
@@ -80,26 +84,26 @@ def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick:
         opt = optimise_fan(case, facade=fac)
         wed = optimise_wedge(case)
         alpha = case.alpha
-        e1, e2 = fe["tanpsi_fe_edges"]
+        e1, e2 = fe.tanpsi_edges
+        mm = fe.measures
         r = {"c_over_a": ca, "f": f, "facade": fac, "mesh_size": h,
-             "n_triangles": fe["n_triangles"], "mechanism_fe": fe["mechanism_fe"],
-             "hinge_z": fe["O"][1], "tanpsi_fe": fe["tanpsi_fe"],
-             "dtanpsi_fe": fe["dtanpsi_fe"], "tanpsi_block": e1, "tanpsi_fixed": e2,
+             "n_triangles": fe.n_triangles, "mechanism_fe": fe.kind,
+             "hinge_z": fe.O[1], "tanpsi_fe": fe.tanpsi,
+             "dtanpsi_fe": fe.tanpsi_uncertainty, "tanpsi_block": e1, "tanpsi_fixed": e2,
              "tan_alpha": alpha, "tan_f": f, "tan_c_over_a": ca,
-             "psi_fe_deg": _deg(fe["tanpsi_fe"]), "psi_alpha_deg": _deg(alpha),
+             "psi_fe_deg": _deg(fe.tanpsi), "psi_alpha_deg": _deg(alpha),
              "psi_f_deg": _deg(f), "psi_c_over_a_deg": _deg(ca),
-             "multiplier_fe": fe["multiplier_fe"], "multiplier_fan": opt.lam,
+             "multiplier_fe": fe.multiplier, "multiplier_fan": opt.lam,
              "fan_z0": opt.z0, "fan_T1": opt.T1, "fan_T2": opt.T2,
              "fan_admissible": opt.admissible, "multiplier_wedge": wed.lam,
              "wedge_z0": wed.z0, "wedge_admissible": wed.admissible,
-             "explained": fe["explained"], "block_share": fe["block_share"],
-             "interior_share": fe["interior_share"], "vnorm_fe": fe.get("vnorm_fe", math.nan),
+             "explained": mm.explained, "block_share": mm.block_share,
+             "interior_share": mm.interior_share, "vnorm_fe": fe.vnorm,
              "solve_time": time.perf_counter() - t0}
         recs.append(r)
-        if verbose:
-            print(f"c/a={ca:<4g} f={f:<4g} {fac:<11s} h={h:<5g} {r['mechanism_fe']:<11s} "
-                  f"z_O={r['hinge_z']:5.2f}  T1={e1:6.3f} T_mid={r['tanpsi_fe']:6.3f} "
-                  f"T2={e2:6.3f} (±{r['dtanpsi_fe']:.3f}) | √(cf/a)={alpha:5.3f} f={f:4.2f} "
-                  f"c/a={ca:4.2f} | λ_FE={r['multiplier_fe']:.4f} λ_fan={opt.lam:.4f} "
-                  f"λ_wedge={wed.lam:.4f}  {r['solve_time']:.1f}s", flush=True)
+        log.info("crack study %d/%d: c/a=%g f=%g %s h=%g %s z_O=%.2f T1=%.3f T_mid=%.3f "
+                 "T2=%.3f (±%.3f) | √(cf/a)=%.3f | λ_FE=%.4f λ_fan=%.4f λ_wedge=%.4f %.1fs",
+                 k + 1, len(grid), ca, f, fac, h, r["mechanism_fe"], r["hinge_z"], e1,
+                 r["tanpsi_fe"], e2, r["dtanpsi_fe"], alpha, r["multiplier_fe"], opt.lam,
+                 wed.lam, r["solve_time"])
     return recs

@@ -43,11 +43,10 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from scipy.optimize import minimize
 
-from ..errors import ParameterError, check_range
-from ..params import Case
+from ..errors import ParameterError, check_choice, check_range
+from ..params import FACADE_MODELS, Case
 
 __all__ = [
-    "FACADE_MODELS",
     "FanResult",
     "fan_admissible",
     "fan_strain_rate",
@@ -61,7 +60,6 @@ __all__ = [
     "optimise_wedge",
 ]
 
-FACADE_MODELS = ("homogenised", "bedjoints")  # as problems.t_section
 
 
 # --------------------------------------------------------------------------- kinematics
@@ -258,8 +256,7 @@ class FanResult:
 
 
 def _check_facade(facade: str):
-    if facade not in FACADE_MODELS:
-        raise ParameterError(f"facade = {facade!r} is out of range: allowed {FACADE_MODELS}")
+    check_choice("facade", facade, FACADE_MODELS)
 
 
 def optimise_fan(case: Case, z_base: float = 0.0, free_T2: bool = False, T_cap: float = 4.0,

@@ -234,6 +234,13 @@ class MechanismResult:
     theta_m_eq14: float | None = None
     lam_max: float = math.inf
 
+    @property
+    def label(self) -> str:
+        """The row label of the summary table."""
+        if self.name == "I":
+            return "I  detachment (eqs 10, 7)"
+        return f"II diagonal crack tan psi={self.tanpsi:.3f} (eqs 17-20)"
+
     def as_dict(self) -> dict:
         d = {k: getattr(self, k) for k in ("name", "lam", "h", "vnorm", "vg", "theta_m", "W_m",
                                            "tanpsi", "theta_m_eq14", "lam_max")}

@@ -4,13 +4,16 @@ with the closed-form mechanisms I and II."""
 from __future__ import annotations
 
 import csv
+import functools
 from dataclasses import dataclass
 from importlib import resources
+
+import numpy as np
 
 from ..params import Case, Masonry, Wall
 from .mechanisms import mechanism_I, mechanism_II
 
-__all__ = ["DemResult", "table1", "table1_rows"]
+__all__ = ["DemResult", "dem_row", "table1", "table1_rows"]
 
 
 @dataclass(frozen=True)
@@ -26,10 +29,20 @@ class DemResult:
     vg: float
     vg_norm: float
 
+    def as_dict(self) -> dict:
+        """The DEM columns as in the paper's table: test, h_v, lambda_v, vg, vg_norm."""
+        return {"test": self.test, "h_v": self.h_v, "lambda_v": self.lam_v, "vg": self.vg,
+                "vg_norm": self.vg_norm}
+
 
 def table1() -> list[DemResult]:
     """Table 1 as cases (l = ρ s, the paper's 2D reduction) with their DEM results."""
-    text = resources.files("homlimit").joinpath("data/table1_dem.csv").read_text()
+    return list(_table1())
+
+
+@functools.cache
+def _table1() -> tuple[DemResult, ...]:
+    text = resources.files("homlimit").joinpath("data/table1_dem.csv").read_text("utf-8")
     rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
     out = []
     for r in rows:
@@ -37,7 +50,18 @@ def table1() -> list[DemResult]:
         case = Case(Wall(H=v["H"], L=v["L"], s=v["s"], b=v["b"], l=v["rho"] * v["s"]),
                     Masonry(a=v["a"], c=v["c"], f=v["f"]), name=r["test"])
         out.append(DemResult(r["test"], case, v["h_v"], v["lambda_v"], v["vg"], v["vg_norm"]))
-    return out
+    return tuple(out)
+
+
+def dem_row(case: Case) -> DemResult | None:
+    """The Table 1 row whose wall and masonry match ``case`` (ρ = l/s), else None."""
+    def key(c: Case):
+        w, m = c.wall, c.masonry
+        return (w.H, w.L, w.s, w.b, m.a, m.c, m.f, w.rho)
+
+    mine = key(case)
+    return next((t for t in _table1() if np.allclose(mine, key(t.case), rtol=1e-9, atol=0)),
+                None)
 
 
 def table1_rows() -> list[dict]:

@@ -26,7 +26,7 @@ from .._io import atomic_path
 from ..errors import MeshError, ParameterError
 
 __all__ = ["to_skfem", "from_skfem", "read", "write", "cached", "cache_dir", "element_areas",
-           "quality"]
+           "quality", "region_tags"]
 
 _SET = "set:"
 
@@ -133,15 +133,39 @@ def from_skfem(mesh) -> meshio.Mesh:
 
 # ---------------------------------------------------------------------------------- files
 
+def region_tags(mesh) -> list[np.ndarray]:
+    """Per cell block, the 1-based index of the named triangle set holding each cell (0: none).
+
+    The order of the sets is that of the named sets holding triangles (for a T-section:
+    1 = facade, 2 = wall)."""
+    tags = [np.zeros(len(c.data), np.int32) for c in mesh.cells]
+    k = 0
+    for name, idx in _sets(mesh).items():
+        if name.startswith("gmsh:"):
+            continue
+        hits = [(j, np.asarray(i, int)) for j, i in enumerate(idx)
+                if j < len(mesh.cells) and mesh.cells[j].type == "triangle" and np.size(i)]
+        if hits:
+            k += 1
+            for j, i in hits:
+                tags[j][i] = k
+    return tags
+
+
 def write(m: meshio.Mesh, path: str | os.PathLike) -> Path:
-    """Write ``m`` to ``path`` (format from the suffix) whole or not at all; named sets kept."""
+    """Write ``m`` to ``path`` (format from the suffix) whole or not at all, without modifying
+    ``m``. Point and cell data are kept; named sets become gmsh physical groups (.msh) or 0/1
+    cell data "set:<name>" plus an integer cell field "region" (``region_tags``; .vtu, .xdmf)."""
     path = Path(path)
     suffix = path.suffix.lower()
     sets = _sets(m)
     if suffix == ".msh":
         out, kw = _with_physical(m, sets), {"file_format": "gmsh22", "binary": False}
     else:
-        data = {k: v for k, v in m.cell_data.items() if not k.startswith(_SET)}
+        data = {k: list(v) for k, v in m.cell_data.items() if not k.startswith(_SET)}
+        sets = {k: v for k, v in sets.items() if not k.startswith("gmsh:")}
+        if sets:
+            data["region"] = region_tags(m)
         for name, idx in sets.items():
             cols = []
             for c, i in zip(m.cells, idx):
@@ -149,7 +173,8 @@ def write(m: meshio.Mesh, path: str | os.PathLike) -> Path:
                 a[np.asarray(i, int)] = 1
                 cols.append(a)
             data[_SET + name] = cols
-        out = meshio.Mesh(m.points, m.cells, cell_data=data, field_data=m.field_data)
+        out = meshio.Mesh(m.points, m.cells, point_data=dict(m.point_data), cell_data=data,
+                          field_data=dict(m.field_data))
         kw = {"data_format": "XML"} if suffix == ".xdmf" else {}
     try:
         with atomic_path(path) as tmp:

@@ -20,8 +20,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from skfem import MeshTri
 
-from ..errors import ParameterError, check_range
-from ..params import Case
+from ..errors import ParameterError, check_choice, check_range
+from ..params import FACADE_MODELS, Case
 from . import strength
 
 __all__ = [
@@ -320,9 +320,6 @@ def free_block(b: float = 0.5, h: float = 3.0, f: float = 0.6, gamma: float = 20
 # the masonry T-section
 # ---------------------------------------------------------------------------------------------
 
-FACADE_DOMAINS = ("homogenised", "bedjoints")
-
-
 def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
               h: float = 0.25, n_b: int = 4, growth: float = 1.15,
               h_far: float | None = None, mesher: str = "crossed") -> Problem:
@@ -345,8 +342,7 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     z0 = check_range("z0", z0, 0.0, w.H, hi_open=True, unit="m")
     h = check_range("h", h, 0.0, w.H - z0, lo_open=True, unit="m")
     n_b = int(check_range("n_b", n_b, 1))
-    if facade not in FACADE_DOMAINS:
-        raise ParameterError(f"facade = {facade!r} is out of range: allowed {FACADE_DOMAINS}")
+    check_choice("facade", facade, FACADE_MODELS)
     if mesher not in ("crossed", "gmsh"):
         raise ParameterError(f"mesher = {mesher!r} is out of range: allowed ('crossed', 'gmsh')")
     t0 = time.perf_counter()
@@ -380,4 +376,4 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
         live_body={"facade": (-wf, 0.0), "wall": (-wg, 0.0)},
         dead_body={"facade": (0.0, -wf), "wall": (0.0, -wg)},
         meta={"mesh_time": time.perf_counter() - t0, "case": case.as_dict(), "z0": z0,
-              "facade": facade, "mesher": mesher})
+              "facade": facade, "mesher": mesher, "h": h})

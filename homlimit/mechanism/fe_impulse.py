@@ -1,8 +1,4 @@
-"""From a finite-element mechanism to the failing body, its crack and the collapse ground velocity.
-
-Glue between the kinematic solver (``homlimit.fe.kinematic``), the rigid fit (``rigidfit``), the
-crack measurement (``crack``), the closed-form hinge + fan (``fan``) and the impulse criterion
-(``impulse``, eqs 4–7).
+"""From a finite-element mechanism to its failing body and collapse ground velocity.
 
 One-degree-of-freedom generalisation of eqs 4–7. The FE mechanism is a shape φ(x) = v(x)/ω
 (unit rotation rate of the fitted block about O). With q the block's rotation angle and the
@@ -31,22 +27,18 @@ participation line, fed to eq. 7 + eq. 18 (fan mass split at its mid-line, fan l
 
 from __future__ import annotations
 
-import dataclasses
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from skfem import Basis, ElementTriP2
 
-from ..closed_form.fan import optimise_fan
 from ..errors import ParameterError, check_range
-from ..impulse.body import RigidBody
-from ..impulse.criterion import collapse_velocity
-from ..params import Case
-from .crack import fan_edges, mechanism_type
-from .rigidfit import measure_mechanism, p2_energy
+from ..impulse import RigidBody
+from .rigidfit import p2_energy
 
 __all__ = ["p2_nodes", "ray_conforming_mesh", "GeneralisedImpulse", "generalised_impulse",
-           "fe_body", "analyse", "fe_mechanism", "h_scan"]
+           "fe_body"]
 
 
 def p2_nodes(solution, densities: dict | None = None):
@@ -149,7 +141,7 @@ def _p2_integral(elements, area, density, F):
     return np.asarray(density, float) * area * Fe[:, 3:].sum(axis=1) / 3.0
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclass(frozen=True)
 class GeneralisedImpulse:
     """The one-degree-of-freedom impulse criterion of a mechanism shape φ (module docstring).
 
@@ -215,115 +207,3 @@ def fe_body(X, elements, density, mm, level: float = 0.5) -> RigidBody:
     sel = _body_mask(mm, level)
     rho = np.broadcast_to(np.asarray(density, float), (len(el),))
     return RigidBody.from_triangles(X, el[sel, :3], rho[sel], O=mm.fit.O)
-
-
-def analyse(case: Case, mesh_size: float = 0.25, facade: str = "homogenised", z0: float = 0.0,
-            mesh=None, options=None, drawing: bool = False) -> dict:
-    """FE mechanism of the part above z0 (base fixed at z0): multiplier, rigid fit, crack,
-    mechanism type, body and v̄_g. Returns plain data (see ``fe_mechanism`` for the keys).
-
-    drawing: add ``out["drawing"]`` for ``plots.plot_mechanism``: points, triangles and
-    velocity at the mesh vertices, the 50 % line ``crack``, the 10 % and 90 % lines
-    ``crack_edges`` (polylines) and the ``hinge``; and ``out["solution"]`` (the
-    KinematicSolution, e.g. for ``write_vtu``)."""
-    from ..fe.kinematic import SolverOptions, solve_kinematic
-    from ..fe.problems import t_section
-
-    w = case.wall
-    prob = t_section(case, z0=z0, facade=facade, h=mesh_size)
-    if mesh is not None:
-        prob = dataclasses.replace(prob, mesh=mesh)
-    sol = solve_kinematic(prob, options or SolverOptions())
-    X, V, el, rho = p2_nodes(sol, {"facade": case.rho * w.gamma * w.s,
-                                   "wall": w.gamma * w.s})
-    mm = measure_mechanism(X, V, el, rho)
-    fe = fan_edges(X, el, mm, w.b, z_top=w.H) if mm.kind != "distributed" else None
-    kind = mechanism_type(mm, fe)
-    out = {"multiplier_fe": sol.multiplier, "z0": z0, "facade": facade,
-           "mesh_size": mesh_size, "n_triangles": int(prob.n_triangles),
-           "O": tuple(mm.fit.O), "omega": mm.fit.omega, "mechanism_fe": kind,
-           "explained": mm.explained, "block_share": mm.block_share,
-           "interior_share": mm.interior_share, "h": w.H - mm.fit.O[1],
-           "lam_fe": (w.H - mm.fit.O[1]) / w.b,
-           "tanpsi_fe": fe.T_mid if fe else math.nan,
-           "dtanpsi_fe": fe.dT if fe else math.nan,
-           "tanpsi_fe_edges": (fe.T1, fe.T2) if fe else (math.nan, math.nan),
-           "solve_time": sol.times.get("total", math.nan)}
-    if fe is not None and fe.sharp:
-        out["tanpsi_fe_edges"] = (fe.T_mid, fe.T_mid)
-    try:
-        gi = generalised_impulse(X, V, el, rho, mm, g=w.g)
-        body50 = fe_body(X, el, rho, mm)
-        v_rigid = collapse_velocity(body50, g=w.g)
-        out.update({"vg_generalised": gi.vg, "vg_rigid50": v_rigid,
-                    "M_rest_share": gi.M_rest_share, "W_rest_share": gi.W_rest_share,
-                    "body50": dataclasses.asdict(body50)})
-        # a sharp crack: the body inside its 50 % line, eqs 7 + 18 (the limit of the one-DOF
-        # value as the smeared band thins); a fan: the one-DOF generalisation, fan included
-        if kind == "rigid":
-            out["vg_fe"] = v_rigid
-            out["vg_method"] = "eq. 7 + eq. 18, body inside the 50 % participation line"
-        else:
-            out["vg_fe"] = gi.vg
-            out["vg_method"] = ("one-DOF generalisation of eqs 4-7 (fe_impulse docstring): "
-                                "body inside the 50 % line at finite rotation, the rest "
-                                "linearised")
-    except ParameterError as exc:
-        out.update({"vg_fe": math.nan, "vg_method": f"not available: {exc}"})
-    out["vnorm_fe"] = out["vg_fe"] / math.sqrt(w.g * w.b)
-    if drawing:
-        lines = fe.lines if fe is not None else {}
-        out["drawing"] = {
-            "points": sol.mesh.p.T.copy(), "triangles": sol.mesh.t.T.copy(),
-            "velocity": sol.velocity, "hinge": tuple(mm.fit.O),
-            "crack": lines[0.5].polyline if 0.5 in lines else None,
-            "crack_edges": [lines[lv].polyline for lv in (0.1, 0.9) if lv in lines]}
-        out["solution"] = sol
-    return out
-
-
-def h_scan(case: Case, lams=None, mesh_size: float = 0.25, facade: str = "homogenised",
-           options=None) -> list[dict]:
-    """``analyse`` on the part above z0 = H − h for h = λ b, λ in ``lams`` (default: 10 values
-    spaced geometrically from λ = 2 to H/b). Each record has the analysed h_part and the
-    mechanism's own h = H − z_O (the hinge may float above the base of the analysed part).
-    The element size is min(mesh_size, h_part/10), so that short parts stay resolved."""
-    w = case.wall
-    if lams is None:
-        lams = np.geomspace(min(2.0, w.H / w.b), w.H / w.b, 10)
-    recs = []
-    for lam in lams:
-        hp = check_range("lam", lam, 0.0, w.H / w.b, lo_open=True) * w.b
-        r = analyse(case, min(mesh_size, hp / 10), facade, z0=max(0.0, w.H - hp),
-                    options=options)
-        r["h_part"] = hp
-        recs.append(r)
-    return recs
-
-
-def fe_mechanism(case: Case, mesh_size: float = 0.25, facade: str = "homogenised",
-                 lams=None, options=None, verbose: bool = False) -> dict:
-    """The FE columns of Table 1 for ``case``: the h-scan's minimum of v̄_g.
-
-    Keys: lam_fe (critical λ = h/b, with h = H − z_O the height of the failing part above
-    the mechanism's hinge), vnorm_fe (v̄_g/√(g b)), vg_fe [m/s], tanpsi_fe
-    (the 50 % participation line), tanpsi_fe_edges (block side, fixed side), mechanism_fe
-    ("rigid", "hinge+fan", "distributed"), multiplier_fe, h, O, omega, vg_method, scan (all
-    records), and the closed-form hinge + fan of the whole wall for comparison (fan_*).
-    """
-    recs = h_scan(case, lams, mesh_size, facade, options)
-    ok = [r for r in recs if np.isfinite(r["vg_fe"])]
-    if not ok:
-        raise ParameterError(f"facade = {facade!r}: no analysed height gave a v̄_g (see the "
-                             "scan's vg_method)")
-    best = dict(min(ok, key=lambda r: r["vg_fe"]))
-    best["scan"] = [{k: r[k] for k in ("h_part", "h", "multiplier_fe", "vnorm_fe",
-                                        "mechanism_fe", "tanpsi_fe")} for r in recs]
-    opt = optimise_fan(case, facade=facade)
-    best.update({"fan_multiplier": opt.lam, "fan_z0": opt.z0, "fan_T1": opt.T1,
-                 "fan_T2": opt.T2, "fan_admissible": opt.admissible})
-    if verbose:
-        for r in best["scan"]:
-            print(f"  h_part = {r['h_part']:.2f} m: h = {r['h']:.2f} m, "
-                  f"v/sqrt(gb) = {r['vnorm_fe']:.3f}, {r['mechanism_fe']}")
-    return best
