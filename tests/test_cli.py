@@ -7,13 +7,14 @@ Key numbers are checked against references computed here, independently of homli
 - mechanism II: eq. 7 with W(θ_m) = m g (r_G − z_G) (eq. 18), m, G and I_O of the façade strip
   plus the wedge behind the crack tan ψ = √(cf/a) by exact polygon moments;
 - both minimised over λ = h/b (grid + bounded Brent);
-- Table 1's DEM columns typed in from the paper.
+- Table 1's DEM columns from the paper (``dem`` fixture, ../shared/reference).
 """
 
 from __future__ import annotations
 
 import json
 import math
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -96,12 +97,6 @@ def reference(H, L, s, b, l, a, c, f):  # noqa: E741 (the paper's symbols)
 B1_ARGS = (9.0, 6.0, 0.5, 0.5, 6.0, 0.3, 0.2, 0.6)
 C4_ARGS = (9.0, 6.0, 0.5, 0.25, 2.5, 0.3, 0.2, 0.6)
 
-# Table 1 of the paper (DEM): test -> (lambda_v, vg (gb)^-1/2)
-DEM = {"B1": (13.8, 0.377), "B2": (13.6, 0.443), "B3": (11.7, 0.509), "B4": (15.6, 0.564),
-       "B5": (11.2, 0.720), "B6": (9.0, 0.846), "C1": (13.8, 0.598), "C2": (8.8, 0.775),
-       "C3": (7.5, 0.864), "C4": (10.8, 0.877), "C5": (8.0, 1.096), "C6": (5.4, 1.253)}
-
-
 @pytest.fixture(scope="module")
 def ref_B1():
     return reference(*B1_ARGS)
@@ -130,13 +125,34 @@ def _sh(*args, cwd):
 
 # ----------------------------------------------------------------------------- the doors
 def test_console_script_help(tmp_path):
-    r = _sh("--help", cwd=tmp_path)
-    assert r.returncode == 0
-    for cmd in ("run", "demo", "table1", "figure2", "crack-study", "mesh"):
-        assert cmd in r.stdout
+    """The help a newcomer reads: every command with its one-line purpose, every option with
+    its default and unit, and the version."""
+    env = {**os.environ, "COLUMNS": "200"}
+
+    def helptext(*args):
+        r = subprocess.run([str(HOMLIMIT), *args, "--help"], capture_output=True, text=True,
+                           cwd=tmp_path, env=env, timeout=60)
+        assert r.returncode == 0, r.stderr
+        return " ".join(r.stdout.split())
+
+    top = helptext()
+    for cmd, purpose in (("run", "full pipeline for one wall"), ("demo", "Table 1 wall B1"),
+                         ("table1", "beside the DEM"), ("figure2", "Figure 2"),
+                         ("crack-study", "crack-angle study"), ("mesh", "T-section")):
+        assert f"{cmd} " in top and purpose in top, cmd
+    run = helptext("run")
+    for option in ("--json", "--out", "--set", "--verbose", "--quiet", "Case file (TOML)",
+                   "[default: homlimit-out/NAME/]", "mesh.size=0.5"):
+        assert option in run, option
+    t1 = helptext("table1")
+    assert "FE mesh size [m] (with --fe). [default: 0.25]" in t1
+    assert "[default: 10]" in t1 and "--test" in t1
+    r = subprocess.run([str(HOMLIMIT), "--version"], capture_output=True, text=True,
+                       cwd=tmp_path, timeout=60)
+    assert r.returncode == 0 and r.stdout.strip() == f"homlimit {homlimit.__version__}"
 
 
-def test_console_script_runs_case_file_json(tmp_path, ref_C4):
+def test_console_script_runs_case_file_json(tmp_path, ref_C4, dem):
     """`homlimit run CASE --json`: pure JSON on stdout, numbers vs the references, files."""
     case = EXAMPLES / "c4-closed-form" / "case.toml"
     r = _sh("run", case, "--json", "--out", tmp_path / "out", cwd=tmp_path)
@@ -149,16 +165,16 @@ def test_console_script_runs_case_file_json(tmp_path, ref_C4):
     assert_closed_form(s, ref_C4)
     assert s["derived"]["rho"] == pytest.approx(5.0) and s["derived"]["beta"] == pytest.approx(0.8)
     assert s["dem_table1"]["test"] == "C4"
-    assert (s["dem_table1"]["lambda_v"], s["dem_table1"]["vg_norm"]) == DEM["C4"]
+    assert (s["dem_table1"]["lambda_v"], s["dem_table1"]["vg_norm"]) == dem["C4"]
     # the paper's finding: the closed-form prediction lies below the DEM value
-    assert s["critical"]["mechanism"] == "I" and s["critical"]["vnorm"] < DEM["C4"][1]
+    assert s["critical"]["mechanism"] == "I" and s["critical"]["vnorm"] < dem["C4"][1]
     files = {k: Path(v) for k, v in s["files"].items()}
     assert set(files) == {"summary_json", "vg_lambda_png"}
     assert json.loads(files["summary_json"].read_text())["mechanisms"] == s["mechanisms"]
     assert_png(files["vg_lambda_png"], (8 * 120, int(5.5 * 120)))
 
 
-def test_demo_embedded_case_console_script(tmp_path, ref_B1):
+def test_demo_embedded_case_console_script(tmp_path, ref_B1, dem):
     """`homlimit demo` (the embedded B1) through the real console script, FE included on a
     coarse mesh via --set; -v solver logs go to stderr, stdout stays pure JSON."""
     r = _sh("demo", "--json", "-v", "--set", "mesh.size=0.8", "--set", "analysis.heights=1",
@@ -169,7 +185,7 @@ def test_demo_embedded_case_console_script(tmp_path, ref_B1):
     assert s["case"] == "B1" and s["source"] == "<default: B1>"
     assert s["inputs"]["mesh"]["size"] == 0.8 and s["inputs"]["analysis"]["heights"] == 1
     assert_closed_form(s, ref_B1)
-    assert (s["dem_table1"]["lambda_v"], s["dem_table1"]["vg_norm"]) == DEM["B1"]
+    assert (s["dem_table1"]["lambda_v"], s["dem_table1"]["vg_norm"]) == dem["B1"]
     assert "Clarabel" in r.stderr                      # the solver log, on stderr
     assert s["fe"]["multiplier"] > 0 and len(s["fe"]["scan"]) == 1
     assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == ["fe_scan.csv",
@@ -310,15 +326,15 @@ def test_bad_option_value_exits_2(tmp_path):
 
 
 # ----------------------------------------------------------------------------- other commands
-def test_table1_json(tmp_path):
+def test_table1_json(tmp_path, dem):
     res = CliRunner().invoke(app, ["table1", "--json", "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output
     rows = json.loads(res.stdout)
-    assert [r["test"] for r in rows] == list(DEM)
+    assert [r["test"] for r in rows] == list(dem)
     for r in rows:
         assert {"test", "lam_I", "vnorm_I", "lam_II", "vnorm_II", "lam_dem",
                 "vnorm_dem"} <= set(r)
-        assert (r["lam_dem"], r["vnorm_dem"]) == DEM[r["test"]]
+        assert (r["lam_dem"], r["vnorm_dem"]) == dem[r["test"]]
         # the paper: mechanism I is critical, and below the DEM value, in every test
         assert r["vnorm_I"] < r["vnorm_II"] and r["vnorm_I"] < r["vnorm_dem"]
     row = {r["test"]: r for r in rows}

@@ -89,11 +89,11 @@ def test_conforming_mesh_reproduces_the_hinge_and_fan(a, c, f):
     assert mm.kind == "deforming" and not fe.sharp
 
 
-def test_unaligned_meshes_approach_the_fan_under_refinement():
+def test_unaligned_meshes_approach_the_fan_under_refinement(table1_case):
     """Crossed meshes not aligned with the rays: λ decreases towards the hinge + fan value from
     above, the measured edges lie within 2 δT of f and c/a and the mid-line within δT of
     √(cf/a), δT the element-size uncertainty, and both errors shrink from h = 0.5 to 0.25 m."""
-    case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
+    case = table1_case("B2")
     opt = optimise_fan(case)
     alpha = math.sqrt(0.6)
     errs, mids, lams = [], [], []

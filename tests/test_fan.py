@@ -78,8 +78,8 @@ def _brute_multiplier(case, z0, T1, T2, n=1500):
 
 
 @pytest.mark.parametrize("z0, T1, T2", [(4.0, 0.6, 1.0), (0.0, 0.3, 1.5), (6.5, 0.9, 0.9)])
-def test_fan_multiplier_is_the_exact_integral(z0, T1, T2):
-    case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
+def test_fan_multiplier_is_the_exact_integral(z0, T1, T2, table1_case):
+    case = table1_case("B2")
     assert fan_multiplier(case, z0, T1, T2) == pytest.approx(_brute_multiplier(case, z0, T1, T2),
                                                              rel=2e-4)
 
@@ -134,9 +134,9 @@ def test_bad_input():
         fan_strain_rate(0.8, 0.6)
 
 
-def test_bed_joint_facade_admits_no_fan():
+def test_bed_joint_facade_admits_no_fan(table1_case):
     """A bed-joints-only façade allows no horizontal extension (d_xx = 0): neither the fan nor
     a crack from the outer hinge may cross it, whatever the masonry."""
-    case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
+    case = table1_case("B2")
     assert optimise_fan(case).admissible
     assert not optimise_fan(case, facade="bedjoints").admissible

@@ -9,20 +9,19 @@ import skfem as fem
 
 from homlimit.closed_form.fan import optimise_fan
 from homlimit.closed_form.mechanisms import geometry_II
-from homlimit.impulse.body import RigidBody
 from homlimit.fe.problems import t_section
+from homlimit.impulse.body import RigidBody
 from homlimit.mechanism.analysis import analyse, fe_result
 from homlimit.mechanism.fe_impulse import generalised_impulse, ray_conforming_mesh
 from homlimit.mechanism.rigidfit import measure_mechanism
-from homlimit.params import Case, Masonry, Wall
 
 
-def test_crack_conforming_mesh_body_matches_mechanism_II():
+def test_crack_conforming_mesh_body_matches_mechanism_II(table1_case):
     """A gmsh mesh containing the straight crack tan ψ = α from the inner corner (b, z_h) and
     the bed joint under the façade at z_h; the
     triangles behind it (façade above z_h + wedge), about the outer toe (0, z_h), integrated
     exactly: x_G, z_G (eq. 17) and i (eq. 20) to 1e-6."""
-    case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
+    case = table1_case("B2")
     w, alpha, z_h = case.wall, case.alpha, 5.0
     m = ray_conforming_mesh(case, z_h, [alpha], h=0.4, x_apex=w.b,
                             extra_lines=[((0.0, z_h), (w.b, z_h))])
@@ -52,11 +51,11 @@ def test_generalised_impulse_of_a_rigid_block_is_eq_19():
     assert gi.M_rest_share == pytest.approx(0.0, abs=1e-12)
 
 
-def test_fe_analysis_end_to_end_on_a_coarse_mesh():
+def test_fe_analysis_end_to_end_on_a_coarse_mesh(table1_case):
     """The part above z0 = 3 m of wall B2 on a coarse crossed mesh: a hinge + fan whose hinge
     and mid-line agree with the closed form within the element-size uncertainty, and a v̄_g
     bracketed by the two body models."""
-    case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
+    case = table1_case("B2")
     r = analyse(case, t_section(case, z0=3.0, h=0.5))
     opt = optimise_fan(case, z_base=3.0)
     assert r.kind == "hinge+fan"
@@ -68,9 +67,9 @@ def test_fe_analysis_end_to_end_on_a_coarse_mesh():
     assert 0.2 < r.vnorm < 1.0
 
 
-def test_fe_result_critical_is_the_minimum_of_the_scan():
+def test_fe_result_critical_is_the_minimum_of_the_scan(table1_case):
     """The Table 1 columns: the scan's minimum of v̄_g, with λ = h/b from the hinge height."""
-    case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
+    case = table1_case("B2")
     res = fe_result(case, [4.0, 8.0, case.wall.lam_max], mesh_size=0.5)
     r = res.critical
     assert [round(m.h_part, 9) for m in res.scan] == [2.0, 4.0, 9.0]
@@ -81,13 +80,13 @@ def test_fe_result_critical_is_the_minimum_of_the_scan():
     assert res.as_dict()["vnorm"] == r.vnorm and len(res.as_dict()["scan"]) == 3
 
 
-def test_prescribed_mechanism_II_field_through_the_fe_pipeline():
+def test_prescribed_mechanism_II_field_through_the_fe_pipeline(table1_case):
     """Mechanism II's field (rotation about the outer toe behind the crack from the inner
     corner, rest at rest) on the P2 nodes of a crack-conforming mesh: the rigid fit finds the
     toe, and the body inside the 50 % line reproduces eqs 17 and 20 to 1e-6."""
     from homlimit.mechanism.fe_impulse import fe_body
 
-    case = Case(Wall(b=0.5, l=6.0), Masonry(a=0.2, c=0.2, f=0.6))
+    case = table1_case("B2")
     w, alpha, z_h = case.wall, case.alpha, 5.0
     m = ray_conforming_mesh(case, z_h, [alpha], h=0.4, x_apex=w.b,
                             extra_lines=[((0.0, z_h), (w.b, z_h))])

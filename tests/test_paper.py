@@ -37,3 +37,17 @@ def test_table1_png(tmp_path):
     img = imread(plot_table1(tmp_path / "t1.png", table1_rows()))
     assert img.shape[0] > 500 and img.shape[1] > 700
     assert img[..., :3].std() > 0.05
+
+
+def test_shipped_table1_equals_the_papers_table(table1_ref):
+    """The package's copy of Table 1 (homlimit/data) row by row against the reference data
+    beside the project (../shared/reference/table1_dem.csv)."""
+    rows = table1()
+    assert [t.test for t in rows] == list(table1_ref)
+    for t in rows:
+        r, c = table1_ref[t.test], t.case
+        got = (c.wall.H, c.wall.L, c.wall.s, c.wall.b, c.masonry.a, c.masonry.c, c.masonry.f,
+               c.rho, c.beta, c.alpha ** 2, t.h_v, t.lam_v, t.vg, t.vg_norm)
+        want = tuple(r[k] for k in ("H", "L", "s", "b", "a", "c", "f", "rho", "beta", "alpha2",
+                                    "h_v", "lambda_v", "vg", "vg_norm"))
+        np.testing.assert_allclose(got, want, rtol=1e-12, err_msg=t.test)

@@ -42,7 +42,7 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print the results as JSON on stdout "
                                                       "(nothing else there); no progress.")]
 OutOpt = Annotated[Path | None, typer.Option("--out", "-o", help="Output folder "
-                                             "[default: homlimit-out/NAME/].")]
+                                             "\\[default: homlimit-out/NAME/].")]
 VerboseOpt = Annotated[bool, typer.Option("--verbose", "-v", help="Show solver logs "
                                                                "(debug level) on stderr.")]
 QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="Only warnings and errors on "
@@ -193,7 +193,7 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
            fe: Annotated[bool, typer.Option("--fe", help="Add the finite-element body's "
                                             "columns (slow: one scan over h per wall).")]
            = False,
-           mesh_size: Annotated[float, typer.Option(help="FE mesh size [m] (with --fe).")]
+           mesh_size: Annotated[float, typer.Option(help="FE mesh size \\[m] (with --fe).")]
            = 0.25,
            heights: Annotated[int, typer.Option(help="Collapse heights of the FE scan, "
                                                 "λ = h/b from 2 to H/b (with --fe).")] = 10,
@@ -244,8 +244,8 @@ def figure2(as_json: JsonOpt = False, out: OutOpt = None):
 @_guarded
 def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
                 quiet: QuietOpt = False,
-                mesh_size: Annotated[float, typer.Option(help="FE mesh size [m].")] = 0.5,
-                finer: Annotated[float, typer.Option(help="A second, finer mesh size [m] "
+                mesh_size: Annotated[float, typer.Option(help="FE mesh size \\[m].")] = 0.5,
+                finer: Annotated[float, typer.Option(help="A second, finer mesh size \\[m] "
                                                      "(0: none).")] = 0.25,
                 quick: Annotated[bool, typer.Option(help="A small grid (c/a 0.5, 1, 3; f 0.3, "
                                                     "0.9), one mesh.")] = False,

@@ -1,0 +1,51 @@
+"""Shared fixtures: the paper's Table 1 (walls and DEM results) as an independent reference.
+
+The table is read from ``../shared/reference/table1_dem.csv`` (the paper's Table 1 as data,
+kept outside the package), not from the copy homlimit ships, so that tests comparing against it
+also check the shipped copy.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import pytest
+
+from homlimit.params import Case, Masonry, Wall
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED_TABLE1 = ROOT.parent / "shared" / "reference" / "table1_dem.csv"
+
+
+def _read_table1() -> dict[str, dict]:
+    if not SHARED_TABLE1.is_file():
+        pytest.skip(f"the paper's Table 1 reference {SHARED_TABLE1} is not beside the checkout")
+    lines = [ln for ln in SHARED_TABLE1.read_text(encoding="utf-8").splitlines()
+             if ln and not ln.startswith("#")]
+    return {r["test"]: {k: float(v) for k, v in r.items() if k != "test"}
+            for r in csv.DictReader(lines)}
+
+
+@pytest.fixture(scope="session")
+def table1_ref() -> dict[str, dict]:
+    """Table 1 of the paper: test → {H, L, s, b, a, c, f, rho, beta, alpha2, h_v, lambda_v,
+    vg, vg_norm} (metres, m/s)."""
+    return _read_table1()
+
+
+@pytest.fixture(scope="session")
+def dem(table1_ref) -> dict[str, tuple[float, float]]:
+    """The DEM results of Table 1: test → (λ_v, v_g/√(gb))."""
+    return {t: (r["lambda_v"], r["vg_norm"]) for t, r in table1_ref.items()}
+
+
+@pytest.fixture(scope="session")
+def table1_case(table1_ref):
+    """A function test name → the Case of that Table 1 wall (l = ρ s, the 2D reduction)."""
+    def make(test: str) -> Case:
+        r = table1_ref[test]
+        return Case(Wall(H=r["H"], L=r["L"], s=r["s"], b=r["b"], l=r["rho"] * r["s"]),
+                    Masonry(a=r["a"], c=r["c"], f=r["f"]), name=test)
+
+    return make

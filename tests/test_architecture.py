@@ -1,0 +1,108 @@
+"""The package's shape: data flows one way, parameters → closed forms / FE → mechanism → app.
+
+Every import of every module (module level and inside functions) is read from the source with
+``ast`` and resolved; the test fails on an import cycle between modules and on an import from a
+lower layer into a higher one.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PKG = Path(__file__).resolve().parents[1] / "homlimit"
+
+# the layers, lowest first: a module may import its own subpackage or any lower layer
+LAYERS = [("errors", "_io"), ("params",), ("impulse",), ("closed_form",), ("fe",),
+          ("mechanism",), ("blocks", "dynamics"), ("app",), ("__init__", "__main__")]
+RANK = {name: k for k, names in enumerate(LAYERS) for name in names}
+
+
+def _modules() -> dict[str, Path]:
+    out = {}
+    for path in PKG.rglob("*.py"):
+        parts = path.relative_to(PKG.parent).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        out[name] = path
+    return out
+
+
+def _imports(name: str, path: Path, modules: dict[str, Path]) -> set[str]:
+    """The homlimit modules ``name`` imports (``from . import x`` counts module x)."""
+    is_pkg = path.name == "__init__.py"
+    base = name.split(".") if is_pkg else name.split(".")[:-1]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            found |= {a.name for a in node.names if a.name.startswith("homlimit")}
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                root = ".".join(base[:len(base) - node.level + 1])
+                mod = f"{root}.{node.module}" if node.module else root
+            else:
+                mod = node.module or ""
+            if not mod.startswith("homlimit"):
+                continue
+            for a in node.names:
+                sub = f"{mod}.{a.name}"
+                found.add(sub if sub in modules else mod)
+    return {m for m in found if m in modules and m != name}
+
+
+def _layer(module: str) -> str:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+@pytest.fixture(scope="module")
+def graph():
+    modules = _modules()
+    return {name: _imports(name, path, modules) for name, path in modules.items()}
+
+
+def test_every_module_has_a_layer(graph):
+    missing = sorted({_layer(m) for m in graph} - set(RANK))
+    assert not missing, f"subpackages without a layer in LAYERS: {missing}"
+
+
+def test_no_import_goes_up_a_layer(graph):
+    bad = [f"{a} -> {b}" for a, deps in graph.items() for b in deps
+           if _layer(a) != _layer(b) and RANK[_layer(b)] >= RANK[_layer(a)]]
+    assert not bad, "upward or sideways imports:\n  " + "\n  ".join(sorted(bad))
+
+
+def test_no_import_cycle(graph):
+    # iterative depth-first search; a back edge closes a cycle
+    state, stack_path, cycles = {}, [], []
+
+    def visit(start):
+        work = [(start, iter(sorted(graph[start])))]
+        state[start] = "open"
+        stack_path.append(start)
+        while work:
+            node, it = work[-1]
+            nxt = next(it, None)
+            if nxt is None:
+                state[node] = "done"
+                stack_path.pop()
+                work.pop()
+            elif state.get(nxt) == "open":
+                cycles.append(stack_path[stack_path.index(nxt):] + [nxt])
+            elif nxt not in state:
+                state[nxt] = "open"
+                stack_path.append(nxt)
+                work.append((nxt, iter(sorted(graph[nxt]))))
+
+    for m in sorted(graph):
+        if m not in state:
+            visit(m)
+    assert not cycles, "import cycles:\n  " + "\n  ".join(" -> ".join(c) for c in cycles)
+
+
+def test_the_checker_sees_imports():
+    """The walker resolves relative imports (a check on the check)."""
+    mods = _modules()
+    deps = _imports("homlimit.mechanism.analysis", mods["homlimit.mechanism.analysis"], mods)
+    assert {"homlimit.params", "homlimit.fe.problems", "homlimit.mechanism.crack"} <= deps
