@@ -10,6 +10,7 @@ lowest v̄_g (eq. 7 minimised over λ = h/b).
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from dataclasses import dataclass
@@ -93,7 +94,7 @@ class FEMechanism:
     @property
     def h_part(self) -> float:
         """Height of the analysed part, H − z0 [m]."""
-        return self.case.wall.H - self.z0
+        return float(self.problem.meta.get("h_part", self.case.wall.H - self.z0))
 
     @property
     def h(self) -> float:
@@ -154,10 +155,13 @@ class FEMechanism:
                 "crack_edges": [lines[lv].polyline for lv in (0.1, 0.9) if lv in lines]}
 
 
-def part_problem(case: Case, z0: float, facade: str, mesh_size: float) -> Problem:
-    """The T-section of the part above z0 (``problems.t_section``), element size
-    min(mesh_size, (H − z0)/10) so that short parts stay resolved."""
-    return t_section(case, z0=z0, facade=facade, h=min(mesh_size, (case.wall.H - z0) / 10))
+def part_problem(case: Case, h_part: float, facade: str, mesh_size: float) -> Problem:
+    """The T-section of the top part of height ``h_part`` (``problems.t_section`` with its base
+    at z0 = H − h_part), element size min(mesh_size, h_part/10) so that short parts stay
+    resolved."""
+    prob = t_section(case, z0=max(0.0, case.wall.H - h_part), facade=facade,
+                     h=min(mesh_size, h_part / 10))
+    return dataclasses.replace(prob, meta={**prob.meta, "h_part": h_part})
 
 
 def analyse(case: Case, problem: Problem, options=None) -> FEMechanism:
@@ -204,8 +208,7 @@ def h_scan(case: Case, lams, mesh_size: float = 0.25, facade: str = "homogenised
     for k, lam in enumerate(lams):
         hp = check_range("lam", lam, 0.0, w.lam_max, lo_open=True) * w.b
         log.info("FE analysis %d/%d: part of height %.2f m", k + 1, len(lams), hp)
-        out.append(analyse(case, part_problem(case, max(0.0, w.H - hp), facade, mesh_size),
-                           options))
+        out.append(analyse(case, part_problem(case, hp, facade, mesh_size), options))
     return out
 
 
