@@ -15,8 +15,9 @@ import argparse
 import dataclasses
 import time
 
-from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+from homlimit.fe.kinematic import solve_kinematic
 from homlimit.fe.problems import t_section
+from homlimit.fe.solver import SolverOptions
 from homlimit.fe.strength import Homogenised
 from homlimit.params import Case, Masonry, Wall
 

@@ -226,8 +226,9 @@ def analyse(case: Case, mesh_size: float = 0.25, facade: str = "homogenised", z0
     velocity at the mesh vertices, the 50 % line ``crack``, the 10 % and 90 % lines
     ``crack_edges`` (polylines) and the ``hinge``; and ``out["solution"]`` (the
     KinematicSolution, e.g. for ``write_vtu``)."""
-    from ..fe.kinematic import SolverOptions, solve_kinematic
+    from ..fe.kinematic import solve_kinematic
     from ..fe.problems import t_section
+    from ..fe.solver import SolverOptions
 
     w = case.wall
     prob = t_section(case, z0=z0, facade=facade, h=mesh_size)
