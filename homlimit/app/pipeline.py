@@ -253,7 +253,6 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
     ``mechanism`` a meshio mesh with the fields, ``plot`` the drawing data; empty unless
     ``fields``).
     """
-    from ..fe.bracket import static_inputs
     from ..fe.kinematic import SolverOptions
     from ..fe.static import solve_static
     from ..mechanism.fe_impulse import analyse, h_scan
@@ -276,7 +275,7 @@ def _fe(config: CaseConfig, progress: Progress, verbose: bool, fields: bool = Tr
     static = None
     if an.static:
         with progress.stage("static lower bound of the whole wall", f"{n_tri} triangles"):
-            static = solve_static(**static_inputs(whole))
+            static = solve_static(whole, options)
     ok = [r for r in scan if np.isfinite(r["vg_fe"])]
     crit = min(ok, key=lambda r: r["vg_fe"]) if ok else None
     fe = {
