@@ -91,8 +91,6 @@ class _Coo:
             self.vals.append(sign * val)
 
     def matrix(self, n_var: int) -> tuple[sp.csr_matrix, np.ndarray]:
-        if not self.n:
-            return sp.csr_matrix((0, n_var)), np.zeros(0)
         M = sp.coo_matrix((np.concatenate(self.vals), (np.concatenate(self.rows),
                                                        np.concatenate(self.cols))),
                           shape=(self.n, n_var)).tocsr()
