@@ -17,8 +17,9 @@ import sys
 import time
 
 from homlimit.closed_form.fan import optimise_fan
-from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+from homlimit.fe.kinematic import solve_kinematic
 from homlimit.fe.problems import t_section
+from homlimit.fe.solver import SolverOptions
 from homlimit.mechanism.crack import fan_edges, fan_ray
 from homlimit.mechanism.fe_impulse import p2_nodes, ray_conforming_mesh
 from homlimit.mechanism.rigidfit import measure_mechanism

@@ -27,8 +27,9 @@ CASE = dict(H=9.0, L=6.0, s=0.5, b=0.5, l=6.0, a=0.3, c=0.2, f=0.6)   # Table 1,
 
 
 def one(h: float, solver: str, method: str) -> dict:
-    from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+    from homlimit.fe.kinematic import solve_kinematic
     from homlimit.fe.problems import t_section
+    from homlimit.fe.solver import SolverOptions
     from homlimit.params import Case, Masonry, Wall
 
     k = CASE

@@ -15,20 +15,18 @@ import argparse
 import dataclasses
 import time
 
-from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+from homlimit.fe.kinematic import solve_kinematic
 from homlimit.fe.problems import t_section
+from homlimit.fe.solver import SolverOptions
 from homlimit.fe.strength import Homogenised
 from homlimit.params import Case, Masonry, Wall
 
 
-class GeneratorForm:
+class GeneratorForm(Homogenised):
     """Homogenised eq. 15 through its generators: d − Nᵀμ = 0, μ >= 0 (4 extra unknowns)."""
 
-    def __init__(self, dom: Homogenised):
-        self.dom = dom
-
     def kinematic_cone(self):
-        return self.dom.generator_cone()
+        return self.generator_cone()
 
 
 def main():
@@ -37,7 +35,7 @@ def main():
     args = ap.parse_args()
     case = Case(wall=Wall(H=9.0, L=6.0, s=0.5, b=0.5, l=6.0), masonry=Masonry(0.3, 0.2, 0.6))
     prob = t_section(case, h=args.h)
-    gen = dataclasses.replace(prob, domains={k: GeneratorForm(v)
+    gen = dataclasses.replace(prob, domains={k: GeneratorForm(v.a, v.c, v.f)
                                              for k, v in prob.domains.items()})
     runs = [("default (qdldl, 1e-9)", prob, SolverOptions()),
             ("faer", prob, SolverOptions(direct_solve_method="faer")),

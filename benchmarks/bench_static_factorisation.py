@@ -1,5 +1,5 @@
 """Static (lower-bound) solve time by Clarabel factorisation: qdldl, faer on one thread, faer
-on all threads. The figures behind ``static.FAER_ABOVE`` (docs/static.md, "Solver settings").
+on all threads. The figures behind ``solver.FAER_ABOVE`` (docs/static.md, "Solver settings").
 
 Prints per problem: triangles, unknowns, then λ⁻, iterations and solve seconds per setting.
 
@@ -11,8 +11,9 @@ from __future__ import annotations
 import sys
 
 from homlimit.fe import problems
-from homlimit.fe.bracket import prandtl_fan, static_inputs
-from homlimit.fe.static import FAER_ABOVE, solve_static
+from homlimit.fe.bracket import prandtl_fan
+from homlimit.fe.solver import FAER_ABOVE, SolverOptions
+from homlimit.fe.static import solve_static
 from homlimit.params import Case
 
 SETTINGS = {"qdldl": {"direct_solve_method": "qdldl"},
@@ -37,7 +38,7 @@ if __name__ == "__main__":
     for name, pr in cases("--large" in sys.argv[1:]):
         cells, n = [], 0
         for opts in SETTINGS.values():
-            s = solve_static(**static_inputs(pr), solver_settings=opts, retries=False)
+            s = solve_static(pr, SolverOptions(settings=opts, retries=False))
             n = s.sizes["variables"]
             cells.append(f"{s.multiplier:.7f} {s.iterations:>3d} it {s.timings['solve']:>6.1f} s")
         print(f"{name:<30s} {pr.n_triangles:>6d} {n:>9d}  " + "  ".join(f"{c:>26s}" for c in cells),

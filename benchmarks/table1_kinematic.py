@@ -16,8 +16,9 @@ import time
 from importlib.resources import files
 
 from homlimit.closed_form.fan import optimise_fan
-from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+from homlimit.fe.kinematic import solve_kinematic
 from homlimit.fe.problems import t_section
+from homlimit.fe.solver import SolverOptions
 from homlimit.mechanism.rigidfit import fit_rigid
 from homlimit.params import Case, Masonry, Wall
 

@@ -14,8 +14,9 @@ import pytest
 import skfem as fem
 
 from homlimit.closed_form.fan import fan_participation, fan_velocity, optimise_fan
-from homlimit.fe.kinematic import SolverOptions, solve_kinematic
+from homlimit.fe.kinematic import solve_kinematic
 from homlimit.fe.problems import t_section
+from homlimit.fe.solver import SolverOptions
 from homlimit.mechanism.crack import crack_line, fan_edges, mechanism_type
 from homlimit.mechanism.fe_impulse import p2_nodes, ray_conforming_mesh
 from homlimit.mechanism.rigidfit import measure_mechanism

@@ -14,7 +14,7 @@ import pytest
 from skfem import MeshTri
 
 from homlimit.errors import ParameterError, SolverError
-from homlimit.fe.kinematic import SolverOptions, discretise, solve_kinematic
+from homlimit.fe.kinematic import discretise, solve_kinematic
 from homlimit.fe.operators import (
     body_force_power,
     boundary_jump_operator,
@@ -26,6 +26,7 @@ from homlimit.fe.operators import (
     vertex_points,
 )
 from homlimit.fe.problems import Problem, crossed_mesh, free_block, graded, prandtl, t_section
+from homlimit.fe.solver import SolverOptions
 from homlimit.fe.strength import Homogenised, Tresca
 from homlimit.params import Case, Masonry, Wall
 

@@ -17,7 +17,8 @@ from skfem import MeshTri
 
 from homlimit.errors import ParameterError, SolverError
 from homlimit.fe import problems, strength
-from homlimit.fe.bracket import static_inputs
+from homlimit.fe.problems import Problem
+from homlimit.fe.solver import SolverOptions
 from homlimit.fe.static import solve_static
 
 
@@ -33,8 +34,9 @@ def test_uniaxial_compression_tresca_is_2k():
     """A Tresca block pressed on top, smooth base and symmetry side: q = 2k (all points yield)."""
     k = 3.0e4
     m = _block_mesh()
-    sol = solve_static(m, strength.Tresca(k), live_traction={"top": (0.0, -k)},
-                       supports={"base": "z", "left": "x"})
+    sol = solve_static(Problem("block", m, {"soil": strength.Tresca(k)},
+                               live_traction={"top": (0.0, -k)},
+                               supports={"base": "z", "left": "x"}))
     assert sol.multiplier == pytest.approx(2.0, rel=1e-7)
     # the limit field is uniaxial σ_z = −2k, on the Tresca circle at every vertex
     s = sol.stress.reshape(-1, 3)
@@ -46,9 +48,10 @@ def test_uniaxial_compression_tresca_is_2k():
 def test_one_diagonal_mesh_either_orientation():
     """skfem's init_tensor triangles are clockwise: the gradients must not care."""
     m = MeshTri.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 2, 7)).with_boundaries(
-        {"top": lambda x: np.isclose(x[1], 2), "base": lambda x: np.isclose(x[1], 0)})
-    sol = solve_static(m, strength.Tresca(1.0), live_traction={"top": (0.0, -1.0)},
-                       supports={"base": "fixed"})
+        {"top": lambda x: np.isclose(x[1], 2), "base": lambda x: np.isclose(x[1], 0)}) \
+        .with_subdomains({"soil": lambda x: x[0] > -1})
+    sol = solve_static(Problem("block", m, {"soil": strength.Tresca(1.0)},
+                               live_traction={"top": (0.0, -1.0)}, supports={"base": "fixed"}))
     # fixed base: the block is stronger than uniaxially (confinement), but only the base may help
     assert sol.multiplier >= 2.0 - 1e-7
 
@@ -94,7 +97,7 @@ def _check_static_admissibility(sol, prob):
 def test_vertical_cut_field_is_statically_admissible():
     """The returned field satisfies equilibrium, continuity and the Tresca condition."""
     prob = problems.vertical_cut(h_min=0.1, h_max=0.3)
-    sol = solve_static(**static_inputs(prob))
+    sol = solve_static(prob)
     _check_static_admissibility(sol, prob)
     assert np.all(strength.Tresca(1.0).is_admissible(sol.stress, tol=1e-6))
     assert sol.multiplier <= problems.VERTICAL_CUT_LB
@@ -118,7 +121,7 @@ def _graded_block(eps, b=B, h=H):
 @pytest.mark.parametrize("b, h, n_b", [(0.5, 3.0, 1), (0.5, 3.0, 2), (0.4, 5.0, 3)])
 def test_rigid_block_tilts_at_b_over_h(b, h, n_b):
     """Dry bed joint, horizontal load λ × weight: moment about the toe W b/2 = λ W h/2."""
-    sol = solve_static(**static_inputs(problems.free_block(b=b, h=h, f=F, n_b=n_b)))
+    sol = solve_static(problems.free_block(b=b, h=h, f=F, n_b=n_b))
     assert sol.multiplier == pytest.approx(b / h, rel=1e-7)
     assert sol.sizes["rigid_bodies"] == 1 and sol.rigid.all()
     assert np.isnan(sol.stress).all()
@@ -128,13 +131,13 @@ def test_rigid_block_on_a_graded_mesh_is_still_b_over_h():
     """The mesh does not matter for one rigid body (a continuum block would give
     (b − 2ε/3)/h: linear contact pressure on the toe edge ε puts the resultant ε/3 inside)."""
     prob = dataclasses.replace(problems.free_block(b=B, h=H, f=F), mesh=_graded_block(0.01))
-    sol = solve_static(**static_inputs(prob))
+    sol = solve_static(prob)
     assert sol.multiplier == pytest.approx(B / H, rel=1e-7)
 
 
 def test_squat_rigid_block_slides_at_f():
     """b = h: tilting needs λ = 1 > f, so the block slides at λ = f (|V| <= f N, N = W)."""
-    sol = solve_static(**static_inputs(problems.free_block(b=0.5, h=0.5, f=F)))
+    sol = solve_static(problems.free_block(b=0.5, h=0.5, f=F))
     assert sol.multiplier == pytest.approx(F, rel=1e-7)
 
 
@@ -147,7 +150,7 @@ def test_rigid_block_on_cohesive_joint(tension, cohesion):
     exact = (W * B + t_h * B * B) / (W * H)
     prob = dataclasses.replace(problems.free_block(b=B, h=H, f=F),
                                interfaces={"base": strength.BedJoints(F, cohesion, tension)})
-    sol = solve_static(**static_inputs(prob))
+    sol = solve_static(prob)
     assert sol.multiplier == pytest.approx(exact, rel=1e-7)
 
 
@@ -163,9 +166,10 @@ def test_two_rigid_blocks_are_two_bodies():
         {"base": [((0, 0), (1.5, 0))]}, size=0.5)
     m = hmesh.to_skfem(mm)
     w = (-UNIT_WEIGHT, 0.0), (0.0, -UNIT_WEIGHT)
-    sol = solve_static(m, {"left": strength.Rigid(), "right": strength.Rigid()},
-                       live_body=w[0], dead_body=w[1],
-                       interfaces={"base": strength.BedJoints(F)})
+    sol = solve_static(Problem("blocks", m, {"left": strength.Rigid(), "right": strength.Rigid()},
+                               live_body={"left": w[0], "right": w[0]},
+                               dead_body={"left": w[1], "right": w[1]},
+                               interfaces={"base": strength.BedJoints(F)}))
     assert sol.sizes["rigid_bodies"] == 2
     assert sol.multiplier == pytest.approx(0.5 / 3.0, rel=1e-7)
 
@@ -176,7 +180,7 @@ def test_rigid_footing_on_tresca_soil_is_a_lower_bound():
     from homlimit.fe.bracket import prandtl_fan
 
     prob = prandtl_fan(size=0.5, h_min=0.08, n_fan=6, footing=0.25)
-    sol = solve_static(**static_inputs(prob))
+    sol = solve_static(prob)
     assert sol.sizes["rigid_bodies"] == 1
     assert 4.5 < sol.multiplier <= problems.PRANDTL
     soil = ~sol.rigid
@@ -187,8 +191,9 @@ def test_unsupported_rigid_body_is_reported():
     """A rigid block with no support and no joint cannot carry its weight: Infeasible."""
     m = _block_mesh(1, 2)
     with pytest.raises(SolverError) as exc:
-        solve_static(m, strength.Rigid(), live_body=(-1.0, 0.0), dead_body=(0.0, -1.0),
-                     retries=False)
+        solve_static(Problem("block", m, {"soil": strength.Rigid()},
+                             live_body={"soil": (-1.0, 0.0)}, dead_body={"soil": (0.0, -1.0)}),
+                     SolverOptions(retries=False))
     assert "Infeasible" in exc.value.status
 
 
@@ -198,7 +203,7 @@ def test_homogenised_field_is_admissible_and_compressive():
 
     case = Case(Wall(H=9, L=6, s=0.5, b=0.5, l=6), Masonry(a=0.3, c=0.2, f=0.6), name="B1")
     prob = problems.t_section(case, h=1.0, n_b=1, growth=1.3)
-    sol = solve_static(**static_inputs(prob))
+    sol = solve_static(prob)
     dom = strength.Homogenised(0.3, 0.2, 0.6)
     scale = np.abs(sol.stress).max()
     # eq. 15 facets N_k·σ <= 0 with a tolerance relative to the stress scale
@@ -212,8 +217,9 @@ def test_homogenised_field_is_admissible_and_compressive():
 
 def test_stress_fields_and_vtu_round_trip(tmp_path):
     m = _block_mesh(2, 4)
-    sol = solve_static(m, strength.Tresca(1.0), live_traction={"top": (0.0, -1.0)},
-                       supports={"base": "z", "left": "x"})
+    sol = solve_static(Problem("block", m, {"soil": strength.Tresca(1.0)},
+                               live_traction={"top": (0.0, -1.0)},
+                               supports={"base": "z", "left": "x"}))
     f = sol.fields()
     assert set(f) == {"sigma_x", "sigma_z", "tau_xz", "active_facet"}
     assert f["sigma_z"].shape == (m.t.shape[1], 3)
@@ -230,8 +236,9 @@ def test_plot_stress(tmp_path):
     from homlimit.app.plots import plot_stress
 
     m = _block_mesh(2, 4)
-    sol = solve_static(m, strength.Tresca(1.0), live_traction={"top": (0.0, -1.0)},
-                       supports={"base": "z", "left": "x"})
+    sol = solve_static(Problem("block", m, {"soil": strength.Tresca(1.0)},
+                               live_traction={"top": (0.0, -1.0)},
+                               supports={"base": "z", "left": "x"}))
     out = plot_stress(tmp_path / "s.png", sol, title="block")
     import matplotlib.image as mpimg
 
@@ -244,37 +251,43 @@ def test_plot_stress(tmp_path):
 
 
 def test_bad_input_raises_parameter_error_naming_the_value():
+    """Names, supports, load vectors and live loads are checked by the Problem (once, for both
+    bounds), active_tol by solve_static."""
     m = _block_mesh(1, 2)
-    tr = strength.Tresca(1.0)
+    tr = {"soil": strength.Tresca(1.0)}
     with pytest.raises(ParameterError, match="supports\\['base'\\] = 'clamped'"):
-        solve_static(m, tr, live_traction={"top": (0, -1)}, supports={"base": "clamped"})
-    with pytest.raises(ParameterError, match="no boundary 'roof'"):
-        solve_static(m, tr, live_traction={"roof": (0, -1)}, supports={"base": "z"})
-    with pytest.raises(ParameterError, match="no region 'wall'"):
-        solve_static(m, {"wall": tr}, live_traction={"top": (0, -1)})
-    with pytest.raises(ParameterError, match="no live load"):
-        solve_static(m, tr, dead_traction={"top": (0, -1)}, supports={"base": "z"})
+        Problem("p", m, tr, live_traction={"top": (0, -1)}, supports={"base": "clamped"})
+    with pytest.raises(ParameterError, match="boundary = 'roof'"):
+        Problem("p", m, tr, live_traction={"roof": (0, -1)}, supports={"base": "z"})
+    with pytest.raises(ParameterError, match="region = 'wall'"):
+        Problem("p", m, {"wall": tr["soil"]}, live_traction={"top": (0, -1)})
+    with pytest.raises(ParameterError, match="domains\\['soil'\\] = 'tresca'"):
+        Problem("p", m, {"soil": "tresca"}, live_traction={"top": (0, -1)})
+    with pytest.raises(ParameterError, match="live loads"):
+        Problem("p", m, tr, dead_traction={"top": (0, -1)}, supports={"base": "z"})
+    with pytest.raises(ParameterError, match="live loads"):
+        Problem("p", m, tr, live_traction={"top": (0, 0)}, supports={"base": "z"})
     with pytest.raises(ParameterError, match="shape"):
-        solve_static(m, tr, live_traction={"top": (0, -1, 0)}, supports={"base": "z"})
+        Problem("p", m, tr, live_traction={"top": (0, -1, 0)}, supports={"base": "z"})
     with pytest.raises(ParameterError, match="active_tol"):
-        solve_static(m, tr, live_traction={"top": (0, -1)}, active_tol=-1.0)
+        solve_static(Problem("p", m, tr, live_traction={"top": (0, -1)}), active_tol=-1.0)
 
 
 def test_solver_error_names_the_status():
     """No support and a dead load: no stress field can carry it (primal infeasible)."""
     m = _block_mesh(1, 2)
     with pytest.raises(SolverError) as exc:
-        solve_static(m, strength.Tresca(1.0), live_traction={"top": (-1.0, 0)},
-                     dead_traction={"top": (0, -1.0)}, retries=False)
+        solve_static(Problem("p", m, {"soil": strength.Tresca(1.0)},
+                             live_traction={"top": (-1.0, 0)}, dead_traction={"top": (0, -1.0)}),
+                     SolverOptions(retries=False))
     assert "Infeasible" in exc.value.status
     assert "Infeasible" in str(exc.value)
 
 
 def test_invariant_under_units():
     """γH/k does not depend on the units: H = 1 m, k = 1 Pa vs H = 7 m, k = 40 kPa."""
-    a = solve_static(**static_inputs(problems.vertical_cut(h_min=0.1, h_max=0.3)))
-    b = solve_static(**static_inputs(problems.vertical_cut(h_min=0.1, h_max=0.3, H=7.0,
-                                                           k=4.0e4)))
+    a = solve_static(problems.vertical_cut(h_min=0.1, h_max=0.3))
+    b = solve_static(problems.vertical_cut(h_min=0.1, h_max=0.3, H=7.0, k=4.0e4))
     assert b.multiplier == pytest.approx(a.multiplier, rel=1e-6)
 
 
@@ -284,8 +297,8 @@ def test_invariant_under_units():
 def test_cvxpy_backend_reproduces_the_direct_program():
     """The same matrices through cvxpy → Clarabel (the kinematic program's path): same λ⁻."""
     prob = problems.vertical_cut(h_min=0.1, h_max=0.3)                  # second-order cones
-    a = solve_static(**static_inputs(prob))
-    b = solve_static(**static_inputs(prob), backend="cvxpy")
+    a = solve_static(prob)
+    b = solve_static(prob, SolverOptions(backend="cvxpy"))
     assert b.multiplier == pytest.approx(a.multiplier, rel=1e-7)
     assert np.allclose(b.stress, a.stress, atol=1e-4 * np.abs(a.stress).max())
 
@@ -295,33 +308,36 @@ def test_highs_simplex_confirms_the_linear_programs():
     from homlimit.params import Case
 
     tsec = problems.t_section(Case(), h=1.0, n_b=1, growth=1.3)
-    a = solve_static(**static_inputs(tsec))
-    h = solve_static(**static_inputs(tsec), backend="cvxpy", cvxpy_solver="HIGHS")
+    a = solve_static(tsec)
+    h = solve_static(tsec, SolverOptions(solver="HIGHS"))
     assert h.multiplier == pytest.approx(a.multiplier, rel=1e-7)
-    block = solve_static(**static_inputs(problems.free_block(b=B, h=H, f=F)), backend="cvxpy",
-                         cvxpy_solver="HIGHS")
+    block = solve_static(problems.free_block(b=B, h=H, f=F), SolverOptions(solver="HIGHS"))
     assert block.multiplier == pytest.approx(B / H, rel=1e-12)          # a vertex solution
 
 
 def test_backend_choices_are_checked():
     prob = problems.vertical_cut(h_min=0.2, h_max=0.3)
     with pytest.raises(ParameterError, match="backend = 'mosek'"):
-        solve_static(**static_inputs(prob), backend="mosek")
-    with pytest.raises(ParameterError, match="cvxpy_solver = 'NOSUCH'"):
-        solve_static(**static_inputs(prob), backend="cvxpy", cvxpy_solver="NOSUCH")
-    with pytest.raises(ParameterError, match="cvxpy_solver = 'HIGHS'"):
-        solve_static(**static_inputs(prob), backend="cvxpy", cvxpy_solver="HIGHS")
+        SolverOptions(backend="mosek")
+    with pytest.raises(ParameterError, match="solver = 'NOSUCH'"):
+        SolverOptions(backend="cvxpy", solver="NOSUCH")
+    with pytest.raises(ParameterError, match="solver = 'HIGHS'"):                 # cones
+        solve_static(prob, SolverOptions(backend="cvxpy", solver="HIGHS"))
 
 
 def test_faer_on_one_thread_gives_the_same_bound():
-    """The factorisation chosen above static.FAER_ABOVE unknowns (faer, one thread) against
+    """The factorisation chosen above solver.FAER_ABOVE unknowns (faer, one thread) against
     qdldl on a small program: the same λ⁻."""
-    from homlimit.fe.static import FAER_ABOVE, clarabel_defaults
+    from homlimit.fe.solver import FAER_ABOVE
 
-    assert clarabel_defaults(FAER_ABOVE + 1)["direct_solve_method"] == "faer"
-    assert clarabel_defaults(FAER_ABOVE)["direct_solve_method"] == "qdldl"
+    def first(n):  # the settings of the first attempt on a static program of n unknowns
+        return SolverOptions().ladder("static", n, conic=False)[0][1]
+
+    assert first(FAER_ABOVE + 1)["direct_solve_method"] == "faer"
+    assert first(FAER_ABOVE + 1)["max_threads"] == 1
+    assert first(FAER_ABOVE)["direct_solve_method"] == "qdldl"
     prob = problems.vertical_cut(h_min=0.1, h_max=0.3)
-    a = solve_static(**static_inputs(prob))
-    b = solve_static(**static_inputs(prob),
-                     solver_settings={"direct_solve_method": "faer", "max_threads": 1})
+    a = solve_static(prob)
+    b = solve_static(prob, SolverOptions(settings={"direct_solve_method": "faer",
+                                                   "max_threads": 1}))
     assert b.multiplier == pytest.approx(a.multiplier, rel=1e-7)

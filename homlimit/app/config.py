@@ -119,7 +119,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
                           "mechanism.vtu and stress.png (needs fe)"),
         "tol": Key(float, 0.0, "", lo=0.0, hi=1e-2,
                    doc="Clarabel gap and feasibility tolerance (0: the solver default of "
-                       "homlimit.fe.kinematic.SolverOptions)"),
+                       "homlimit.fe.solver.SolverOptions)"),
     },
     "output": {
         "dir": Key(str, "", doc="output folder (empty: homlimit-out/<name>/; --out overrides)"),

@@ -131,7 +131,7 @@ def output_dir(config: CaseConfig, out: str | Path | None = None) -> Path:
 
 def _solver_options(tol: float | None = None):
     """Solver settings of a run: the measured defaults, the solver log when debugging."""
-    from ..fe.kinematic import SolverOptions
+    from ..fe.solver import SolverOptions
 
     return SolverOptions(tol=tol or None, verbose=log.isEnabledFor(logging.DEBUG))
 

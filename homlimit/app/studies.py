@@ -18,8 +18,8 @@ import numpy as np
 
 from ..closed_form.fan import optimise_fan, optimise_wedge
 from ..errors import SolverError, check_range
-from ..fe.kinematic import SolverOptions
 from ..fe.problems import t_section
+from ..fe.solver import SolverOptions
 from ..mechanism.analysis import analyse
 from ..params import FACADE_MODELS, Case, Masonry, Wall
 

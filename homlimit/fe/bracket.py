@@ -24,27 +24,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ParameterError, check_range
+from .kinematic import solve_kinematic
+from .mesh import element_areas
+from .solver import SolverOptions
 from .static import StaticSolution, solve_static
 
-__all__ = ["Bracket", "bracket", "static_inputs", "gap_contributions", "prandtl_fan"]
-
-
-def static_inputs(problem) -> dict:
-    """The keyword arguments of ``static.solve_static`` for a ``problems.Problem``."""
-    for name in ("mesh", "domains", "supports", "live_body", "dead_body", "live_traction",
-                 "dead_traction", "interfaces"):
-        if not hasattr(problem, name):
-            raise ParameterError(f"problem = {type(problem).__name__} is out of range: allowed a "
-                                 f"homlimit.fe.problems.Problem (missing {name!r})")
-    return {"mesh": problem.mesh, "domains": dict(problem.domains),
-            "supports": dict(problem.supports), "interfaces": dict(problem.interfaces),
-            "live_body": dict(problem.live_body) or None,
-            "dead_body": dict(problem.dead_body) or None,
-            "live_traction": dict(problem.live_traction),
-            "dead_traction": dict(problem.dead_traction)}
-
-
-_static_inputs = static_inputs  # the name static.static_from_problem imports
+__all__ = ["Bracket", "bracket", "gap_contributions", "prandtl_fan"]
 
 
 def gap_contributions(static: StaticSolution, kinematic) -> np.ndarray:
@@ -60,9 +45,7 @@ def gap_contributions(static: StaticSolution, kinematic) -> np.ndarray:
                                        or not np.array_equal(kinematic.mesh.t, m.t)):
         raise ParameterError("gap_contributions needs both bounds on the same mesh; got "
                              f"{kinematic.mesh.t.shape[1]} and {m.t.shape[1]} triangles")
-    p = m.p[:, m.t]
-    area = 0.5 * np.abs((p[0, 1] - p[0, 0]) * (p[1, 2] - p[1, 0])
-                        - (p[0, 2] - p[0, 0]) * (p[1, 1] - p[1, 0]))
+    area = element_areas(m)
     d, s = kinematic.strain_rate, static.stress  # (nt, vertex, comp)
     s = np.where(np.isnan(s), 0.0, s)  # rigid elements: no stress, D(u) = 0 and D_e = 0
     mids = ((0, 1), (1, 2), (2, 0))
@@ -116,25 +99,22 @@ class Bracket:
                 "times": dict(self.times)}
 
 
-def bracket(problem, *, static_mesh=None, kinematic_mesh=None, options=None,
-            static_settings=None) -> Bracket:
+def bracket(problem, *, static_mesh=None, kinematic_mesh=None,
+            options: SolverOptions = SolverOptions()) -> Bracket:
     """Run both bounds on ``problem`` (on its mesh, or on meshes chosen for each).
 
     static_mesh, kinematic_mesh : optional skfem meshes with the same region and boundary
         names, replacing ``problem.mesh`` for one bound (per-element gaps need one mesh).
-    options : ``kinematic.SolverOptions``; static_settings : Clarabel overrides for the static
-        program (``static.solve_static(solver_settings=...)``).
+    options : the ``solver.SolverOptions`` of both bounds.
     """
-    from .kinematic import SolverOptions, solve_kinematic
-
     pk = problem if kinematic_mesh is None else dataclasses.replace(problem, mesh=kinematic_mesh)
     ps = problem if static_mesh is None else dataclasses.replace(problem, mesh=static_mesh)
     times = {}
     t0 = time.perf_counter()
-    kin = solve_kinematic(pk, options or SolverOptions())
+    kin = solve_kinematic(pk, options)
     times["kinematic"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    sta = solve_static(**static_inputs(ps), solver_settings=static_settings)
+    sta = solve_static(ps, options)
     times["static"] = time.perf_counter() - t0
     same = ps.mesh is pk.mesh or (ps.mesh.t.shape == pk.mesh.t.shape
                                   and np.array_equal(ps.mesh.t, pk.mesh.t)

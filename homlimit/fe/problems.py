@@ -23,6 +23,7 @@ from skfem import MeshTri
 from ..errors import ParameterError, check_choice, check_range
 from ..params import FACADE_MODELS, Case
 from . import strength
+from .operators import COMPONENTS
 
 __all__ = [
     "Problem",
@@ -59,7 +60,7 @@ class Problem:
     mesh           skfem MeshTri with named ``subdomains`` (regions) and ``boundaries``
     domains        region → strength domain (``homlimit.fe.strength``); regions cover every
                    triangle exactly once
-    supports       boundary → "fixed" (both velocity components zero), "x" or "z" (one zero)
+    supports       boundary → "fixed" or "xz" (both velocity components zero), "x" or "z" (one)
     interfaces     boundary → strength domain of a joint between the body and a fixed ground
                    (the velocity jump across it is tested by that domain)
     live_body      region → body force (f_x, f_z) [N/m³] scaled by the load multiplier λ
@@ -104,9 +105,28 @@ class Problem:
             raise ParameterError(f"domains = {sorted(self.domains)} is out of range: the regions "
                                  f"must cover each of the {count.size} triangles exactly once "
                                  f"({np.sum(count == 0)} uncovered, {np.sum(count > 1)} twice)")
-        if not (self.live_body or self.live_traction):
-            raise ParameterError("live loads = {} is out of range: at least one live body force "
-                                 "or traction is needed to define the multiplier")
+        for kind, loads, unit in (("live_body", self.live_body, "N/m³"),
+                                  ("dead_body", self.dead_body, "N/m³"),
+                                  ("live_traction", self.live_traction, "Pa"),
+                                  ("dead_traction", self.dead_traction, "Pa")):
+            for name, v in loads.items():
+                arr = np.asarray(v, float)
+                if arr.shape != (2,) or not np.all(np.isfinite(arr)):
+                    raise ParameterError(f"{kind}[{name!r}] = {v!r} has shape {arr.shape}: "
+                                         f"allowed a finite vector (x, z) [{unit}]")
+        for name, comp in self.supports.items():
+            if comp not in COMPONENTS:
+                raise ParameterError(f"supports[{name!r}] = {comp!r} is out of range: allowed "
+                                     f"{sorted(COMPONENTS)}")
+        for kind, doms in (("domains", self.domains), ("interfaces", self.interfaces)):
+            for name, dom in doms.items():
+                if not isinstance(dom, strength.StrengthDomain):
+                    raise ParameterError(f"{kind}[{name!r}] = {dom!r} is out of range: allowed "
+                                         f"a homlimit.fe.strength.StrengthDomain")
+        if not any(np.any(v) for v in (*self.live_body.values(), *self.live_traction.values())):
+            raise ParameterError(f"live loads = {dict(self.live_body) | dict(self.live_traction)}"
+                                 f" is out of range: at least one non-zero live body force or "
+                                 f"traction is needed to define the multiplier")
 
     @property
     def n_triangles(self) -> int:

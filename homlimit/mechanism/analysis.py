@@ -172,7 +172,8 @@ def analyse(case: Case, problem: Problem, options=None) -> FEMechanism:
     (the limit of the one-DOF value as the smeared band thins); a fan or a distributed
     mechanism the one-DOF generalisation of eqs 4–7, fan included (``fe_impulse``).
     """
-    from ..fe.kinematic import SolverOptions, solve_kinematic
+    from ..fe.kinematic import solve_kinematic
+    from ..fe.solver import SolverOptions
 
     w = case.wall
     sol = solve_kinematic(problem, options or SolverOptions())
@@ -281,10 +282,10 @@ def fe_result(case: Case, lams, mesh_size: float = 0.25, facade: str = "homogeni
     scan.append(analyse(case, whole, options))
     sta = None
     if static:
-        from ..fe.bracket import static_inputs
+        from ..fe.solver import SolverOptions
         from ..fe.static import solve_static
 
         log.info("static lower bound of the whole wall: %d triangles", whole.n_triangles)
-        sta = solve_static(**static_inputs(whole))
+        sta = solve_static(whole, options or SolverOptions())
     return FEResult(tuple(scan), sta)
 

@@ -1,0 +1,101 @@
+"""The shared solver layer: the conic stacker against a per-point loop, the retry ladder against
+the measured defaults it must encode (docs/kinematic.md, docs/static.md), status causes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from homlimit.errors import SolverError
+from homlimit.fe.conic import stack
+from homlimit.fe.solver import (
+    FAER_ABOVE,
+    REFINE_ABOVE,
+    SolverOptions,
+    check_status,
+    run_ladder,
+)
+from homlimit.fe.strength import ConicBlock
+
+
+def _block():
+    """One eq row, two lin rows, SOC(3) and SOC(2): 8 rows, 2 auxiliaries."""
+    rng = np.random.default_rng(1)
+    return ConicBlock(A=rng.normal(size=(8, 3)), D=rng.normal(size=(8, 2)),
+                      e=rng.normal(size=8), n_eq=1, n_lin=2, soc=(3, 2))
+
+
+@pytest.mark.parametrize("order", ["point", "row"])
+def test_stack_matches_a_loop_over_points(order):
+    """s_p (A X_p u + D y_p + e) at every point, compared row by row with the stacked rows."""
+    rng = np.random.default_rng(2)
+    blk, n, N = _block(), 4, 9
+    X = sp.random(3 * n, N, density=0.5, random_state=3, format="csr")
+    u, y, s = rng.normal(size=N), rng.normal(size=2 * n), rng.uniform(1, 2, n)
+    st = stack(blk, X, s, order=order)
+    per_point = np.stack([s[p] * (blk.A @ (X[3 * p:3 * p + 3] @ u) + blk.D @ y[2 * p:2 * p + 2]
+                                  + blk.e) for p in range(n)])          # (n, 8)
+    got = {k: r.M @ u + r.D @ y + r.e for k, r in st.kinds.items()}
+    assert set(got) == {"eq", "lin", "soc"}
+    assert np.allclose(st.per_point(got), per_point, rtol=1e-13, atol=1e-13)
+    if order == "point":  # the cones are consecutive, point by point
+        assert st.soc == [3, 2] * n
+        assert np.allclose(got["soc"].reshape(n, 5), per_point[:, 3:], rtol=1e-13)
+    else:                 # row 3 (the first cone's t) of every point first
+        assert np.allclose(got["soc"][:n], per_point[:, 3], rtol=1e-13)
+
+
+def test_static_ladder_is_the_measured_one():
+    """Static: regularisation 1e-7, 1e-6, the other factorisation (one thread), Clarabel's
+    defaults; faer on one thread above FAER_ABOVE unknowns; raw settings applied last."""
+    ladder = SolverOptions(settings={"max_iter": 50}).ladder("static", 100, conic=True)
+    rungs = [r for r, _ in ladder]
+    assert rungs == [{"static_regularization_constant": 1e-7},
+                     {"static_regularization_constant": 1e-6},
+                     {"direct_solve_method": "faer", "max_threads": 1}, {}]
+    first = ladder[0][1]
+    assert first["tol_feas"] == 1e-7 and first["max_iter"] == 50
+    assert first["direct_solve_method"] == "qdldl"
+    big = SolverOptions().ladder("static", FAER_ABOVE + 1, conic=False)
+    assert big[0][1]["max_iter"] == 300 and big[0][1]["tol_gap_rel"] == 1e-9
+    assert big[2][0] == {"direct_solve_method": "qdldl", "max_threads": 1}
+    assert len(SolverOptions(retries=False).ladder("static", 100, False)) == 1
+
+
+def test_kinematic_ladder_retries_a_stalled_lp_with_refinement():
+    """Kinematic: refinement off for an LP up to REFINE_ABOVE free unknowns, retried with it;
+    on (no retry) for larger LPs, with cones, or when forced."""
+    lp = SolverOptions().ladder("kinematic", REFINE_ABOVE, conic=False)
+    assert [s["iterative_refinement_enable"] for _, s in lp] == [False, True]
+    assert lp[0][1]["max_iter"] == 400 and lp[0][1]["direct_solve_method"] == "qdldl"
+    for opts, n, conic in ((SolverOptions(), REFINE_ABOVE + 1, False), (SolverOptions(), 10, True),
+                           (SolverOptions(iterative_refinement=False), 10, False)):
+        assert len(opts.ladder("kinematic", n, conic)) == 1
+
+
+def test_run_ladder_stops_at_the_first_solve_that_does_not_stall():
+    statuses = iter(["AlmostSolved", "NumericalError", "Solved", "never reached"])
+    status, attempts = run_ladder(lambda s: (next(statuses), 7),
+                                  SolverOptions().ladder("static", 100, False))
+    assert status == "Solved"
+    assert [a[1] for a in attempts] == ["AlmostSolved", "NumericalError", "Solved"]
+
+
+def test_statuses_read_as_duals_of_each_other():
+    """The kinematic program's infeasibility is the static one's unboundedness (and vice versa):
+    both name the same cause; optimal statuses pass."""
+    check_status("kinematic", "optimal", "CLARABEL")
+    check_status("static", "Solved", "CLARABEL")
+    msgs = {}
+    for bound, status in (("kinematic", "infeasible"), ("static", "DualInfeasible"),
+                          ("kinematic", "unbounded"), ("static", "PrimalInfeasible")):
+        with pytest.raises(SolverError) as exc:
+            check_status(bound, status, "CLARABEL")
+        assert exc.value.status == status and repr(status) in str(exc.value)
+        msgs[bound, status] = str(exc.value).split(": ", 1)[1]
+    assert msgs["kinematic", "infeasible"] == msgs["static", "DualInfeasible"]
+    assert msgs["kinematic", "unbounded"] == msgs["static", "PrimalInfeasible"]
+    with pytest.raises(SolverError, match="2 attempt"):
+        check_status("static", "AlmostSolved", "CLARABEL",
+                     [({}, "AlmostSolved", 3), ({}, "AlmostSolved", 4)])
