@@ -154,6 +154,19 @@ def _emit_json(stream, data):
     stream.flush()
 
 
+def _show(stdout, as_json: bool, data, records: list[dict], cols: list[str], title: str,
+          files):
+    """--json: ``data`` on stdout; otherwise the ``cols`` of ``records`` as a table, then the
+    files written."""
+    if as_json:
+        _emit_json(stdout, data)
+        return
+    from .report import format_table
+
+    print(format_table(cols, [[r.get(k) for k in cols] for r in records], title=title))
+    print("\nfiles: " + ", ".join(map(str, files)))
+
+
 def _run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
               quiet: bool, overrides: list[str] | None):
     from .pipeline import run
@@ -210,17 +223,12 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
         report.write(out / "table1.csv", rows)
         report.write(out / "table1.json", rows)
         plots.plot_table1(out / "table1.png", rows)
-    if as_json:
-        _emit_json(stdout, rows)
-        return
     cols = ["test", "lam_I", "vnorm_I", "lam_II", "vnorm_II", "lam_dem", "vnorm_dem",
-            "ratio_I", "ratio_II"]
-    if fe:
-        cols += ["lam_fe", "vnorm_fe", "tanpsi_fe", "mechanism_fe"]
-    print(report.format_table(cols, [[r.get(k) for k in cols] for r in rows],
-                              title="Table 1: closed forms (I, II) beside the DEM; "
-                                    "vnorm = vg/sqrt(gb), ratio = closed form / DEM"))
-    print(f"\nfiles: {out / 'table1.csv'}, {out / 'table1.json'}, {out / 'table1.png'}")
+            "ratio_I", "ratio_II"] + (["lam_fe", "vnorm_fe", "tanpsi_fe", "mechanism_fe"]
+                                      if fe else [])
+    _show(stdout, as_json, rows, rows, cols, "Table 1: closed forms (I, II) beside the DEM; "
+          "vnorm = vg/sqrt(gb), ratio = closed form / DEM",
+          [out / "table1.csv", out / "table1.json", out / "table1.png"])
 
 
 @app.command()
@@ -268,15 +276,11 @@ def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOp
                  "png": plots.plot_crack_study(out / "crack_study.png", records,
                                                title="crack-angle study: FE crack against "
                                                      "√(cf/a), f and c/a")}
-    if as_json:
-        _emit_json(stdout, {"records": records, "files": files})
-        return
     cols = ["facade", "mesh_size", "c_over_a", "f", "mechanism_fe", "tanpsi_fe", "dtanpsi_fe",
             "tan_alpha", "tanpsi_block", "tanpsi_fixed", "multiplier_fe", "multiplier_fan"]
-    print(report.format_table(cols, [[r.get(k) for k in cols] for r in records],
-                              title="crack-angle study: FE crack slope tan psi (50 % line, "
-                                    "edges) beside tan_alpha = sqrt(cf/a)"))
-    print(f"\nfiles: {files['csv']}, {files['png']}")
+    _show(stdout, as_json, {"records": records, "files": files}, records, cols,
+          "crack-angle study: FE crack slope tan psi (50 % line, edges) beside tan_alpha = "
+          "sqrt(cf/a)", files.values())
 
 
 @app.command()

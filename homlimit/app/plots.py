@@ -41,26 +41,19 @@ def _save(fig, path: str | Path) -> Path:
 def triangle_regions(mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
     """(points (n, 2), triangles (m, 3), region index per triangle (m,), region names).
 
-    Regions come from the meshio ``cell_sets`` (gmsh physical groups) that hold triangles; a
-    mesh without them is one region "all".
+    Regions are the named sets that hold triangles (``fe.mesh.region_tags``); triangles in none
+    form a region "other" (a mesh without named sets is one region "all").
     """
-    pts = np.asarray(mesh.points)[:, :2]
-    blocks = [(k, c.data) for k, c in enumerate(mesh.cells) if c.type == "triangle"]
-    tri = np.concatenate([d for _, d in blocks])
-    offset = np.cumsum([0] + [len(d) for _, d in blocks])
-    region = np.full(len(tri), -1)
-    names = []
-    for name, sets in getattr(mesh, "cell_sets", {}).items():
-        idx = [np.asarray(sets[k]) + offset[j] for j, (k, _) in enumerate(blocks)
-               if k < len(sets) and sets[k] is not None and len(sets[k])]
-        if not idx or name.startswith("gmsh:"):
-            continue
-        region[np.concatenate(idx)] = len(names)
-        names.append(name)
+    from ..fe.mesh import region_tags
+
+    tags, names = region_tags(mesh)
+    blocks = [k for k, c in enumerate(mesh.cells) if c.type == "triangle"]
+    tri = np.concatenate([mesh.cells[k].data for k in blocks])
+    region = np.concatenate([tags[k] for k in blocks]).astype(int) - 1
     if not names or np.any(region < 0):
         names.append("other" if names else "all")
         region[region < 0] = len(names) - 1
-    return pts, tri, region, names
+    return np.asarray(mesh.points)[:, :2], tri, region, names
 
 
 def _boundary_lines(mesh) -> dict[str, np.ndarray]:

@@ -21,13 +21,8 @@ from ..fe import mesh as fe_mesh
 __all__ = ["WRITERS", "format_table", "mechanism_mesh", "summary_text", "write"]
 
 WRITERS: dict[str, Callable] = {
-    ".json": write_json,
-    ".csv": write_csv,
-    ".vtu": lambda path, mesh: fe_mesh.write(mesh, path),
-    ".xdmf": lambda path, mesh: fe_mesh.write(mesh, path),
-    ".msh": lambda path, mesh: fe_mesh.write(mesh, path),
-    ".png": lambda path, draw: draw(path),
-}
+    ".json": write_json, ".csv": write_csv, ".png": lambda path, draw: draw(path),
+    **dict.fromkeys((".vtu", ".xdmf", ".msh"), lambda path, mesh: fe_mesh.write(mesh, path))}
 
 
 def write(path: str | Path, data) -> Path:

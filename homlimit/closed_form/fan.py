@@ -206,8 +206,7 @@ def wedge_multiplier(case: Case, z0: float, T: float | None = None, z_base: floa
     sec = _section(case, z_base)
     z0 = check_range("z0", z0, sec.z_base, sec.H, hi_open=True, unit="m")
     T = case.alpha if T is None else check_range("T", T, 0.0)
-    if apex not in ("inner", "outer"):
-        raise ParameterError(f"apex = {apex!r} is out of range: allowed 'inner', 'outer'")
+    check_choice("apex", apex, ("inner", "outer"))
     x0 = sec.b if apex == "inner" else 0.0
     Pz = Px = 0.0
     for rho, rect in sec.parts():

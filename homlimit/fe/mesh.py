@@ -51,68 +51,38 @@ def _sets(m: meshio.Mesh) -> dict[str, list[np.ndarray]]:
     return out
 
 
-def _gather(m: meshio.Mesh, kind: str):
-    """All cells of one kind stacked, and each named set as indices into that stack."""
-    blocks = [(i, c.data) for i, c in enumerate(m.cells) if c.type == kind]
-    offs, n = {}, 0
-    for i, d in blocks:
-        offs[i] = n
-        n += len(d)
-    npn = {"triangle": 3, "line": 2}[kind]
-    data = np.vstack([d for _, d in blocks]) if blocks else np.zeros((0, npn), int)
-    sets = {}
-    for name, idx in _sets(m).items():
-        parts = [offs[i] + np.asarray(idx[i], int) for i in offs if i < len(idx) and len(idx[i])]
-        if parts:
-            sets[name] = np.unique(np.concatenate(parts))
-    return data.astype(np.int64), sets
-
-
 # ---------------------------------------------------------------------------------- skfem
 
 def to_skfem(m: meshio.Mesh):
-    """skfem.MeshTri of the triangles of ``m``, with ``subdomains`` and ``boundaries`` set.
+    """skfem.MeshTri of the triangles of ``m``, with ``subdomains`` and ``boundaries`` set from
+    its named sets (``skfem.io.meshio.from_meshio``; boundary facets sorted).
 
     Boundaries may be interior lines; every named line must be a mesh edge (else MeshError).
     """
     from skfem import MeshTri
+    from skfem.io.meshio import from_meshio
 
     pts = np.asarray(m.points, float)
     if pts.ndim != 2 or pts.shape[1] not in (2, 3):
         raise MeshError(f"points of shape {pts.shape}: expected (n, 2) or (n, 3)")
     if pts.shape[1] == 3 and np.any(np.abs(pts[:, 2]) > 1e-12 * (1 + np.abs(pts).max())):
         raise MeshError("the mesh is not plane: the third coordinate is not zero")
-    tri, subdomains = _gather(m, "triangle")
+    tri = np.concatenate([c.data for c in m.cells if c.type == "triangle"] or [np.zeros((0, 3))])
     if len(tri) == 0:
         raise MeshError("the mesh has no triangles")
-    key = np.sort(tri, axis=1)
-    if len(np.unique(key, axis=0)) != len(tri):
+    if len(np.unique(np.sort(tri, axis=1), axis=0)) != len(tri):
         raise MeshError("the mesh repeats a triangle")
-    mesh = MeshTri(np.ascontiguousarray(pts[:, :2].T), np.ascontiguousarray(tri.T))
-    lines, line_sets = _gather(m, "line")
-    boundaries = {}
-    if line_sets:
-        facet = _edge_index(mesh.facets, lines)
-        for name, idx in line_sets.items():
-            boundaries[name] = np.unique(facet[idx])
-    return MeshTri(mesh.p, mesh.t, _boundaries=boundaries or None,
-                   _subdomains=subdomains or None)
-
-
-def _edge_index(facets: np.ndarray, lines: np.ndarray) -> np.ndarray:
-    """Index of each line (k, 2) among the mesh facets (2, nf); vectorised by sorted keys."""
-    n = int(max(facets.max(), lines.max(initial=0))) + 1
-    fk = np.sort(facets, axis=0)
-    fkey = fk[0].astype(np.int64) * n + fk[1]
-    lk = np.sort(lines, axis=1)
-    lkey = lk[:, 0] * n + lk[:, 1]
-    order = np.argsort(fkey)
-    pos = np.searchsorted(fkey[order], lkey)
-    pos = np.minimum(pos, len(order) - 1)
-    found = fkey[order][pos] == lkey
-    if not np.all(found):
-        raise MeshError(f"{np.count_nonzero(~found)} named line(s) are not edges of the mesh")
-    return order[pos]
+    sets = {k: v for k, v in _sets(m).items() if not k.startswith("gmsh:")}
+    cells = [meshio.CellBlock(c.type, np.asarray(c.data, np.int64)) for c in m.cells]
+    mesh = from_meshio(meshio.Mesh(pts, cells, cell_sets=sets), ignore_orientation=True)
+    lines = {k: sum(len(i) for c, i in zip(m.cells, v) if c.type == "line")
+             for k, v in sets.items()}
+    bnd = {k: np.unique(v) for k, v in (mesh.boundaries or {}).items()}
+    missing = sum(n - len(bnd.get(k, ())) for k, n in lines.items() if n)
+    if missing:
+        raise MeshError(f"{missing} named line(s) are not edges of the mesh")
+    subs = {k: np.asarray(v, np.int64) for k, v in (mesh.subdomains or {}).items()}
+    return MeshTri(mesh.p, mesh.t, _boundaries=bnd or None, _subdomains=subs or None)
 
 
 def from_skfem(mesh) -> meshio.Mesh:
@@ -133,23 +103,19 @@ def from_skfem(mesh) -> meshio.Mesh:
 
 # ---------------------------------------------------------------------------------- files
 
-def region_tags(mesh) -> list[np.ndarray]:
-    """Per cell block, the 1-based index of the named triangle set holding each cell (0: none).
-
-    The order of the sets is that of the named sets holding triangles (for a T-section:
-    1 = facade, 2 = wall)."""
+def region_tags(mesh) -> tuple[list[np.ndarray], list[str]]:
+    """Per cell block, the 1-based index of the named triangle set holding each cell (0: none),
+    and the names of those sets in that order (for a T-section: 1 = facade, 2 = wall)."""
     tags = [np.zeros(len(c.data), np.int32) for c in mesh.cells]
-    k = 0
+    names = []
     for name, idx in _sets(mesh).items():
-        if name.startswith("gmsh:"):
-            continue
         hits = [(j, np.asarray(i, int)) for j, i in enumerate(idx)
                 if j < len(mesh.cells) and mesh.cells[j].type == "triangle" and np.size(i)]
-        if hits:
-            k += 1
+        if hits and not name.startswith("gmsh:"):
+            names.append(name)
             for j, i in hits:
-                tags[j][i] = k
-    return tags
+                tags[j][i] = len(names)
+    return tags, names
 
 
 def write(m: meshio.Mesh, path: str | os.PathLike) -> Path:
@@ -165,7 +131,7 @@ def write(m: meshio.Mesh, path: str | os.PathLike) -> Path:
         data = {k: list(v) for k, v in m.cell_data.items() if not k.startswith(_SET)}
         sets = {k: v for k, v in sets.items() if not k.startswith("gmsh:")}
         if sets:
-            data["region"] = region_tags(m)
+            data["region"] = region_tags(m)[0]
         for name, idx in sets.items():
             cols = []
             for c, i in zip(m.cells, idx):

@@ -34,7 +34,7 @@ from skfem import (
     asm,
 )
 
-from ..errors import ParameterError
+from ..errors import ParameterError, check_choice
 from .mesh import element_areas
 
 __all__ = [
@@ -124,9 +124,7 @@ def traction_power(basis: CellBasis, boundary: str, traction) -> np.ndarray:
 
 def support_dofs(basis: CellBasis, boundary: str, components: str = "fixed") -> np.ndarray:
     """Global DOFs fixed by a support on ``boundary``: components "fixed"/"xz", "x" or "z"."""
-    if components not in COMPONENTS:
-        raise ParameterError(f"support components = {components!r} is out of range: allowed "
-                             f"{sorted(COMPONENTS)}")
+    check_choice("support components", components, sorted(COMPONENTS))
     facets = _named(basis.mesh.boundaries, boundary, "boundary")
     return np.unique(basis.get_dofs(facets).all(list(COMPONENTS[components])))
 

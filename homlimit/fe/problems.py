@@ -115,9 +115,7 @@ class Problem:
                     raise ParameterError(f"{kind}[{name!r}] = {v!r} has shape {arr.shape}: "
                                          f"allowed a finite vector (x, z) [{unit}]")
         for name, comp in self.supports.items():
-            if comp not in COMPONENTS:
-                raise ParameterError(f"supports[{name!r}] = {comp!r} is out of range: allowed "
-                                     f"{sorted(COMPONENTS)}")
+            check_choice(f"supports[{name!r}]", comp, sorted(COMPONENTS))
         for kind, doms in (("domains", self.domains), ("interfaces", self.interfaces)):
             for name, dom in doms.items():
                 if not isinstance(dom, strength.StrengthDomain):
@@ -314,9 +312,7 @@ def free_block(b: float = 0.5, h: float = 3.0, f: float = 0.6, gamma: float = 20
     h = check_range("h", h, 0.0, lo_open=True, unit="m")
     f = check_range("f", f, 0.0, lo_open=True)
     n_b = int(check_range("n_b", n_b, 1))
-    if interior not in ("rigid", "bedjoints"):
-        raise ParameterError(f"interior = {interior!r} is out of range: allowed "
-                             f"('rigid', 'bedjoints')")
+    check_choice("interior", interior, ("rigid", "bedjoints"))
     t0 = time.perf_counter()
     dx = b / n_b
     xs = np.linspace(0.0, b, n_b + 1)
@@ -363,8 +359,7 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     h = check_range("h", h, 0.0, w.H - z0, lo_open=True, unit="m")
     n_b = int(check_range("n_b", n_b, 1))
     check_choice("facade", facade, FACADE_MODELS)
-    if mesher not in ("crossed", "gmsh"):
-        raise ParameterError(f"mesher = {mesher!r} is out of range: allowed ('crossed', 'gmsh')")
+    check_choice("mesher", mesher, ("crossed", "gmsh"))
     t0 = time.perf_counter()
     b, L, H = w.b, w.L, w.H
     h_far = h if h_far is None else check_range("h_far", h_far, 0.0, lo_open=True, unit="m")

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -73,13 +72,3 @@ class KinematicSolution:
             cell_data["stress"] = [self.stress.mean(axis=1)]
         return meshio.Mesh(pts, [("triangle", m.t.T)], point_data={"velocity": vel},
                            cell_data=cell_data)
-
-    def write_vtu(self, path: str | os.PathLike) -> str:
-        """Write ``to_meshio()`` to a .vtu file, whole or not at all (temp file + os.replace)."""
-        import meshio
-
-        from .._io import atomic_path
-
-        with atomic_path(path) as tmp:
-            meshio.write(tmp, self.to_meshio(), file_format="vtu")
-        return os.fspath(path)

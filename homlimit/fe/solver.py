@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
-from ..errors import ParameterError, SolverError, check_range
+from ..errors import ParameterError, SolverError, check_choice, check_range
 from .problems import Problem
 
 __all__ = ["SolverOptions", "run_ladder", "check_status", "check_inputs", "solver_failed",
@@ -91,14 +91,9 @@ class SolverOptions:
     stress_scale: float | None = None
 
     def __post_init__(self):
-        if self.solver not in SOLVERS:
-            raise ParameterError(f"solver = {self.solver!r} is out of range: allowed {SOLVERS}")
-        if self.direct_solve_method not in (None, *DIRECT_METHODS):
-            raise ParameterError(f"direct_solve_method = {self.direct_solve_method!r} is out of "
-                                 f"range: allowed {DIRECT_METHODS} or None")
-        if self.backend not in BACKENDS:
-            raise ParameterError(f"backend = {self.backend!r} is out of range: allowed "
-                                 f"{BACKENDS}")
+        check_choice("solver", self.solver, SOLVERS)
+        check_choice("direct_solve_method", self.direct_solve_method, (None, *DIRECT_METHODS))
+        check_choice("backend", self.backend, BACKENDS)
         if self.tol is not None:
             check_range("tol", self.tol, 0.0, 1e-2, lo_open=True)
         if self.max_iter is not None:

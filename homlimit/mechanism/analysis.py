@@ -140,9 +140,7 @@ class FEMechanism:
 
     def as_dict(self) -> dict:
         """The mechanism's row of summary.json (as the closed forms' ``as_dict``)."""
-        return {"name": self.name, "lam": self.lam, "h": self.h, "vnorm": self.vnorm,
-                "vg": self.vg, "mechanism": self.kind, "multiplier": self.multiplier,
-                "vg_method": self.vg_method}
+        return {"name": self.name, **self.record()}
 
     def drawing(self) -> dict:
         """What ``plots.plot_mechanism`` draws: points, triangles and velocity at the mesh

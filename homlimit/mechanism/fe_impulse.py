@@ -58,19 +58,14 @@ def p2_nodes(solution, densities: dict | None = None):
 def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
                         h_hinge: float | None = None, x_apex: float = 0.0,
                         extra_lines=()):
-    """A T-section mesh (gmsh, unstructured) whose edges contain the rays
-    x − x_apex = T (z − z_hinge) from (x_apex, z_hinge) (default: the hinge on the façade's
-    outer face; x_apex = b: mechanism II's crack from the inner corner), one per slope T, and
-    the façade / wall interface x = b; extra_lines: more segments ((x0, z0), (x1, z1)) for the
-    mesh to contain (e.g. mechanism II's bed-joint crack under the façade). Returns a
-    scikit-fem MeshTri with the boundaries ("base", "outer", "top", "end") and subdomains
-    ("facade", "wall") of ``problems.t_section``.
-
-    This is the adapter the conforming-mesh checks use until ``geometry.tsection`` offers
-    embedded lines; h_hinge: element size at the hinge (default h/4).
-    """
-    import gmsh
-    from skfem import MeshTri
+    """A gmsh T-section mesh (``geometry.tsection``, the regions and boundaries of
+    ``problems.t_section``) whose edges contain the rays x − x_apex = T (z − z_hinge) from
+    (x_apex, z_hinge), one per slope T (default apex: the hinge on the façade's outer face;
+    x_apex = b: mechanism II's crack from the inner corner), and the segments ``extra_lines``
+    ((x0, z0), (x1, z1)), e.g. mechanism II's bed-joint crack under the façade. Element size h,
+    refined to h_hinge (default h/4) within 1 m of the apex. Returns a scikit-fem MeshTri."""
+    from ..fe.geometry import tsection
+    from ..fe.mesh import to_skfem
 
     w = case.wall
     b, L, H = w.b, w.L, w.H
@@ -79,59 +74,13 @@ def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
     h = check_range("h", h, 0.0, H - z0, lo_open=True, unit="m")
     h_hinge = h / 4 if h_hinge is None else check_range("h_hinge", h_hinge, 0.0, h,
                                                          lo_open=True, unit="m")
-    slopes = [check_range("slope", T, 0.0, lo_open=True) for T in slopes]
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add("t_section_rays")
-        occ = gmsh.model.occ
-        r1 = occ.addRectangle(0, z0, 0, b, H - z0)
-        r2 = occ.addRectangle(b, z0, 0, L, H - z0)
-        x_apex = check_range("x_apex", x_apex, 0.0, b, unit="m")
-        ph = occ.addPoint(x_apex, z_hinge, 0)
-        lines = []
-        for T in slopes:
-            ze = min(H, z_hinge + (b + L - x_apex) / T)
-            lines.append(occ.addLine(ph, occ.addPoint(x_apex + T * (ze - z_hinge), ze, 0)))
-        for (xa, za), (xb, zb) in extra_lines:
-            lines.append(occ.addLine(occ.addPoint(xa, za, 0), occ.addPoint(xb, zb, 0)))
-        occ.fragment([(2, r1), (2, r2)], [(1, ln) for ln in lines])
-        occ.synchronize()
-        gmsh.option.setNumber("Mesh.MeshSizeMax", h)
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        f = gmsh.model.mesh.field
-        fd = f.add("Distance")
-        hinge = [t for d, t in gmsh.model.getEntities(0)
-                 if np.allclose(gmsh.model.getValue(0, t, []), [x_apex, z_hinge, 0])]
-        f.setNumbers(fd, "PointsList", hinge)
-        ft = f.add("Threshold")
-        f.setNumber(ft, "InField", fd)
-        f.setNumber(ft, "SizeMin", h_hinge)
-        f.setNumber(ft, "SizeMax", h)
-        f.setNumber(ft, "DistMin", 0.0)
-        f.setNumber(ft, "DistMax", 2.0)
-        f.setAsBackgroundMesh(ft)
-        gmsh.model.mesh.generate(2)
-        tags, xyz, _ = gmsh.model.mesh.getNodes()
-        etypes, _, enodes = gmsh.model.mesh.getElements(2)
-    finally:
-        gmsh.finalize()
-    index = np.zeros(int(tags.max()) + 1, int)
-    index[tags.astype(int)] = np.arange(len(tags))
-    t = index[np.asarray(enodes[list(etypes).index(2)], int).reshape(-1, 3)]
-    p = xyz.reshape(-1, 3)[:, :2]
-    used = np.unique(t)
-    remap = np.full(len(p), -1)
-    remap[used] = np.arange(len(used))
-    m = MeshTri(p[used].T.copy(), remap[t].T.copy())
-    tol = 1e-9 * H
-    return m.with_boundaries({
-        "base": lambda x: np.abs(x[1] - z0) < tol,
-        "outer": lambda x: np.abs(x[0]) < tol,
-        "top": lambda x: np.abs(x[1] - H) < tol,
-        "end": lambda x: np.abs(x[0] - (b + L)) < tol,
-    }).with_subdomains({"facade": lambda x: x[0] < b, "wall": lambda x: x[0] > b})
+    x_apex = check_range("x_apex", x_apex, 0.0, b, unit="m")
+    rays = []
+    for T in (check_range("slope", T, 0.0, lo_open=True) for T in slopes):
+        z_end = min(H, z_hinge + (b + L - x_apex) / T)
+        rays.append(((x_apex, z_hinge), (x_apex + T * (z_end - z_hinge), z_end)))
+    return to_skfem(tsection(H, b, L, size=h, z0=z0, embed_lines=rays + list(extra_lines),
+                             refine_points=[(x_apex, z_hinge, h_hinge, 1.0)]))
 
 
 def _p2_integral(elements, area, density, F):

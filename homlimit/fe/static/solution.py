@@ -103,15 +103,6 @@ class StaticSolution:
         cdata = {k: [np.asarray(v, float)] for k, v in self.cell_fields().items()}
         return meshio.Mesh(pts, [("triangle", cells)], point_data=pdata, cell_data=cdata)
 
-    def write(self, path) -> None:
-        """Write ``to_meshio()`` to ``path`` (any meshio format) whole or not at all."""
-        import meshio
-
-        from ..._io import atomic_path
-
-        with atomic_path(path) as tmp:
-            meshio.write(tmp, self.to_meshio())
-
 
 
 def attach_cell_fields(mesh, static: StaticSolution, prefix: str = "static_"):
