@@ -8,6 +8,7 @@ from analytic import mechanism_II as A2
 from homlimit.closed_form.mechanisms import geometry_II, theta_m_I, theta_m_I_eq14, vnorm_II, work_I
 
 
+@pytest.mark.slow
 def test_identities_and_misprints():
     ok = A1.checks() | A2.checks()
     printed_wrong = {"eq. 12 as printed", "eq. 13 as printed"}

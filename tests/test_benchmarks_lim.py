@@ -33,6 +33,7 @@ def test_mohr_coulomb_nc_closed_form():
     assert mohr_coulomb_nc(1e-4) == pytest.approx(PRANDTL, rel=1e-4)
 
 
+@pytest.mark.slow
 def test_prandtl_upper_bound_within_one_percent_and_converging():
     meshes = [(0.08, 0.6), (0.04, 0.4), (0.02, 0.3)]
     lams, tris = [], []
@@ -48,6 +49,7 @@ def test_prandtl_upper_bound_within_one_percent_and_converging():
     assert rate > 0.3, f"fitted rate of the error in the number of triangles: {rate:.2f}"
 
 
+@pytest.mark.slow
 def test_vertical_cut_within_two_percent_above_the_best_upper_bound():
     sol = solve_kinematic(vertical_cut(h_min=0.02, h_max=0.1))
     lam = sol.multiplier
@@ -56,6 +58,7 @@ def test_vertical_cut_within_two_percent_above_the_best_upper_bound():
     assert lam < 3.83                     # better than the classical one-wedge mechanism
 
 
+@pytest.mark.slow
 def test_mohr_coulomb_footing_within_two_percent_above_nc():
     prob = mohr_coulomb_footing(30.0, h_min=0.05, h_max=0.5)
     lam = solve_kinematic(prob).multiplier

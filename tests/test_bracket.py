@@ -91,11 +91,13 @@ def run(name):
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
+@pytest.mark.slow
 def test_lower_never_exceeds_upper(name):
     br = run(name)
     assert br.lower <= br.upper * (1 + 1e-7), f"{name}: {br.lower} > {br.upper}"
 
 
+@pytest.mark.slow
 def test_prandtl_brackets_2_plus_pi_with_gap_under_3_percent():
     """Fan mesh of ~2 000 triangles: λ⁻ <= 2 + π <= λ⁺ and (λ⁺ − λ⁻)/mean < 3 %."""
     br = run("prandtl_fan")
@@ -104,18 +106,21 @@ def test_prandtl_brackets_2_plus_pi_with_gap_under_3_percent():
     assert br.rel_gap < 0.03, f"gap {br.rel_gap:.4f} ({br.lower:.4f}, {br.upper:.4f})"
 
 
+@pytest.mark.slow
 def test_prandtl_crossed_mesh_still_brackets():
     """The structured crossed mesh is poor for the static bound (no fan) but still a bracket."""
     br = run("prandtl_crossed")
     assert br.lower <= PRANDTL <= br.upper
 
 
+@pytest.mark.slow
 def test_mohr_coulomb_footing_brackets_nc():
     """Prandtl–Reissner N_c(30°) = 30.14 lies in the bracket (crossed mesh: a weak λ⁻)."""
     br = run("mohr_coulomb_crossed")
     assert br.lower <= problems.mohr_coulomb_nc(30.0) <= br.upper
 
 
+@pytest.mark.slow
 def test_vertical_cut_brackets_published_bounds():
     """Kammoun et al. 2010: 3.7752 <= γH/k <= 3.7776; gap < 5 % on the finer CI mesh."""
     gaps = []
@@ -162,6 +167,7 @@ def test_rigid_region_above_the_mechanism():
     assert b.joint_gap >= -1e-6 * b.upper
 
 
+@pytest.mark.slow
 def test_rigid_footing_brackets_prandtl():
     """Rough rigid footing (a Rigid region bonded to the soil) on weightless Tresca: 2 + π."""
     br = run("prandtl_rigid_footing")
@@ -190,6 +196,7 @@ def test_gap_with_bed_joint_interface_includes_joint_share():
 
 
 @pytest.mark.parametrize("test", TABLE1)
+@pytest.mark.slow
 def test_tsection_gap_shrinks_under_refinement(test):
     """Halving the element size shrinks the gap (B1: 42 % → 17 %, docs/static.md)."""
     coarse, fine = run(f"tsection_{test}_h1"), run(f"tsection_{test}_h0.5")
@@ -198,6 +205,7 @@ def test_tsection_gap_shrinks_under_refinement(test):
     assert coarse.lower <= fine.upper and fine.lower <= coarse.upper
 
 
+@pytest.mark.slow
 def test_different_meshes_for_each_bound():
     pr = problems.prandtl(h_min=0.1, h_max=0.5, growth=1.3)
     fan = prandtl_fan(size=0.5, h_min=0.08, radius=0.5, n_fan=6)

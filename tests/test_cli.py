@@ -124,6 +124,7 @@ def _sh(*args, cwd):
 
 
 # ----------------------------------------------------------------------------- the doors
+@pytest.mark.slow
 def test_console_script_help(tmp_path):
     """The help a newcomer reads: every command with its one-line purpose, every option with
     its default and unit, and the version."""
@@ -152,6 +153,7 @@ def test_console_script_help(tmp_path):
     assert r.returncode == 0 and r.stdout.strip() == f"homlimit {homlimit.__version__}"
 
 
+@pytest.mark.slow
 def test_console_script_runs_case_file_json(tmp_path, ref_C4, dem):
     """`homlimit run CASE --json`: pure JSON on stdout, numbers vs the references, files."""
     case = EXAMPLES / "c4-closed-form" / "case.toml"
@@ -174,6 +176,7 @@ def test_console_script_runs_case_file_json(tmp_path, ref_C4, dem):
     assert_png(files["vg_lambda_png"], (8 * 120, int(5.5 * 120)))
 
 
+@pytest.mark.slow
 def test_demo_embedded_case_console_script(tmp_path, ref_B1, dem):
     """`homlimit demo` (the embedded B1) through the real console script, FE included on a
     coarse mesh via --set; -v solver logs go to stderr, stdout stays pure JSON."""
@@ -211,6 +214,7 @@ def test_set_overrides_are_validated(tmp_path):
     assert "<default: B1>: [wall] H = -1.0 m is out of range: allowed 0 < H" in res.stderr
 
 
+@pytest.mark.slow
 def test_python_m_and_default_out_dir(tmp_path, ref_C4):
     case = EXAMPLES / "c4-closed-form" / "case.toml"
     r = subprocess.run([sys.executable, "-m", "homlimit", "run", str(case)],
@@ -225,6 +229,7 @@ def test_python_m_and_default_out_dir(tmp_path, ref_C4):
     assert "[homlimit]" in r.stderr                          # progress goes to stderr
 
 
+@pytest.mark.slow
 def test_python_door_dict_and_path_agree(tmp_path, ref_B1):
     case = {"name": "b1", "wall": {"H": 9, "L": 6, "s": 0.5, "b": 0.5, "l": 6},
             "masonry": {"a": 0.3, "c": 0.2, "f": 0.6}, "analysis": {"fe": False}}
@@ -286,6 +291,7 @@ def test_broken_case_files_exit_2(tmp_path, kind):
     assert not (tmp_path / "o").exists()                      # nothing computed or written
 
 
+@pytest.mark.slow
 def test_broken_case_file_console_script_lists_all_problems(tmp_path):
     case = tmp_path / "many.toml"
     case.write_text("[wall]\nH = -9\nL = 6\ns = 0.5\nb = true\n[masonry]\na = 0.3\nc = 0.2\n"
@@ -326,6 +332,7 @@ def test_bad_option_value_exits_2(tmp_path):
 
 
 # ----------------------------------------------------------------------------- other commands
+@pytest.mark.slow
 def test_table1_json(tmp_path, dem):
     res = CliRunner().invoke(app, ["table1", "--json", "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output
@@ -346,6 +353,7 @@ def test_table1_json(tmp_path, dem):
     assert (tmp_path / "table1.csv").read_text().splitlines()[0].startswith("test,")
 
 
+@pytest.mark.slow
 def test_figure2_png(tmp_path):
     res = CliRunner().invoke(app, ["figure2", "--json", "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output
@@ -354,6 +362,7 @@ def test_figure2_png(tmp_path):
     assert_png(path, (10 * 120, int(7.5 * 120)))
 
 
+@pytest.mark.slow
 def test_mesh_command_writes_vtu_and_png(tmp_path):
     case = tmp_path / "coarse.toml"
     case.write_text("name = 'coarse'\n[wall]\nH = 9\nL = 6\ns = 0.5\nb = 0.5\nl = 6\n"
@@ -419,6 +428,7 @@ def _rigid_vg_from_vtu(mesh, hinge, l_over_s, g):
     return I_O / (m * zG) * math.sqrt(2 * W / I_O)             # eq. 7
 
 
+@pytest.mark.slow
 def test_run_with_finite_elements(tmp_path, ref_B1):
     """`homlimit run` with the FE stage on a coarse mesh: summary numbers against the closed
     forms and the hinge + fan, result files re-opened, the FE body's v̄_g recomputed."""
@@ -486,6 +496,7 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     assert_png(files["stress_png"], (7 * 120, 6 * 120))
 
 
+@pytest.mark.slow
 def test_run_without_the_static_bound(tmp_path):
     """[analysis] static = false: no bracket, no stress picture, no static_* fields."""
     import meshio
@@ -501,6 +512,7 @@ def test_run_without_the_static_bound(tmp_path):
     assert not any(k.startswith("static_") for k in mech.cell_data)
 
 
+@pytest.mark.slow
 def test_crack_study_one_point(tmp_path):
     """`homlimit crack-study` on a one-point grid: the record beside eq. 16 and the hinge + fan."""
     import csv

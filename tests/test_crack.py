@@ -74,6 +74,7 @@ def _fe(case, mesh=None, h=0.5):
 
 
 @pytest.mark.parametrize("a, c, f", [(0.2, 0.2, 0.6), (0.4, 0.2, 0.9)])
+@pytest.mark.slow
 def test_conforming_mesh_reproduces_the_hinge_and_fan(a, c, f):
     """Mesh containing the rays tan ψ = f and c/a from the optimal hinge: FE multiplier = the
     closed form to 1e-4 and the measured edges are f and c/a (c/a > f and c/a < f)."""
@@ -90,6 +91,7 @@ def test_conforming_mesh_reproduces_the_hinge_and_fan(a, c, f):
     assert mm.kind == "deforming" and not fe.sharp
 
 
+@pytest.mark.slow
 def test_unaligned_meshes_approach_the_fan_under_refinement(table1_case):
     """Crossed meshes not aligned with the rays: λ decreases towards the hinge + fan value from
     above, the measured edges lie within 2 δT of f and c/a and the mid-line within δT of

@@ -78,6 +78,7 @@ def _brute_multiplier(case, z0, T1, T2, n=1500):
 
 
 @pytest.mark.parametrize("z0, T1, T2", [(4.0, 0.6, 1.0), (0.0, 0.3, 1.5), (6.5, 0.9, 0.9)])
+@pytest.mark.slow
 def test_fan_multiplier_is_the_exact_integral(z0, T1, T2, table1_case):
     case = table1_case("B2")
     assert fan_multiplier(case, z0, T1, T2) == pytest.approx(_brute_multiplier(case, z0, T1, T2),
@@ -103,6 +104,7 @@ def test_wedge_admissibility_from_the_inner_corner():
 
 @pytest.mark.parametrize("a, c, f", [(0.2, 0.2, 0.6), (0.15, 0.2, 0.6), (0.4, 0.2, 0.9),
                                      (0.3, 0.1, 0.6)])
+@pytest.mark.slow
 def test_optimum_is_the_fan_between_f_and_c_over_a(a, c, f):
     """The prototype's finding T1 = f, T2 = c/a (c/a > f), extended: for c/a < f the edges swap,
     T1 = c/a, T2 = f; either way √(T1 T2) = √(cf/a). Checked against a brute-force search over
@@ -134,6 +136,7 @@ def test_bad_input():
         fan_strain_rate(0.8, 0.6)
 
 
+@pytest.mark.slow
 def test_bed_joint_facade_admits_no_fan(table1_case):
     """A bed-joints-only façade allows no horizontal extension (d_xx = 0): neither the fan nor
     a crack from the outer hinge may cross it, whatever the masonry."""

@@ -51,6 +51,7 @@ def test_generalised_impulse_of_a_rigid_block_is_eq_19():
     assert gi.M_rest_share == pytest.approx(0.0, abs=1e-12)
 
 
+@pytest.mark.slow
 def test_fe_analysis_end_to_end_on_a_coarse_mesh(table1_case):
     """The part above z0 = 3 m of wall B2 on a coarse crossed mesh: a hinge + fan whose hinge
     and mid-line agree with the closed form within the element-size uncertainty, and a v̄_g
@@ -67,6 +68,7 @@ def test_fe_analysis_end_to_end_on_a_coarse_mesh(table1_case):
     assert 0.2 < r.vnorm < 1.0
 
 
+@pytest.mark.slow
 def test_fe_result_critical_is_the_minimum_of_the_scan(table1_case):
     """The Table 1 columns: the scan's minimum of v̄_g, with λ = h/b from the hinge height."""
     case = table1_case("B2")

@@ -125,6 +125,7 @@ def test_mirrored_load_gives_the_same_multiplier():
     assert lm == pytest.approx(lp, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_length_scaling_leaves_the_multiplier_unchanged():
     """λ is the ratio of two powers that scale alike with every length (no cohesion)."""
     assert solve_kinematic(_panel(scale=3.0)).multiplier == pytest.approx(
@@ -174,6 +175,7 @@ def test_tresca_dissipation_and_duals():
     assert np.abs(resid - rhs).max() < 1e-6 * np.abs(rhs).max()
 
 
+@pytest.mark.slow
 def test_highs_interior_point_solves_the_same_lp():
     """An independent LP solver on the same program gives the same multiplier."""
     prob = t_section(CASE, h=1.5, n_b=1)
@@ -199,6 +201,7 @@ def test_no_mechanism_is_infeasible_and_no_support_is_unbounded():
     assert err.value.status == "unbounded"
 
 
+@pytest.mark.slow
 def test_t_section_multiplier_does_not_increase_on_nested_meshes():
     """Nested crossed meshes (halved spacing, growth 1) nest the P2 spaces: λ⁺ can only fall."""
     lams = [solve_kinematic(t_section(CASE, h=h, n_b=n, growth=1.0, h_far=h)).multiplier
@@ -207,6 +210,7 @@ def test_t_section_multiplier_does_not_increase_on_nested_meshes():
     assert lams[1] < lams[0]
 
 
+@pytest.mark.slow
 def test_t_section_mechanism_rotates_about_the_outer_face():
     """The façade and a wedge of the wall rotate about a hinge on the outer face (x ≈ 0)."""
     prob = t_section(CASE, h=0.5, n_b=2)
@@ -262,6 +266,7 @@ def test_base_of_the_failing_part_z0_is_a_translation():
 
 
 @pytest.mark.parametrize("mesher", ["crossed", "gmsh"])
+@pytest.mark.slow
 def test_t_section_approaches_the_closed_form_hinge_and_fan_from_above(mesher):
     """closed_form.fan.s hinge + fan optimum (exact polygon integrals, an independent family that
     the prototype matched to 3e-5 on ray-conforming meshes) is approached from above."""

@@ -50,6 +50,7 @@ def test_free_standing_facade_is_the_rocking_block():
 
 @pytest.mark.parametrize("lam, rho, alpha2, beta", [(13.8, 12, 0.4, 0.4), (5.4, 5, 0.8, 0.8),
                                                     (3.0, 2, 1.2, 0.3), (20, 30, 0.2, 0.1)])
+@pytest.mark.slow
 def test_theta_m_is_the_maximiser_of_W(lam, rho, alpha2, beta):
     alpha = math.sqrt(alpha2)
     fun = lambda th: -float(work_I(th, lam, rho, alpha, beta))  # noqa: E731
@@ -68,6 +69,7 @@ def test_W_is_continuous_across_the_branch_switch_of_eq_9():
     assert left == pytest.approx(right, rel=1e-8)
 
 
+@pytest.mark.slow
 def test_eq14_error_for_table1():
     """Eq. 14 as printed is 4-15 % off the exact θ_m for Table 1; the same expansion of the
     corrected quartic is 0.3-1.6 % off (a second-order expansion about 1/λ, so it degrades as
@@ -90,6 +92,7 @@ def test_critical_lambda_is_the_minimum_over_a_fine_grid():
     assert lam == pytest.approx(grid[np.argmin(vals)], abs=2e-3)
 
 
+@pytest.mark.slow
 def test_vectorised_evaluation_equals_scalar_calls():
     rho = np.array([2.0, 5.0, 12.0, 30.0])[:, None]
     alpha = np.array([0.3, 0.6, 0.9])[None, :]
@@ -150,6 +153,7 @@ adm = dict(rho=st.floats(1.0, 40.0), alpha=st.floats(0.2, 1.5), beta=st.floats(0
 
 @settings(max_examples=40, deadline=None)
 @given(**adm, k=st.floats(1.05, 3.0))
+@pytest.mark.slow
 def test_vg_decreases_with_rho_and_increases_with_alpha_and_beta(rho, alpha, beta, k):
     lam_max = 30.0
     v = critical_I(rho, alpha, beta, lam_max)[1]
@@ -162,6 +166,7 @@ def test_vg_decreases_with_rho_and_increases_with_alpha_and_beta(rho, alpha, bet
 
 
 # ------------------------------------------------------------------ the paper's findings
+@pytest.mark.slow
 def test_paper_findings_on_table1():
     """Mechanism I is critical over Table 1's range, and the critical closed form lies below the
     DEM collapse velocity in every test (paper, Discussion)."""

@@ -1,6 +1,7 @@
 """Table 1 data shipped in the package, and Figure 2 drawn to a PNG."""
 
 import numpy as np
+import pytest
 
 from homlimit.closed_form.paper import table1
 
@@ -16,6 +17,7 @@ def test_table1_is_shipped_and_consistent_with_its_own_columns():
         assert abs(t.vg_norm - t.vg / sqgb) <= 0.005 / sqgb + 0.0005 + 1e-12
 
 
+@pytest.mark.slow
 def test_figure2_png(tmp_path):
     from matplotlib.image import imread
 
@@ -28,6 +30,7 @@ def test_figure2_png(tmp_path):
     assert not list(tmp_path.glob("*.tmp*"))  # written whole: no temporary left behind
 
 
+@pytest.mark.slow
 def test_table1_png(tmp_path):
     from matplotlib.image import imread
 

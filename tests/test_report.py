@@ -116,6 +116,7 @@ def test_format_table_aligns_columns():
     assert len({len(line) for line in lines[1:]}) == 1
 
 
+@pytest.mark.slow
 def test_mesh_and_mechanism_pictures(tmp_path):
     """plot_mesh and plot_mechanism on a small hand-made two-region mesh."""
     import meshio
@@ -147,6 +148,7 @@ def test_mesh_and_mechanism_pictures(tmp_path):
     assert_png(p, (int(7.5 * plots.DPI), 8 * plots.DPI))
 
 
+@pytest.mark.slow
 def test_crack_study_picture(tmp_path):
     from homlimit.app import plots
 

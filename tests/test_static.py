@@ -304,6 +304,7 @@ def test_cvxpy_backend_reproduces_the_direct_program():
     assert np.allclose(b.stress, a.stress, atol=1e-4 * np.abs(a.stress).max())
 
 
+@pytest.mark.slow
 def test_highs_simplex_confirms_the_linear_programs():
     """An independent LP solver (HiGHS through cvxpy) on eq. 15 and on the rigid block."""
     from homlimit.params import Case
@@ -326,6 +327,7 @@ def test_backend_choices_are_checked():
         solve_static(prob, SolverOptions(backend="cvxpy", solver="HIGHS"))
 
 
+@pytest.mark.slow
 def test_faer_on_one_thread_gives_the_same_bound():
     """The factorisation chosen above solver.FAER_ABOVE unknowns (faer, one thread) against
     qdldl on a small program: the same λ⁻."""

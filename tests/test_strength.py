@@ -62,6 +62,7 @@ def test_homogenised_normals_are_eq15():
     np.testing.assert_array_equal(h.rhs, 0.0)
 
 
+@pytest.mark.slow
 def test_homogenised_support_matches_linprog_dry():
     rng = np.random.default_rng(1)
     h = Homogenised(A_, C_, F_)
@@ -140,6 +141,7 @@ def micro_field_lp(a, c, f, C, T):
 @pytest.mark.parametrize("a,c,f,C,T", [
     (A_, C_, F_, 1e4, 0.0), (A_, C_, F_, 1e4, 5e3), (A_, C_, F_, 1e4, 1e6), (A_, C_, F_, 0.0, 5e3),
     (0.3, 0.1, 0.9, 1e4, 1e6), (0.3, 0.1, 0.9, 1e4, 2e3)])
+@pytest.mark.slow
 def test_homogenised_cohesive_support_matches_micro_field(a, c, f, C, T):
     rng = np.random.default_rng(3)
     h = Homogenised(a, c, f, cohesion=C, tension=T)
@@ -171,6 +173,7 @@ def test_homogenised_cohesive_closed_form():
 # ----------------------------------------------------------------- bed joints
 
 @pytest.mark.parametrize("C,T", [(0.0, 0.0), (2e4, 0.0), (2e4, 1e4), (2e4, 1e9)])
+@pytest.mark.slow
 def test_bedjoints_support_matches_linprog(C, T):
     rng = np.random.default_rng(4)
     f = 0.6
@@ -220,6 +223,7 @@ def test_tresca_support_matches_sampling():
         assert m2 - m1 == pytest.approx((1e4 - 1e2) * abs(di[0] + di[1]), rel=1e-9)
 
 
+@pytest.mark.slow
 def test_mohr_coulomb_support_matches_sampling():
     rng = np.random.default_rng(6)
     c, phi = 2.0, 30.0
