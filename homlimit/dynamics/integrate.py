@@ -156,10 +156,13 @@ def _potential(rocker: Rocker, phi):
     return float(rocker.work(phi)) - (float(fw(phi)) if fw is not None else 0.0)
 
 
-def _first_time(g, t0, t1, n, tol):
-    """First t in [t0, t1] where g(t) > 0 (g vectorised), or None. Sampled on n points, then
-    refined by brentq; the returned time has g > 0."""
+def _first_time(g, t0, t1, n, tol, knots=None):
+    """First t in [t0, t1] where g(t) > 0 (g vectorised), or None. Sampled on n points (and on
+    the pulse's own sample times ``knots``, if any), then refined by brentq; the returned time
+    has g > 0."""
     grid = np.linspace(t0, t1, n)
+    if knots is not None:
+        grid = np.union1d(grid, knots[(knots > t0) & (knots < t1)])
     val = g(grid)
     hit = np.flatnonzero(val > 0)
     if hit.size == 0:
@@ -326,7 +329,8 @@ class _History:
 
             def g(tt):
                 return np.abs(side * self.a_g(tt) * Pi - R) - F
-        t_s = _first_time(g, t, self.t_end, self.opt.scan_points, tol)
+        t_s = _first_time(g, t, self.t_end, self.opt.scan_points, tol,
+                          getattr(self.pulse, "t", None))
         if t_s is None:
             return None
         ag = float(self.a_g(t_s))

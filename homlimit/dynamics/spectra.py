@@ -205,8 +205,8 @@ def plot_spectra(points: Sequence[SpectrumPoint], path: str | Path, *,
     kinds = list(dict.fromkeys(p.pulse for p in points))
     mechs = list(dict.fromkeys(p.mechanism for p in points))
     colours = dict(zip(mechs, plt.rcParams["axes.prop_cycle"].by_key()["color"]))
-    fig, axes = plt.subplots(1, len(kinds), figsize=(5.2 * len(kinds), 4.2), squeeze=False,
-                             sharey=True)
+    fig, axes = plt.subplots(1, len(kinds), figsize=(5.2 * len(kinds), 4.8), squeeze=False,
+                             sharey=True, layout="constrained")
     for ax, kind in zip(axes[0], kinds):
         for m in mechs:
             for pol in sorted({p.polarity for p in points}, reverse=True):
@@ -230,10 +230,16 @@ def plot_spectra(points: Sequence[SpectrumPoint], path: str | Path, *,
         ax.set_title(kind)
         ax.grid(True, which="both", alpha=0.3)
     axes[0][0].set_ylabel("critical pgv / √(g b)")
-    axes[0][-1].legend(fontsize=7, loc="upper left")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    for ax in axes[0][1:]:
+        for hd, lb in zip(*ax.get_legend_handles_labels()):
+            if lb not in labels:
+                handles.append(hd)
+                labels.append(lb)
+    fig.legend(handles, labels, fontsize=7, loc="outside lower center",
+               ncol=min(len(labels), 4))
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
 
     def draw(tmp: Path):
         fig.savefig(tmp, dpi=130, format="png")
