@@ -122,14 +122,22 @@ def linear_block_response(alpha: float, p: float, kind: str, a_p: float, T_p: fl
         return theta, theta_dot
 
     def first_root(f, t0, t1):
+        """First return to θ = 0 after t0 (where θ = 0): f = σθ > 0 just after t0."""
         grid = np.linspace(t0, t1, n_grid)
         val = f(grid)
         bad = np.flatnonzero(val[1:] <= 0) + 1
         if bad.size == 0:
             return None
         k = int(bad[0])
-        return brentq(lambda t: float(f(t)), grid[k - 1], grid[k], xtol=1e-14 * T_p,
-                      rtol=1e-15)
+        lo = grid[k - 1]
+        if k == 1:  # an excursion shorter than one sample: bracket it away from t0
+            for frac in (1e-12, 1e-9, 1e-6, 1e-3):
+                lo = t0 + frac * (grid[1] - t0)
+                if float(f(lo)) > 0:
+                    break
+            else:
+                return t0  # below resolution: the block is back at once
+        return brentq(lambda t: float(f(t)), lo, grid[k], xtol=1e-14 * T_p, rtol=1e-15)
 
     t, th, thd, sig = 0.0, 0.0, 0.0, 0
     impacts = []
@@ -153,7 +161,7 @@ def linear_block_response(alpha: float, p: float, kind: str, a_p: float, T_p: fl
         if t_imp is None:  # the pulse ends on this side: decide by J
             th, thd = float(theta(T_p)), theta_dot(T_p)
             break
-        v = theta_dot(t_imp)
+        v = theta_dot(t_imp) if t_imp > t else 0.0
         impacts.append(t_imp)
         if max_impacts is not None and len(impacts) > max_impacts:
             return LinearOutcome(False, len(impacts), tuple(impacts), -1.0, "impact limit")
