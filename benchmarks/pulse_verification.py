@@ -6,7 +6,8 @@
 2. free-standing block: the nonlinear thresholds against the small-angle closed forms
    (Housner rectangular pulse; one-sine and one-cosine with and without impact), α = 0.1
    and 0.25;
-3. energy: drift between impacts in free rocking; mechanism I's friction work on a reversal.
+3. energy: drift between impacts in free rocking; mechanism I's friction work on a reversal;
+4. the FE-like body's pivot force ratio and its shortest sliding-free rectangular pulse.
 
     python benchmarks/pulse_verification.py
 """
@@ -138,7 +139,19 @@ def energy():
           f"(energy residual {r.energy_residual:.1e} J)")
 
 
+def pivot(f=0.6):
+    from pulse_spectra import sliding_free_duration  # benchmarks/ is on sys.path when run
+
+    fe = fe_like_body(B1)
+    rk = RigidRocker(fe)
+    dt, pga, ratio = sliding_free_duration(rk, f)
+    print(f"FE-like body of B1: |P_x/P_z| = {(fe.i - fe.z_G ** 2) / (fe.x_G * fe.z_G):.3f} for "
+          f"the ideal impulse; at f = {f} the shortest rectangular pulse lasts {dt:.4f} s "
+          f"(pga {pga / G:.2f} g, pgv {ratio:.4f} x eq. 7)")
+
+
 if __name__ == "__main__":
     short_pulse()
     block()
     energy()
+    pivot()
