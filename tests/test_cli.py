@@ -541,3 +541,31 @@ def test_crack_study_bad_grid_exits_2(tmp_path):
     assert "c_over_a = -1.0 is out of range: allowed 0 < c_over_a" in res.stderr
     res = CliRunner().invoke(app, ["crack-study", "--facade", "brick", "--out", str(tmp_path)])
     assert res.exit_code == 2 and "facade = 'brick' is out of range" in res.stderr
+
+
+def test_pulse_command_spectra(tmp_path):
+    """`homlimit pulse`: the overturning spectra of the default case, written and printed; the
+    shortest rectangular pulse needs the ideal impulse of eq. 7 (closed forms I and II) to
+    within 1 % (its excess ≈ p·Δt/2, docs/pulses.md)."""
+    res = CliRunner().invoke(app, ["pulse", "--json", "--out", str(tmp_path),
+                                   "--set", 'pulse.kinds=["rectangular"]',
+                                   "--set", "pulse.periods=[0.005, 0.5]",
+                                   "--set", "pulse.polarities=[1]"])
+    assert res.exit_code == 0, res.stderr
+    data = json.loads(res.stdout)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spectra.csv", "spectra.png"]
+    I, II = homlimit.mechanism_I(homlimit.Case()), homlimit.mechanism_II(homlimit.Case())
+    short = {p["mechanism"]: p for p in data["points"] if p["period"] == 0.005}
+    assert short["I"]["pgv"] == pytest.approx(I.vg, rel=0.01)
+    assert short["II"]["pgv"] == pytest.approx(II.vg, rel=0.01)
+    assert all(p["pgv"] >= p["vg_eq7"] for p in data["points"])   # a finite pulse needs more
+
+
+def test_pulse_command_bad_keys_exit_2(tmp_path):
+    res = CliRunner().invoke(app, ["pulse", "--out", str(tmp_path),
+                                   "--set", 'pulse.kinds=["square"]',
+                                   "--set", "pulse.periods=[-1.0]"])
+    assert res.exit_code == 2
+    assert "[pulse] kinds[0] = 'square' is not allowed" in res.stderr
+    assert "periods[0] = -1.0 s is out of range" in res.stderr
+    assert not list(tmp_path.iterdir())

@@ -5,6 +5,7 @@
     homlimit table1 [--fe]        the paper's Table 1 beside the closed forms (and the FE body)
     homlimit figure2              the paper's Figure 2 as a PNG
     homlimit crack-study          the crack-angle study over a grid of c/a and f
+    homlimit pulse [CASE.toml]    overturning spectra of real pulses (rocking time histories)
     homlimit mesh CASE.toml       the T-section mesh only, for inspection
 
 Every computing command takes ``--json`` (machine-readable on stdout, nothing else there),
@@ -281,6 +282,34 @@ def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOp
     _show(stdout, as_json, {"records": records, "files": files}, records, cols,
           "crack-angle study: FE crack slope tan psi (50 % line, edges) beside tan_alpha = "
           "sqrt(cf/a)", files.values())
+
+
+@app.command()
+@_guarded
+def pulse(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
+          verbose: VerboseOpt = False, quiet: QuietOpt = False, overrides: SetOpt = None):
+    """Overturning spectra: the critical pulse per mechanism against pulse period ([pulse])."""
+    from ..closed_form.paper import dem_row
+    from . import plots, report
+    from .config import load_case
+    from .pipeline import output_dir, pulse_records
+
+    _logging(verbose, quiet, as_json)
+    with _stdout_quiet(as_json) as stdout:
+        config = load_case(case, overrides)
+        points, _ = pulse_records(config)
+        out = out or output_dir(config) / "pulse"
+        dem = dem_row(config.case)
+        files = [report.write(out / "spectra.csv", [p.as_dict() for p in points]),
+                 plots.plot_spectra(out / "spectra.png", points,
+                                    dem_vnorm=None if dem is None else dem.vg_norm,
+                                    title=f"case {config.name}: critical pulses")]
+    if as_json:
+        _emit_json(stdout, {"points": [p.as_dict() for p in points], "files": files})
+        return
+    print(report.format_spectra(points, title=f"case {config.name}: overturning spectra "
+                                              "(pgv/vg(eq.7): over the ideal impulse)"))
+    print("\nfiles: " + ", ".join(map(str, files)))
 
 
 @app.command()

@@ -18,6 +18,7 @@ The full key reference (``docs/case-file.md``) is generated from ``SCHEMA`` by `
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -25,12 +26,13 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from ..dynamics.pulses import PULSE_KINDS
 from ..errors import ParameterError, check_range
 from ..mechanism.analysis import LAM_MIN
 from ..params import FACADE_MODELS, Case, Masonry, Wall
 
 __all__ = ["AnalysisConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig", "OutputConfig",
-           "SCHEMA", "default_case", "load_case", "schema_markdown"]
+           "PulseConfig", "SCHEMA", "default_case", "load_case", "schema_markdown"]
 
 REQUIRED = object()
 
@@ -50,7 +52,7 @@ class ConfigError(ParameterError):
 class Key:
     """One case-file key: its type, default (or REQUIRED), unit, allowed range and meaning."""
 
-    kind: type                    # float, int, bool or str
+    kind: type                    # float, int, bool, str, or list (of ``item``)
     default: Any = REQUIRED
     unit: str = ""
     lo: float | None = None
@@ -59,6 +61,7 @@ class Key:
     hi_open: bool = False
     choices: tuple = ()
     doc: str = ""
+    item: type | None = None      # the type of a list's items (range and choices apply to each)
 
     @property
     def required(self) -> bool:
@@ -121,6 +124,36 @@ SCHEMA: dict[str, dict[str, Key]] = {
                    doc="Clarabel gap and feasibility tolerance (0: the solver default of "
                        "homlimit.fe.solver.SolverOptions)"),
     },
+    "pulse": {
+        "kinds": Key(list, ["rectangular", "one-sine"], item=str, choices=tuple(PULSE_KINDS),
+                     doc="pulse shapes of the overturning spectra (`homlimit pulse`): "
+                         "rectangular (duration = period), one-sine, one-cosine, ricker, mp "
+                         "(Mavroeidis–Papageorgiou)"),
+        "periods": Key(list, [0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0], "s", 1e-3, 100.0,
+                       item=float, doc="pulse periods T_p (rectangular: durations)"),
+        "polarities": Key(list, [1, -1], item=int, choices=(1, -1),
+                          doc="pulse polarities: +1 pushes the ground towards +x first (the "
+                              "façade's inertia outwards)"),
+        "mechanisms": Key(list, ["I", "II"], item=str, choices=("I", "II", "FE"),
+                          doc="mechanisms whose spectra are computed (FE runs the FE path "
+                              "first: its critical body, rigid or one-DOF)"),
+        "gravity_I": Key(str, "linearised", choices=("linearised", "exact"),
+                         doc="mechanism I's gravity: as eq. 10 (linearised) or exact"),
+        "restitution": Key(float, 0.0, "", 0.0, 1.0,
+                           doc="coefficient of restitution at re-seating (0: the body "
+                               "stays seated)"),
+        "rtol": Key(float, 1e-6, "", 1e-13, 1e-2, lo_open=False,
+                    doc="relative tolerance of the threshold amplitude (brentq)"),
+        "scan_ratio": Key(float, 1.05, "", 1.0, 10.0, lo_open=True,
+                          doc="amplitude step of the search from lift-off to overturning"),
+        "gamma": Key(float, 2.0, "", 1.0, 10.0, lo_open=True,
+                     doc="Mavroeidis–Papageorgiou oscillation parameter γ (kind mp)"),
+        "nu": Key(float, 0.0, "rad", -2 * math.pi, 2 * math.pi,
+                  doc="Mavroeidis–Papageorgiou phase ν (kind mp)"),
+        "record": Key(str, "", doc="a ground-acceleration record, two-column CSV t [s], "
+                                   "a_g [m/s²] (relative to the case file): its critical "
+                                   "scale per mechanism"),
+    },
     "output": {
         "dir": Key(str, "", doc="output folder (empty: homlimit-out/<name>/; --out overrides)"),
         "json": Key(bool, True, doc="write summary.json (every input, result, version)"),
@@ -155,6 +188,23 @@ class AnalysisConfig:
 
 
 @dataclass(frozen=True)
+class PulseConfig:
+    """[pulse]: the overturning spectra of ``homlimit pulse`` (``homlimit.dynamics``)."""
+
+    kinds: tuple = ("rectangular", "one-sine")
+    periods: tuple = (0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0)
+    polarities: tuple = (1, -1)
+    mechanisms: tuple = ("I", "II")
+    gravity_I: str = "linearised"
+    restitution: float = 0.0
+    rtol: float = 1e-6
+    scan_ratio: float = 1.05
+    gamma: float = 2.0
+    nu: float = 0.0
+    record: str = ""
+
+
+@dataclass(frozen=True)
 class OutputConfig:
     """[output]: what is written and where."""
 
@@ -164,6 +214,10 @@ class OutputConfig:
     vtu: bool = True
 
 
+SECTIONS = {"mesh": MeshConfig, "analysis": AnalysisConfig, "pulse": PulseConfig,
+            "output": OutputConfig}
+
+
 @dataclass(frozen=True)
 class CaseConfig:
     """A whole validated case description."""
@@ -171,6 +225,7 @@ class CaseConfig:
     case: Case
     mesh: MeshConfig = field(default_factory=MeshConfig)
     analysis: AnalysisConfig = field(default_factory=AnalysisConfig)
+    pulse: PulseConfig = field(default_factory=PulseConfig)
     output: OutputConfig = field(default_factory=OutputConfig)
     source: str = "<dict>"
 
@@ -182,9 +237,10 @@ class CaseConfig:
         """Every input, in the case-file layout (round-trips through ``load_case``)."""
         d = self.case.as_dict()
         out = {"name": d["name"], "wall": d["wall"], "masonry": d["masonry"]}
-        for sec in ("mesh", "analysis", "output"):
+        for sec in SECTIONS:
             obj = getattr(self, sec)
-            out[sec] = {k: getattr(obj, k) for k in SCHEMA[sec]}
+            out[sec] = {k: (list(v) if isinstance(v, tuple) else v)
+                        for k in SCHEMA[sec] for v in [getattr(obj, k)]}
         return out
 
 
@@ -197,11 +253,22 @@ def _typed(kind: type, value) -> tuple[bool, Any]:
     return isinstance(value, kind), value
 
 
-_TYPE_NAMES = {float: "a number", int: "an integer", bool: "true or false", str: "a string"}
+_TYPE_NAMES = {float: "a number", int: "an integer", bool: "true or false", str: "a string",
+               list: "a list"}
 
 
 def _check_key(where: str, name: str, key: Key, value, problems: list[str]):
-    """Append a problem for a wrong type or an out-of-range value; return the converted value."""
+    """Append a problem for a wrong type or an out-of-range value; return the converted value
+    (a list: every item checked against the key's type, range and choices)."""
+    if key.kind is list:
+        if not isinstance(value, list) or not value:
+            problems.append(f"{where} {name} = {value!r} has the wrong type: expected a "
+                            f"non-empty list, each item {_TYPE_NAMES[key.item]}")
+            return None
+        item = dataclasses.replace(key, kind=key.item, item=None)
+        n = len(problems)
+        out = [_check_key(where, f"{name}[{k}]", item, v, problems) for k, v in enumerate(value)]
+        return out if len(problems) == n else None
     ok, value = _typed(key.kind, value)
     if not ok:
         problems.append(f"{where} {name} = {value!r} has the wrong type: expected "
@@ -284,9 +351,9 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
                             f"part of the FE impulse scan (or [analysis] heights = 1)")
     if problems:
         raise ConfigError(source, [p.strip() for p in problems])
-    return CaseConfig(case=case, mesh=MeshConfig(**values["mesh"]),
-                      analysis=AnalysisConfig(**values["analysis"]),
-                      output=OutputConfig(**values["output"]), source=source)
+    return CaseConfig(case=case, source=source, **{
+        sec: cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in values[sec].items()})
+        for sec, cls in SECTIONS.items()})
 
 
 def load_case(path_or_dict: str | Path | dict | None = None,
@@ -368,13 +435,16 @@ def schema_markdown() -> str:
                   "|---|---|---|---|---|---|"]
         for name, key in keys.items():
             default = "**required**" if key.required else f"`{_toml_value(key.default)}`"
-            lines.append(f"| `{name}` | {key.kind.__name__} | {default} | {key.unit or '–'} | "
+            kind = key.kind.__name__ + (f" of {key.item.__name__}" if key.item else "")
+            lines.append(f"| `{name}` | {kind} | {default} | {key.unit or '–'} | "
                          f"{key.range_text(name) or 'any'} | {key.doc} |")
         lines.append("")
     return "\n".join(lines)
 
 
 def _toml_value(v) -> str:
+    if isinstance(v, list | tuple):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, str):

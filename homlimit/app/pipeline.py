@@ -36,8 +36,8 @@ from ..params import FACADE_MODELS, Case
 from . import report
 from .config import CaseConfig, load_case
 
-__all__ = ["Result", "crack_study_records", "mesh_case", "output_dir", "package_version", "run",
-           "table1_records"]
+__all__ = ["Result", "crack_study_records", "mesh_case", "output_dir", "package_version",
+           "pulse_records", "run", "table1_records"]
 
 log = logging.getLogger(__name__)
 
@@ -226,6 +226,44 @@ def mesh_case(config: CaseConfig, out: Path) -> dict:
             "regions": {n: int(np.count_nonzero(region == k)) for k, n in enumerate(names)},
             "mesh": {"size": config.mesh.size},
             "files": {k: str(v) for k, v in files.items()}}
+
+
+def pulse_records(config: CaseConfig) -> tuple[list, FEResult | None]:
+    """The overturning spectra of ``[pulse]`` (``homlimit.dynamics``): every pulse kind ×
+    mechanism × polarity × period, and the critical scale of ``[pulse] record`` if given.
+    Mechanism "FE" runs the FE path first (as ``run``, without the static bound). Returns the
+    spectrum points and the FE result (None without "FE")."""
+    from ..dynamics import RecordPulse, case_rockers, overturning_spectrum
+    from ..dynamics.spectra import record_thresholds
+
+    case, pc, an = config.case, config.pulse, config.analysis
+    w = case.wall
+    record = None
+    if pc.record:
+        base = Path(config.source).parent if Path(config.source).is_file() else Path.cwd()
+        record = RecordPulse.from_csv(base / pc.record)
+    fe = None
+    if "FE" in pc.mechanisms:
+        with _stage({}, "FE path for the FE rocker"):
+            fe = fe_result(case, scan_lams(case, an.heights), config.mesh.size, an.facade,
+                           _solver_options(an.tol))
+        if fe.critical is None:
+            raise ParameterError("[pulse] mechanisms = 'FE': the FE scan found no mechanism "
+                                 "with a v̄_g (see fe_scan's vg_method)")
+    rockers = case_rockers(case, [m for m in pc.mechanisms if m != "FE"],
+                           fe_body=None if fe is None else fe.critical,
+                           gravity_I=pc.gravity_I, restitution=pc.restitution)
+    kw = dict(b=w.b, g=w.g, rtol=pc.rtol, scan_ratio=pc.scan_ratio)
+    points = []
+    for kind in pc.kinds:
+        with _stage({}, "overturning spectrum", f"{kind}, {len(rockers)} mechanisms"):
+            points += overturning_spectrum(
+                rockers, kind, pc.periods, polarities=pc.polarities,
+                pulse_options={"gamma": pc.gamma, "nu": pc.nu} if kind == "mp" else None, **kw)
+    if record is not None:
+        with _stage({}, "critical scale of the record", pc.record):
+            points += record_thresholds(rockers, record, **kw)
+    return points, fe
 
 
 # ----------------------------------------------------------------------------- the outputs

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["figure2", "plot_crack_study", "plot_mechanism", "plot_mesh", "plot_stress",
-           "plot_table1", "plot_vg_lambda", "triangle_regions"]
+__all__ = ["figure2", "plot_crack_study", "plot_mechanism", "plot_mesh", "plot_spectra",
+           "plot_stress", "plot_table1", "plot_vg_lambda", "triangle_regions"]
 
 DPI = 120
 
@@ -394,4 +394,57 @@ def plot_table1(path: str | Path, rows: list[dict]) -> Path:
     axes[0].legend(fontsize=8)
     axes[0].set_title("Table 1: collapse ground velocity and slenderness, closed forms, FE and DEM")
     fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_spectra(path: str | Path, points, *, dem_vnorm: float | None = None,
+                 title: str | None = None) -> Path:
+    """Critical pgv/√(g b) against pulse period, one panel per pulse kind, one line per
+    mechanism (and polarity), eq. 7 (the ideal impulse) as a dashed line of the same colour
+    (the short-period asymptote of the rectangular pulse), the DEM value of Table 1 when given.
+    ``points``: ``dynamics.SpectrumPoint`` records."""
+    from ..errors import ParameterError
+
+    plt = _pyplot()
+    if not points:
+        raise ParameterError("points = [] is out of range: nothing to plot")
+    kinds = list(dict.fromkeys(p.pulse for p in points))
+    mechs = list(dict.fromkeys(p.mechanism for p in points))
+    colours = dict(zip(mechs, plt.rcParams["axes.prop_cycle"].by_key()["color"]))
+    fig, axes = plt.subplots(1, len(kinds), figsize=(5.2 * len(kinds), 4.8), squeeze=False,
+                             sharey=True, layout="constrained")
+    for ax, kind in zip(axes[0], kinds):
+        for m in mechs:
+            for pol in sorted({p.polarity for p in points}, reverse=True):
+                sel = sorted((p for p in points if p.pulse == kind and p.mechanism == m
+                              and p.polarity == pol), key=lambda p: p.period)
+                if not sel:
+                    continue
+                lab = m if pol > 0 else f"{m} (polarity -1)"
+                ax.plot([p.period for p in sel], [p.vnorm for p in sel], "o-" if pol > 0
+                        else "s:", color=colours[m], label=lab, ms=4)
+            eq7 = next((p.vnorm_eq7 for p in points if p.mechanism == m), None)
+            if eq7 is not None:
+                ax.axhline(eq7, color=colours[m], ls="--", lw=1,
+                           label=f"{m}: eq. 7 (ideal impulse)")
+        if dem_vnorm is not None:
+            ax.axhline(dem_vnorm, color="k", ls="-.", lw=1, label="DEM (Table 1)")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("pulse period T_p [s]" if kind != "rectangular"
+                      else "pulse duration Δt [s]")
+        ax.set_title(kind)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0][0].set_ylabel("critical pgv / √(g b)")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    for ax in axes[0][1:]:
+        for hd, lb in zip(*ax.get_legend_handles_labels()):
+            if lb not in labels:
+                handles.append(hd)
+                labels.append(lb)
+    fig.legend(handles, labels, fontsize=7, loc="outside lower center",
+               ncol=min(len(labels), 4))
+    if title:
+        fig.suptitle(title)
+
     return _save(fig, path)

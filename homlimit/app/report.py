@@ -18,7 +18,8 @@ from .._io import write_csv, write_json
 from ..errors import ParameterError
 from ..fe import mesh as fe_mesh
 
-__all__ = ["WRITERS", "format_table", "mechanism_mesh", "summary_text", "write"]
+__all__ = ["WRITERS", "format_spectra", "format_table", "mechanism_mesh", "summary_text",
+           "write"]
 
 WRITERS: dict[str, Callable] = {
     ".json": write_json, ".csv": write_csv, ".png": lambda path, draw: draw(path),
@@ -61,6 +62,15 @@ def format_table(header: list[str], rows: list[list], title: str | None = None) 
     out += ["  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in
                       enumerate(zip(r, widths))) for r in cells]
     return "\n".join(out)
+
+
+def format_spectra(points, title: str | None = None) -> str:
+    """The overturning spectra (``dynamics.SpectrumPoint``) as a text table: pulse, mechanism,
+    polarity, T_p, critical pga/g, pgv, pgv/√(gb), pgv over eq. 7's v̄_g, impacts."""
+    rows = [[p.pulse, p.mechanism, p.polarity, p.period, p.pga_g, p.pgv, p.vnorm, p.ratio,
+             p.n_impacts] for p in points]
+    return format_table(["pulse", "mech", "pol", "T_p [s]", "pga/g", "pgv [m/s]",
+                         "pgv/sqrt(gb)", "pgv/vg(eq.7)", "impacts"], rows, title)
 
 
 # ----------------------------------------------------------------------------- the summary
