@@ -554,10 +554,10 @@ def test_pulse_command_spectra(tmp_path):
     assert res.exit_code == 0, res.stderr
     data = json.loads(res.stdout)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["spectra.csv", "spectra.png"]
-    I, II = homlimit.mechanism_I(homlimit.Case()), homlimit.mechanism_II(homlimit.Case())
+    m1, m2 = homlimit.mechanism_I(homlimit.Case()), homlimit.mechanism_II(homlimit.Case())
     short = {p["mechanism"]: p for p in data["points"] if p["period"] == 0.005}
-    assert short["I"]["pgv"] == pytest.approx(I.vg, rel=0.01)
-    assert short["II"]["pgv"] == pytest.approx(II.vg, rel=0.01)
+    assert short["I"]["pgv"] == pytest.approx(m1.vg, rel=0.01)
+    assert short["II"]["pgv"] == pytest.approx(m2.vg, rel=0.01)
     assert all(p["pgv"] >= p["vg_eq7"] for p in data["points"])   # a finite pulse needs more
 
 

@@ -61,6 +61,7 @@ def hand_c1(rocker, v_ref, dPi):
     return rocker.a_uplift / (2 * v_ref) - dPi * v_ref / (6 * rocker.inertia)
 
 
+@pytest.mark.slow
 def test_mechanism_I_converges_to_eq7_at_first_order():
     """Linearised gravity (eq. 10) and the abutment friction of eq. 9: the limit is the
     closed form mechanism_I(case).vg; Π = m z_G is constant (Π'₀ = 0)."""
@@ -73,6 +74,7 @@ def test_mechanism_I_converges_to_eq7_at_first_order():
     assert c1 == pytest.approx(hand_c1(rk, v7, 0.0), rel=1e-4)  # measured 1.2642 1/s
 
 
+@pytest.mark.slow
 def test_mechanism_I_exact_gravity_converges_to_its_own_eq7():
     """Exact gravity: the limit is eq. 7 with the peak of (exact gravity work + eq. 10's
     friction term), found here by brute force on a grid (independent of the rocker's root)."""
@@ -93,6 +95,7 @@ def test_mechanism_I_exact_gravity_converges_to_its_own_eq7():
     assert c1 == pytest.approx(hand_c1(rk, v_ref, bd.m * bd.x_G), rel=1e-4)
 
 
+@pytest.mark.slow
 def test_mechanism_II_converges_to_eq19():
     rk = RigidRocker(mechanism_II(B1).body, name="II")
     v19 = mechanism_II(B1).vg
@@ -104,6 +107,7 @@ def test_mechanism_II_converges_to_eq19():
     assert c1 == pytest.approx(rk.p / 2, rel=0.05)  # mechanics.md: ≈ p Δt / 2 (p/2 = 1.040)
 
 
+@pytest.mark.slow
 def test_fe_like_body_of_B1_converges_to_eq7():
     """A RigidBody from triangles (the lead replaces it with the FE body of B1 later)."""
     body = fe_like_body(B1)
@@ -115,6 +119,7 @@ def test_fe_like_body_of_B1_converges_to_eq7():
     assert c1 == pytest.approx(hand_c1(rk, v7, body.m * body.x_G), rel=1e-4)
 
 
+@pytest.mark.slow
 def test_generalised_one_dof_converges_to_its_vg():
     """The one-DOF shape (fe_impulse): M > I_O, Π₀ = Pi, a linear rest lifting L up to q_m.
     Reference: v̄_g = √(2 W(q_m) M) / Pi, the formula of fe_impulse.generalised_impulse,
