@@ -209,8 +209,11 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
            = False,
            mesh_size: Annotated[float, typer.Option(help="FE mesh size \\[m] (with --fe).")]
            = 0.25,
-           heights: Annotated[int, typer.Option(help="Collapse heights of the FE scan, "
-                                                "λ = h/b from 2 to H/b (with --fe).")] = 10,
+           heights: Annotated[int, typer.Option(help="Starting heights of the FE scan, from "
+                                                "one course to H, refined around its "
+                                                "minimum (with --fe).")] = 6,
+           facade: Annotated[str, typer.Option(help="Façade model of the FE scan: bedjoints "
+                                               "or homogenised (with --fe).")] = "bedjoints",
            test: Annotated[list[str] | None, typer.Option(
                "--test", "-t", help="Only this Table 1 test, e.g. B1 (repeatable).")] = None):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
@@ -220,12 +223,13 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
     out = out or Path("homlimit-out") / "table1"
     _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout:
-        rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test)
+        rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test,
+                              facade=facade)
         report.write(out / "table1.csv", rows)
         report.write(out / "table1.json", rows)
         plots.plot_table1(out / "table1.png", rows)
     cols = ["test", "lam_I", "vnorm_I", "lam_II", "vnorm_II", "lam_dem", "vnorm_dem",
-            "ratio_I", "ratio_II"] + (["lam_fe", "vnorm_fe", "tanpsi_fe", "mechanism_fe"]
+            "ratio_I", "ratio_II"] + (["lam_fe", "vnorm_fe", "mechanism_fe", "critical_at_fe"]
                                       if fe else [])
     _show(stdout, as_json, rows, rows, cols, "Table 1: closed forms (I, II) beside the DEM; "
           "vnorm = vg/sqrt(gb), ratio = closed form / DEM",

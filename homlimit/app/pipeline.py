@@ -17,6 +17,7 @@ is here too: ``table1_records``, ``crack_study_records``, ``mesh_case``.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -31,8 +32,8 @@ import numpy as np
 from ..closed_form import mechanisms as mech
 from ..closed_form.paper import DemResult, dem_row, table1, table1_rows
 from ..errors import ParameterError, check_choice, check_range
-from ..mechanism.analysis import FEResult, fe_result, scan_lams
-from ..params import FACADE_MODELS, Case
+from ..mechanism.analysis import FEResult, fe_result
+from ..params import FACADE_DEFAULT, FACADE_MODELS, Case
 from . import report
 from .config import CaseConfig, load_case
 
@@ -67,8 +68,10 @@ class Result:
 
     mechanisms: name → mechanism ("I", "II": ``closed_form.mechanisms.MechanismResult``;
     "FE": the critical ``mechanism.analysis.FEMechanism``), each with ``label``, ``lam``,
-    ``h``, ``vg``, ``vnorm`` and ``as_dict()``; fe: the whole FE path (``FEResult``);
-    curves: λ and v̄_g(λ) of the closed forms; dem: the paper's Table 1 row of this wall.
+    ``h``, ``vg``, ``vnorm``, ``hinge_ratio`` and ``as_dict()``; fe: the whole FE path
+    (``FEResult``); curves: λ and v̄_g(λ) of the closed forms; dem: the paper's Table 1 row of
+    this wall; hinges: per mechanism, the shortest rectangular pulse whose acceleration the
+    hinge holds (a_g <= f g) that still overturns it (``dynamics.holding_pulse``).
     """
 
     config: CaseConfig
@@ -76,6 +79,7 @@ class Result:
     curves: dict = field(default_factory=dict)
     fe: FEResult | None = None
     dem: DemResult | None = None
+    hinges: dict[str, Any] = field(default_factory=dict)   # name → dynamics.HoldingPulse
     files: dict[str, Path] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
 
@@ -108,6 +112,7 @@ class Result:
                         "lam_max": c.wall.lam_max, "f": c.masonry.f,
                         "c_over_a": c.masonry.c / c.masonry.a},
             "mechanisms": {k: m.as_dict() for k, m in self.mechanisms.items()},
+            "hinges": {k: dataclasses.asdict(h) for k, h in self.hinges.items()},
             "fe": None if self.fe is None else self.fe.as_dict(),
             "critical": self.critical(),
             "dem_table1": None if self.dem is None else self.dem.as_dict(),
@@ -151,6 +156,17 @@ def _closed_form(config: CaseConfig) -> tuple[dict, dict]:
     return {"I": m1, "II": m2}, curves
 
 
+def _hinges(case: Case, mechanisms: dict) -> dict:
+    """Per mechanism, the shortest rectangular pulse of a_g = f g (the most the bed joint under
+    the hinge holds) that still overturns it (``dynamics.holding_pulse``): the ideal impulse
+    needs |P_x/P_z| (``hinge_ratio``), more than f for the Table 1 walls."""
+    from ..dynamics import case_rockers, holding_pulse
+
+    closed = [k for k in ("I", "II") if k in mechanisms]
+    rockers = case_rockers(case, closed, fe_body=mechanisms.get("FE"))
+    return {k: holding_pulse(rk, case.masonry.f) for k, rk in rockers.items()}
+
+
 def _whole_problem(config: CaseConfig):
     """The whole wall's T-section problem (``problems.t_section``, base at z = 0)."""
     from ..fe.problems import t_section
@@ -159,37 +175,33 @@ def _whole_problem(config: CaseConfig):
 
 
 # ----------------------------------------------------------------------------- other commands
-def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 10,
-                   tests: list[str] | None = None) -> list[dict]:
+def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
+                   tests: list[str] | None = None, facade: str = FACADE_DEFAULT) -> list[dict]:
     """Table 1 reproduced (``paper.table1_rows``), optionally with the FE body's columns
-    lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe (the
-    critical height of an FE scan over ``heights`` collapse heights, ``analysis.scan_lams``).
-    ``tests``: a subset of the test names (B1 ... C6)."""
-    check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
-    check_range("heights", heights, 1, 200)
+    lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe,
+    critical_at_fe, hinge_ratio_fe (the critical height of the FE scan, ``fe_result``, from
+    ``heights`` starting heights). ``tests``: a subset of the test names (B1 ... C6)."""
+    check_range("mesh_size", mesh_size, 0.0, 9.0, lo_open=True, unit="m")
+    check_range("heights", heights, 2, 200)
+    check_choice("facade", facade, FACADE_MODELS)
     cases = {t.test: t.case for t in table1()}
     for t in tests or ():
         check_choice("test", t, tuple(cases))
-    chosen = [c for t, c in cases.items() if not tests or t in tests]
-    h_min = min(min(2.0 * c.wall.b, c.wall.H) for c in chosen)
-    if fe and heights > 1 and mesh_size > h_min:
-        raise ParameterError(f"mesh_size = {mesh_size!r} m is out of range: allowed "
-                             f"mesh_size <= {h_min:g} m, the smallest part of the FE scan "
-                             "(λ = 2, i.e. 2b)")
     timings: dict[str, float] = {}
     with _stage(timings, "closed forms for Table 1"):
         rows = [r for r in table1_rows() if not tests or r["test"] in tests]
     for k, row in enumerate(rows if fe else ()):
         case = cases[row["test"]]
         with _stage(timings, "FE body", f"{row['test']}, wall {k + 1}/{len(rows)}"):
-            crit = fe_result(case, scan_lams(case, int(heights)), mesh_size,
-                             options=_solver_options()).critical
+            res = fe_result(case, mesh_size, facade, _solver_options(), heights=heights)
+        crit = res.critical
         if crit is None:
             raise ParameterError(f"test = {row['test']!r}: no analysed height gave a v̄_g "
                                  "(see the scan's vg_method)")
         row.update({"lam_fe": crit.lam, "vnorm_fe": crit.vnorm, "vg_fe": crit.vg,
                     "tanpsi_fe": crit.tanpsi, "tanpsi_fe_edges": crit.tanpsi_edges,
-                    "mechanism_fe": crit.kind, "multiplier_fe": crit.multiplier})
+                    "mechanism_fe": crit.kind, "multiplier_fe": crit.multiplier,
+                    "critical_at_fe": res.critical_at, "hinge_ratio_fe": crit.hinge_ratio})
     return rows
 
 
@@ -245,8 +257,8 @@ def pulse_records(config: CaseConfig) -> tuple[list, FEResult | None]:
     fe = None
     if "FE" in pc.mechanisms:
         with _stage({}, "FE path for the FE rocker"):
-            fe = fe_result(case, scan_lams(case, an.heights), config.mesh.size, an.facade,
-                           _solver_options(an.tol))
+            fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
+                           heights=an.heights)
         if fe.critical is None:
             raise ParameterError("[pulse] mechanisms = 'FE': the FE scan found no mechanism "
                                  "with a v̄_g (see fe_scan's vg_method)")
@@ -336,14 +348,16 @@ def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
             result.mechanisms.update(mechanisms)
     if an.fe:
         whole = _whole_problem(config)
-        lams = scan_lams(case, an.heights)
         with _stage(result.timings, "FE analyses",
-                    f"{len(lams)} collapse heights, whole wall {whole.n_triangles} triangles"
+                    f"scan from one course to H, whole wall {whole.n_triangles} triangles"
                     f"{', static bound' if an.static else ''}"):
-            result.fe = fe_result(case, lams, config.mesh.size, an.facade,
-                                  _solver_options(an.tol), whole=whole, static=an.static)
+            result.fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
+                                  whole=whole, static=an.static, heights=an.heights)
         if result.fe.critical is not None:
             result.mechanisms["FE"] = result.fe.critical
+    if result.mechanisms:
+        with _stage(result.timings, "hinge check", "the shortest pulse the hinge holds"):
+            result.hinges = _hinges(case, result.mechanisms)
     if write:
         result.files = _write(result, output_dir(config, out))
     return result

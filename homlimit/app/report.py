@@ -89,8 +89,15 @@ def summary_text(result) -> str:
             f"  (eq. 11)")
     out = [head, "", format_table(["mechanism", "lambda=h/b", "h [m]", "vg [m/s]",
                                    "vg/sqrt(gb)"], rows)]
+    statics = [f"{k} {m.multiplier:.4g} at h = {m.lam_multiplier * c.wall.b:.2f} m"
+               for k, m in result.mechanisms.items() if k in ("I", "II")]
+    if statics:
+        out += ["", "collapse acceleration a/g of a static check (smallest over h): "
+                + "; ".join(statics)]
     if result.fe:
         out += ["", _fe_lines(result.fe, c)]
+    if result.hinges:
+        out += ["", _hinge_lines(result, c.masonry.f)]
     crit = result.critical()
     if crit:
         out += ["", f"governing: {crit['mechanism']}, collapse ground velocity "
@@ -121,17 +128,38 @@ def _fe_lines(fe, case) -> str:
               f"         sqrt(cf/a) = {case.alpha:.3f} (eq. 16), f = {case.masonry.f:.3f}, "
               f"c/a = {case.masonry.c / case.masonry.a:.3f}"]
     if crit is not None:
-        lines += [f"  impulse: lowest vg over {len(fe.scan)} collapse heights at "
-                  f"h = {_num(crit.h, '.2f')} m", f"         ({crit.vg_method})"]
+        lines += [f"  impulse: lowest vg over {len(fe.scan)} heights of the failing part "
+                  f"({fe.h_min:g} m, one course, to H) at h = {_num(crit.h, '.2f')} m: "
+                  f"{fe.critical_at}", f"         ({crit.vg_method})"]
     return "\n".join(lines)
+
+
+def _hinge_lines(result, f: float) -> str:
+    """The hinge under the ideal impulse: |P_x/P_z| against f, and the shortest rectangular
+    pulse of a_g = f g that still overturns each mechanism."""
+    rows = [[k, result.mechanisms[k].hinge_ratio, "yes" if result.mechanisms[k].hinge_ratio > f
+             else "no", h.duration, h.pgv, h.ratio] for k, h in result.hinges.items()]
+    out = [format_table(["mechanism", "|Px/Pz|", "slides", "holding pulse [s]", "pgv [m/s]",
+                         "pgv/vg"], rows,
+                        title=f"hinge under the ideal impulse (it slides where |Px/Pz| > "
+                              f"f = {f:g}) and the shortest rectangular pulse of a_g = f g "
+                              "that still overturns")]
+    slid = [k for k, r in zip(result.hinges, rows) if r[2] == "yes"]
+    if slid:
+        out.append(f"  the ideal-impulse vg of {', '.join(slid)} is not attainable without the "
+                   "hinge sliding: a pulse the hinge holds needs the pgv above")
+    out += [f"  {k}: {h.reason}" for k, h in result.hinges.items() if h.reason]
+    return "\n".join(out)
 
 
 # ----------------------------------------------------------------------------- result meshes
 def mechanism_mesh(fe):
     """The whole wall's mechanism as a meshio mesh for ParaView: the solution's fields
     (velocity, dissipation, intensity, region, stress estimate), the block participation and
-    label per triangle, the detected crack (the 50 % line) as a line block and, with the static
-    bound, its stress field (``static_*``) and each triangle's share of the bracket's gap."""
+    label per triangle, the detected crack (the 50 % line) as a line block, the failing body
+    (inside the 50 % line) as a triangle block of its own (cell fields ``body`` = 1 and its
+    ``density`` [kg/m²]) and, with the static bound, its stress field (``static_*``) and each
+    triangle's share of the bracket's gap."""
     import meshio
 
     from ..fe.bracket import gap_contributions
@@ -153,6 +181,14 @@ def mechanism_mesh(fe):
         for v in data.values():
             v.append(np.full((len(crack) - 1,) + v[0].shape[1:], np.nan))
         data["crack"] = [np.zeros(len(cells[0].data)), np.ones(len(crack) - 1)]
+    body, rho = full.body_pieces()                # the failing body: its own triangle block
+    k0, nb = len(pts), len(body)
+    pts = np.vstack([pts, np.c_[body.reshape(-1, 2), np.zeros(3 * nb)]])
+    cells.append(meshio.CellBlock("triangle", k0 + np.arange(3 * nb).reshape(-1, 3)))
+    for v in data.values():
+        v.append(np.full((nb,) + v[0].shape[1:], np.nan))
+    data["body"] = [np.zeros(len(c.data)) for c in cells[:-1]] + [np.ones(nb)]
+    data["density"] = [np.full(len(c.data), np.nan) for c in cells[:-1]] + [rho]
     pdata = {k: np.vstack([v, np.zeros((len(pts) - len(v),) + v.shape[1:])])
              for k, v in m.point_data.items()}
     out = meshio.Mesh(pts, cells, point_data=pdata, cell_data=data)
