@@ -493,7 +493,9 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     # the whole wall's body, integrated here from the .vtu, gives the scan's v̄_g (eq. 7)
     assert fe["scan"][-1]["mechanism"] == fe["mechanism"] == "rigid"   # sharp at this mesh
     vg = _rigid_vg_from_vtu(mech, fe["hinge"], 9.81)
-    assert vg == pytest.approx(fe["scan"][-1]["vg"], rel=1e-9)
+    assert vg == pytest.approx(fe["scan"][-1]["vg_body"], rel=1e-9)
+    # the reported one-DOF value adds the band's linearised share (a few % at this mesh)
+    assert 1.0 <= fe["scan"][-1]["vg"] / vg < 1.1
     assert_png(files["mesh_png"], (9 * 120, int(7.5 * 120)))
     assert_png(files["mechanism_png"], (int(7.5 * 120), 8 * 120))
     assert_png(files["vg_lambda_png"], (8 * 120, int(5.5 * 120)))
