@@ -1,0 +1,332 @@
+"""Analyses of the T-section as rigid blocks: the h-scan, the front-door entry point, the
+homogenisation study and Table 1 with the discrete column. Records are plain dicts.
+
+Collapse height: as the FE path (``fe_impulse.h_scan``), one limit analysis of the part above
+z0 per course boundary z0 (the blocks below are held fixed), each turned into v̄_g by
+``impulse.block_impulse``; the critical record has the lowest v̄_g, and its h is the height
+of the failing part above its own rotation centre, h = H − z_O (the hinge may float above z0).
+The whole-wall analysis (z0 = 0, the mechanism chooses its own hinge) is kept beside it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ParameterError, check_range
+from ..kinematic import SolverOptions
+from ..params import Case, Masonry
+from .geometry import Assembly, t_section_blocks
+from .impulse import BlockImpulse, block_impulse
+from .limit import BlockLimitResult, solve_blocks
+
+__all__ = ["scan_record", "h_scan_blocks", "BlocksAnalysis", "analyse_blocks",
+           "write_blocks_outputs", "homogenisation_study", "table1_blocks", "DEM_RATIOS"]
+
+DEM_RATIOS = {"B4/B1": 0.564 / 0.377, "B5/B2": 0.720 / 0.443, "B6/B3": 0.846 / 0.509}
+
+
+def scan_record(assembly: Assembly, result: BlockLimitResult, z0: float) -> tuple[dict,
+                                                                                 BlockImpulse]:
+    """One record of the h-scan: λ, the mechanism and its impulse (NaN if the mechanism is
+    a translation, which eq. 7 does not cover)."""
+    from ..impulse import collapse_velocity
+
+    H, b, g = assembly.meta["H"], assembly.meta["b"], assembly.meta["g"]
+    rec = {"z0": z0, "h_part": H - z0, "multiplier": result.multiplier,
+           "friction": result.friction, "n_moving": int(result.moving.sum()),
+           "n_open": result.n_open, "n_sliding": result.n_sliding,
+           "z_base": result.z_base, "solve_time": result.times.get("total", math.nan)}
+    try:
+        bi = block_impulse(assembly, result)
+    except ParameterError as exc:
+        rec.update({"vg": math.nan, "vnorm": math.nan, "vg_rigid": math.nan,
+                    "vnorm_rigid": math.nan, "h": math.nan, "lam": math.nan,
+                    "method": f"not available: {exc}"})
+        return rec, None
+    v_rigid = collapse_velocity(bi.body, g=g)
+    rec.update({"vg": bi.vg, "vnorm": bi.vnorm, "vg_rigid": v_rigid,
+                "vnorm_rigid": v_rigid / math.sqrt(g * b), "h": bi.h, "lam": bi.h / b,
+                "x_O": bi.O[0], "z_O": bi.O[1], "method": bi.method, "n_body": bi.n_body,
+                "m_body": bi.body.m, "theta_m": bi.theta_m,
+                "W_rest_share": bi.W_rest / bi.W_m, "W_friction_share": bi.W_friction / bi.W_m,
+                "M_rest_share": bi.M_rest_share})
+    return rec, bi
+
+
+def h_scan_blocks(case: Case, step: int = 1, facade: str = "through",
+                  friction: str = "associative", options: SolverOptions = SolverOptions(),
+                  min_courses: int = 2, toothed_first: bool = True, assembly=None,
+                  **solve_kw) -> list[dict]:
+    """``scan_record`` for the part above every ``step``-th course boundary z0 (from the base;
+    at least ``min_courses`` courses above). Returns the records (module docstring)."""
+    step = int(check_range("step", step, 1))
+    min_courses = int(check_range("min_courses", min_courses, 1))
+    A0 = t_section_blocks(case, toothed_first, facade) if assembly is None else assembly
+    a = case.masonry.a
+    n_c = A0.meta["n_courses"]
+    recs = []
+    for k in range(0, max(n_c - min_courses, 0) + 1, step):
+        z0 = k * a
+        A = A0.fix_below(z0) if k else A0
+        r = solve_blocks(A, friction=friction, options=options, **solve_kw)
+        rec, _ = scan_record(A, r, z0)
+        recs.append(rec)
+    return recs
+
+
+@dataclass
+class BlocksAnalysis:
+    """The rigid-block analysis of one case (``analyse_blocks``).
+
+    case; assembly (whole wall); whole: the whole-wall result (the mechanism chooses its
+    hinge) and whole_record; scan: the h-scan records; critical: the record of lowest v̄_g,
+    with critical_assembly, critical_result and critical_impulse (for the files);
+    non_associative: the Gilbert et al. (2006) check at the critical height (record or None);
+    times [s].
+    """
+
+    case: Case
+    assembly: Assembly
+    whole: BlockLimitResult
+    whole_record: dict
+    scan: list
+    critical: dict
+    critical_assembly: Assembly
+    critical_result: BlockLimitResult
+    critical_impulse: BlockImpulse
+    non_associative: dict | None = None
+    settings: dict = field(default_factory=dict)
+    times: dict = field(default_factory=dict)
+
+    def summary(self) -> dict:
+        """Plain data for JSON: settings, whole-wall and critical records, the non-associative
+        check, and the scan."""
+        return {"case": self.case.as_dict(), "settings": self.settings,
+                "blocks": self.assembly.n_blocks - int(self.assembly.fixed.sum()),
+                "interfaces": self.assembly.interfaces.count,
+                "whole": self.whole_record, "critical": self.critical,
+                "non_associative": self.non_associative, "scan": self.scan,
+                "times": self.times}
+
+
+def analyse_blocks(case: Case, facade: str = "through", friction: str = "associative",
+                   step: int = 1, non_associative_check: bool = False,
+                   options: SolverOptions = SolverOptions(), toothed_first: bool = True,
+                   max_iter: int = 30, relax: float = 0.5) -> BlocksAnalysis:
+    """The front-door entry point: the T-section of ``case`` as rigid blocks.
+
+    Whole-wall limit analysis (λ, mechanism, contact forces), h-scan every ``step`` courses
+    (friction model ``friction``), the critical height of lowest v̄_g with its mechanism and
+    impulse, and optionally the non-associative check (Gilbert et al. 2006, ``max_iter``,
+    ``relax``) at the critical height."""
+    if not isinstance(case, Case):
+        raise ParameterError(f"case = {type(case).__name__} is out of range: allowed a "
+                             "homlimit.params.Case")
+    t0 = time.perf_counter()
+    A = t_section_blocks(case, toothed_first, facade)
+    kw = {"max_iter": max_iter, "relax": relax} if friction == "non-associative" else {}
+    whole = solve_blocks(A, friction=friction, options=options, **kw)
+    whole_rec, _ = scan_record(A, whole, 0.0)
+    t_whole = time.perf_counter() - t0
+    scan = [whole_rec] + h_scan_blocks(case, step, friction=friction, options=options,
+                                       assembly=A, **kw)[1:]
+    ok = [r for r in scan if np.isfinite(r["vg"])]
+    if not ok:
+        raise ParameterError("no analysed height gave an overturning mechanism (all slide): "
+                             "eq. 7 needs a rotation")
+    crit = dict(min(ok, key=lambda r: r["vg"]))
+    z0 = crit["z0"]
+    Ac = A.fix_below(z0) if z0 > 0 else A
+    rc = whole if z0 == 0 else solve_blocks(Ac, friction=friction, options=options, **kw)
+    bi = block_impulse(Ac, rc)
+    na = None
+    if non_associative_check and friction == "associative":
+        rn = solve_blocks(Ac, friction="non-associative", options=options, max_iter=max_iter,
+                          relax=relax)
+        na, _ = scan_record(Ac, rn, z0)
+        hist = np.asarray(rn.history)
+        na.update({"converged": rn.converged, "iterations": len(hist) - 1,
+                   "band_last5": float(np.ptp(hist[-5:])), "history": hist.tolist(),
+                   "coulomb_violation": rn.sizes.get("coulomb_violation")})
+    times = {"whole": t_whole, "total": time.perf_counter() - t0}
+    settings = {"facade": facade, "friction": friction, "step": step,
+                "toothed_first": toothed_first, "collapse_height": "h-scan over course "
+                "boundaries, lowest v_g (h = H - z_O)"}
+    return BlocksAnalysis(case, A, whole, whole_rec, scan, crit, Ac, rc, bi, na, settings,
+                          times)
+
+
+def write_blocks_outputs(analysis: BlocksAnalysis, out_dir) -> list[Path]:
+    """Write the files of a rigid-block analysis into ``out_dir``:
+    blocks.vtu (critical mechanism, polygons coloured by velocity), blocks_contacts.vtu and
+    blocks_contacts.csv (its contact forces, the static dual), blocks_mechanism.png (critical
+    height) and blocks_whole.png (whole wall), blocks_scan.csv (the h-scan) and
+    blocks_summary.json. Returns the paths."""
+    from ..report import write_csv, write_json
+    from .output import (
+        plot_blocks_mechanism,
+        write_blocks_vtu,
+        write_contacts_csv,
+        write_contacts_vtu,
+    )
+
+    out = Path(out_dir)
+    A, r, bi = analysis.critical_assembly, analysis.critical_result, analysis.critical_impulse
+    name = analysis.case.name
+    paths = [
+        write_blocks_vtu(out / "blocks.vtu", A, r, bi.body_mask),
+        write_contacts_vtu(out / "blocks_contacts.vtu", A, r),
+        write_contacts_csv(out / "blocks_contacts.csv", A, r),
+        plot_blocks_mechanism(
+            out / "blocks_mechanism.png", A, r, bi.body_mask, bi.O,
+            title=f"{name}: blocks, critical height h = {bi.h:.2f} m, λ = {r.multiplier:.4f}, "
+                  f"v_g/√(gb) = {bi.vnorm:.3f}"),
+        plot_blocks_mechanism(
+            out / "blocks_whole.png", analysis.assembly, analysis.whole, None,
+            (analysis.whole_record.get("x_O", math.nan), analysis.whole_record.get("z_O",
+                                                                                  math.nan)),
+            title=f"{name}: blocks, whole wall, λ = {analysis.whole.multiplier:.4f}"),
+        write_csv(out / "blocks_scan.csv", analysis.scan),
+        write_json(out / "blocks_summary.json", analysis.summary()),
+    ]
+    return paths
+
+
+def homogenisation_study(case: Case, factors=(1, 2, 4, 8), facades=("through", "running-bond"),
+                         options: SolverOptions = SolverOptions(), figures_dir=None,
+                         verbose: bool = False) -> list[dict]:
+    """The whole-wall multiplier of ``case`` with its blocks shrunk, (a, c) → (a, c)/k for k in
+    ``factors`` at fixed c/a, for each façade bond, beside the homogenised hinge + fan
+    (``fan.optimise_fan``). Records: facade, k, a, c, blocks, interfaces, multiplier,
+    fan_multiplier, diff (relative), hinge (x_O, z_O) and the mechanism's staircase slope,
+    build/solve times. ``figures_dir``: write a PNG of each mechanism there."""
+    from ..fan import optimise_fan
+
+    fan = optimise_fan(case)
+    m = case.masonry
+    recs = []
+    for facade in facades:
+        for k in factors:
+            k = check_range("factor", k, 1.0)
+            ck = replace(case, masonry=Masonry(a=m.a / k, c=m.c / k, f=m.f))
+            A = t_section_blocks(ck, facade=facade)
+            t0 = time.perf_counter()
+            r = solve_blocks(A, options=options)
+            wall = time.perf_counter() - t0
+            rec = {"facade": facade, "k": k, "a": ck.masonry.a, "c": ck.masonry.c,
+                   "blocks": A.n_free, "interfaces": A.interfaces.count,
+                   "multiplier": r.multiplier, "fan_multiplier": fan.lam,
+                   "diff": r.multiplier / fan.lam - 1.0, "fan_z0": fan.z0, "fan_T1": fan.T1,
+                   "fan_T2": fan.T2, "iterations": r.iterations,
+                   "build_time": r.times.get("build", math.nan),
+                   "solve_time": r.times.get("solve", math.nan), "wall_time": wall}
+            rec.update(_mechanism_geometry(A, r))
+            recs.append(rec)
+            if figures_dir is not None:
+                from .output import plot_blocks_mechanism
+
+                plot_blocks_mechanism(
+                    Path(figures_dir) / f"blocks_homogenisation_{facade}_k{int(k)}.png", A, r,
+                    title=f"{case.name} blocks/{int(k)} ({facade} façade): λ = "
+                          f"{r.multiplier:.4f}, hinge + fan {fan.lam:.4f}")
+            if verbose:
+                print(f"  {facade:12s} k = {k:g}: {A.n_free} blocks, λ = {r.multiplier:.5f} "
+                      f"(fan {fan.lam:.5f}, {100 * rec['diff']:+.2f} %), "
+                      f"{wall:.1f} s", flush=True)
+    return recs
+
+
+def _mechanism_geometry(A: Assembly, r: BlockLimitResult) -> dict:
+    """Where the mechanism sits, to set beside the hinge + fan: the rotation centre O of its
+    body (``impulse.failing_body``) and the slopes x/(z − z_O) from O of the lines where the
+    participation p (module ``impulse``) falls to 0.9, 0.5 and 0.1: per course above O, the
+    right edge of the farthest block with p >= level, at mid-course height; the median over
+    the courses in the upper three quarters of the part above O."""
+    from .impulse import _energy_inner, _rotation, failing_body
+
+    try:
+        body, O, omega = failing_body(A, r)  # noqa: E741 (the paper's O)
+    except ParameterError:
+        return {"x_hinge": math.nan, "z_hinge": math.nan, "slope_90": math.nan,
+                "slope_50": math.nan, "slope_10": math.nan}
+    qR = _rotation(A, O, omega)
+    den = _energy_inner(A, qR, qR)
+    p = np.where(den > 0, _energy_inner(A, r.velocity, qR) / np.maximum(den, 1e-300), 0.0)
+    bb = A.bounds()
+    zc = 0.5 * (bb[:, 1] + bb[:, 3])
+    H = float(A.meta.get("H", bb[:, 3].max()))
+    out = {"x_hinge": float(O[0]), "z_hinge": float(O[1])}
+    for lv in (0.9, 0.5, 0.1):
+        sel = (p >= lv) & ~A.fixed & (zc > O[1] + 0.25 * (H - O[1]))
+        if not np.any(sel):
+            out[f"slope_{int(100 * lv)}"] = math.nan
+            continue
+        course = A.course[sel]
+        order = np.argsort(course, kind="stable")
+        uc, first = np.unique(course[order], return_index=True)
+        xmax = np.maximum.reduceat(bb[sel, 2][order], first)
+        zmid = np.maximum.reduceat(zc[sel][order], first)
+        out[f"slope_{int(100 * lv)}"] = float(np.median((xmax - O[0]) / (zmid - O[1])))
+    return out
+
+
+def table1_blocks(step: int = 1, facade: str = "through", non_associative_check: bool = True,
+                  options: SolverOptions = SolverOptions(), tests=None, verbose: bool = False,
+                  out_dir=None) -> tuple[list[dict], dict]:
+    """Table 1 with the discrete column: for every wall (or ``tests``), the closed forms I and
+    II, the paper's DEM, and the rigid-block model (whole-wall λ and hinge, critical height of
+    the h-scan, v̄_g/√(gb) one-DOF and rigid body, the non-associative check). Returns (rows,
+    ratios) with the ratios B4/B1, B5/B2, B6/B3 of v̄_g/√(gb) for the DEM, I, II and the
+    blocks. ``out_dir``: write each wall's files there (``write_blocks_outputs``)."""
+    from ..mechanisms import mechanism_I, mechanism_II
+    from ..paper import table1
+
+    rows = []
+    for t in table1():
+        if tests is not None and t.test not in tests:
+            continue
+        case = t.case
+        an = analyse_blocks(case, facade=facade, step=step,
+                            non_associative_check=non_associative_check, options=options)
+        mI, mII = mechanism_I(case), mechanism_II(case)
+        c, w = an.critical, an.whole_record
+        row = {"test": t.test, "rho": case.rho, "alpha2": case.alpha ** 2, "beta": case.beta,
+               "blocks": an.assembly.n_free,
+               "lam_I": mI.lam, "vnorm_I": mI.vnorm, "lam_II": mII.lam, "vnorm_II": mII.vnorm,
+               "lam_dem": t.lam_v, "h_dem": t.h_v, "vnorm_dem": t.vg_norm,
+               "multiplier_whole": w["multiplier"], "h_whole": w["h"],
+               "vnorm_whole": w["vnorm"],
+               "multiplier_crit": c["multiplier"], "z0_crit": c["z0"], "h_blocks": c["h"],
+               "lam_blocks": c["lam"], "vnorm_blocks": c["vnorm"],
+               "vnorm_blocks_rigid": c["vnorm_rigid"], "method": c["method"],
+               "W_rest_share": c.get("W_rest_share", math.nan),
+               "ratio_blocks_dem": c["vnorm"] / t.vg_norm, "time": an.times["total"]}
+        if an.non_associative is not None:
+            na = an.non_associative
+            row.update({"multiplier_na": na["multiplier"], "vnorm_na": na["vnorm"],
+                        "h_na": na["h"], "na_converged": na["converged"],
+                        "na_band": na["band_last5"],
+                        "W_friction_share_na": na.get("W_friction_share", math.nan)})
+        rows.append(row)
+        if out_dir is not None:
+            write_blocks_outputs(an, Path(out_dir) / t.test)
+        if verbose:
+            print(f"  {t.test}: λ_whole = {w['multiplier']:.4f}, critical h = {c['h']:.2f} m, "
+                  f"v/√(gb) = {c['vnorm']:.3f} (rigid {c['vnorm_rigid']:.3f}), DEM "
+                  f"{t.vg_norm:.3f}, {an.times['total']:.0f} s", flush=True)
+    by = {r["test"]: r for r in rows}
+    ratios = {}
+    for pair in DEM_RATIOS:
+        hi, lo = pair.split("/")
+        if hi in by and lo in by:
+            ratios[pair] = {k: by[hi][k] / by[lo][k] for k in
+                            ("vnorm_dem", "vnorm_I", "vnorm_II", "vnorm_blocks",
+                             "vnorm_blocks_rigid") if k in by[hi]}
+            if "vnorm_na" in by[hi] and "vnorm_na" in by[lo]:
+                ratios[pair]["vnorm_na"] = by[hi]["vnorm_na"] / by[lo]["vnorm_na"]
+    return rows, ratios
