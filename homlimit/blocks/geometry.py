@@ -35,7 +35,8 @@ from ..errors import ParameterError, check_range
 from ..params import Case
 
 __all__ = ["Assembly", "Interfaces", "KIND_NAMES", "polygon_moments", "find_interfaces",
-           "from_rectangles", "t_section_blocks", "FACADE_BONDS", "stack", "running_bond_panel"]
+           "from_rectangles", "t_section_blocks", "FACADE_BONDS", "vertex_velocity",
+           "block_speed", "stack", "running_bond_panel"]
 
 # block kinds
 SUPPORT, FACADE, TOOTHING, WALL, OTHER = 0, 1, 2, 3, 4
@@ -187,6 +188,23 @@ def find_interfaces(vertices: np.ndarray, offsets: np.ndarray, tol: float | None
 
 
 # --------------------------------------------------------------------------- assembly
+def vertex_velocity(assembly, q: np.ndarray) -> np.ndarray:
+    """Velocity (P, 2) of every outline vertex under block velocities q (n, 3) = (u, w, ω)
+    about the centroids: v = (u − ω (z − z_G), w + ω (x − x_G))."""
+    owner = np.repeat(np.arange(assembly.n_blocks), np.diff(assembly.offsets))
+    r = assembly.vertices - assembly.centroid[owner]
+    qo = np.asarray(q, float)[owner]
+    return np.c_[qo[:, 0] - qo[:, 2] * r[:, 1], qo[:, 1] + qo[:, 2] * r[:, 0]]
+
+
+def block_speed(assembly, q: np.ndarray) -> np.ndarray:
+    """Per block, the speed of its fastest vertex under q (the speed is convex in position,
+    so its maximum over a polygon is at a vertex)."""
+    v = vertex_velocity(assembly, q)
+    return np.maximum.reduceat(np.hypot(v[:, 0], v[:, 1]), assembly.offsets[:-1])
+
+
+
 @dataclass(frozen=True)
 class Assembly:
     """Rigid blocks in the x–z plane with their masses and interfaces (SI, per slab thickness).

@@ -130,8 +130,7 @@ def failing_body(assembly: Assembly, result: BlockLimitResult, level: float = 0.
     moving = result.moving
     if not np.any(moving):
         raise ParameterError("result has 0 moving blocks: allowed a mechanism")
-    vv = result.vertex_velocity(assembly)
-    speed = np.maximum.reduceat(np.hypot(vv[:, 0], vv[:, 1]), assembly.offsets[:-1])
+    speed = result.speed(assembly)
     body = moving & (speed >= 0.5 * speed[moving].max())
     for _ in range(max_iter):
         O, omega = _fit(assembly, q, body)  # noqa: E741 (the paper's O)

@@ -49,7 +49,7 @@ import scipy.sparse as sp
 
 from ..errors import ParameterError, SolverError, check_range
 from ..kinematic import SolverOptions
-from .geometry import FACADE, TOOTHING, Assembly
+from .geometry import FACADE, TOOTHING, Assembly, block_speed, vertex_velocity
 
 __all__ = ["contact_operator", "loads", "BlockLimitResult", "RigidFit", "solve_blocks",
            "equilibrium_residual", "FRICTION_MODELS"]
@@ -177,10 +177,11 @@ class BlockLimitResult:
 
     def vertex_velocity(self, assembly: Assembly) -> np.ndarray:
         """Velocity (P, 2) of every outline vertex of ``assembly`` under this mechanism."""
-        owner = np.repeat(np.arange(assembly.n_blocks), np.diff(assembly.offsets))
-        r = assembly.vertices - assembly.centroid[owner]
-        q = self.velocity[owner]
-        return np.c_[q[:, 0] - q[:, 2] * r[:, 1], q[:, 1] + q[:, 2] * r[:, 0]]
+        return vertex_velocity(assembly, self.velocity)
+
+    def speed(self, assembly: Assembly) -> np.ndarray:
+        """Per block, the speed of its fastest vertex [m/s]."""
+        return block_speed(assembly, self.velocity)
 
 
 def _solve(prob: cp.Problem, options: SolverOptions, n_free: int):
@@ -242,29 +243,22 @@ def _rigid_fit(assembly: Assembly, q: np.ndarray, moving: np.ndarray) -> RigidFi
     return RigidFit((float(b / omega), float(a / omega)), float(omega), float(res))
 
 
-def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, raw, status, iters, times, friction, f,
+def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, raw, iters, times, friction, f,
             tol_motion, history=(), converged=True, sizes=None) -> BlockLimitResult:
+    """The result record: block velocities from the scaled unknowns, relative velocities at
+    the contact points, the joint states, the failing set and its height, the rigid fit."""
     n = assembly.n_blocks
-    q = np.zeros((n, 3))
     xs = np.zeros(3 * n)
     xs[free] = x
-    q[:] = xs.reshape(n, 3)
+    q = xs.reshape(n, 3).copy()
     q[:, 2] /= ell
     dn = (Dn @ xs).reshape(-1, 2)
     dt = (Dt @ xs).reshape(-1, 2)
-    res = BlockLimitResult(lam, q, dn, dt, N, T, np.zeros(dn.shape[0], np.int8),
-                           np.zeros(dn.shape[0], bool), np.zeros(n, bool), float("nan"),
-                           float("nan"), RigidFit((float("nan"),) * 2, 0.0, float("nan")),
-                           False, friction, f, float(getattr(raw, "obj_val", lam)),
-                           float(getattr(raw, "obj_val_dual", lam)), status, iters, times,
-                           sizes or {}, tuple(history), converged)
-    vv = res.vertex_velocity(assembly)
-    speed = np.maximum.reduceat(np.hypot(vv[:, 0], vv[:, 1]), assembly.offsets[:-1])
-    vmax = float(speed.max()) if speed.size else 0.0
-    moving = (speed > tol_motion * vmax) & ~assembly.fixed
+    speed = block_speed(assembly, q)
+    thr = tol_motion * (float(speed.max()) if speed.size else 0.0)
+    moving = (speed > thr) & ~assembly.fixed
     jt = assembly.interfaces
     active = ~(assembly.fixed[jt.a] & assembly.fixed[jt.b])
-    thr = tol_motion * vmax
     state = np.where(np.abs(dt).max(axis=1) > thr, _SLIDING,
                      np.where(dn.max(axis=1) > thr, _OPEN, _CLOSED)).astype(np.int8)
     state[~active] = _CLOSED
@@ -274,14 +268,14 @@ def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, raw, status, iters, times
     z_top = float(assembly.meta.get("H", bb[:, 3].max()))
     z_base = float(bb[base_set, 1].min()) if np.any(base_set) else float("nan")
     fit = _rigid_fit(assembly, q, moving)
-    object.__setattr__(res, "state", state)
-    object.__setattr__(res, "active", active)
-    object.__setattr__(res, "moving", moving)
-    object.__setattr__(res, "z_base", z_base)
-    object.__setattr__(res, "h", z_top - z_base)
-    object.__setattr__(res, "fit", fit)
-    object.__setattr__(res, "rigid", bool(np.isfinite(fit.residual) and fit.residual < 1e-3))
-    return res
+    return BlockLimitResult(
+        multiplier=lam, velocity=q, opening=dn, slip=dt, normal=N, shear=T, state=state,
+        active=active, moving=moving, h=z_top - z_base, z_base=z_base, fit=fit,
+        rigid=bool(np.isfinite(fit.residual) and fit.residual < 1e-3), friction=friction, f=f,
+        primal_objective=float(getattr(raw, "obj_val", lam)),
+        dual_objective=float(getattr(raw, "obj_val_dual", lam)), status="optimal",
+        iterations=iters, times=times, sizes=sizes or {}, history=tuple(history),
+        converged=converged)
 
 
 def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "associative",
@@ -293,8 +287,9 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
     f: friction coefficient of every joint (default ``assembly.meta["f"]``); friction:
     "associative" (one LP, exact for the associative model: primal = dual) or
     "non-associative" (Gilbert, Casapulla & Ahmed 2006: at most ``max_iter`` LPs, relaxation
-    ``relax`` of the normal forces, stop when λ and the normal forces change by less than
-    ``tol`` relative); tol_motion: a block moves if its fastest vertex exceeds tol_motion × the
+    ``relax`` of the normal forces, converged when λ changed by less than ``tol`` relative over
+    the last three iterations and the last force field meets Coulomb with its own normal
+    forces); tol_motion: a block moves if its fastest vertex exceeds tol_motion × the
     fastest vertex of the mechanism (also the threshold for open and sliding joints).
     """
     if not isinstance(assembly, Assembly):
@@ -369,8 +364,7 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
         sizes["non_associative_iterations"] = len(viol)
     times["total"] = sum(v for k, v in times.items() if k != "total")
     return _finish(assembly, free, xv, ell, Dn, Dt, Np.reshape(-1, 2), Tp.reshape(-1, 2), lam,
-                   raw, "optimal", iters, times, friction, f, tol_motion, history, converged,
-                   sizes)
+                   raw, iters, times, friction, f, tol_motion, history, converged, sizes)
 
 
 def _non_associative(Dnf, Dtf, rows, c_obj, l_vec, kappa, f, N0, options, n_free, max_iter,

@@ -42,7 +42,7 @@ def blocks_mesh(assembly: Assembly, result: BlockLimitResult, body_mask=None):
     _check(assembly, result)
     vv = result.vertex_velocity(assembly)
     counts = np.diff(assembly.offsets)
-    speed = np.maximum.reduceat(np.hypot(vv[:, 0], vv[:, 1]), assembly.offsets[:-1])
+    speed = result.speed(assembly)
     body = np.zeros(assembly.n_blocks, bool) if body_mask is None else np.asarray(body_mask)
     pts = np.c_[assembly.vertices, np.zeros(len(assembly.vertices))]
     cells, data = [], {k: [] for k in ("block", "u", "w", "omega", "speed", "moving", "body",
@@ -155,7 +155,7 @@ def plot_blocks_mechanism(path, assembly: Assembly, result: BlockLimitResult, bo
     height = float(bb[real, 3].max() - max(bb[real, 1].min(), 0.0))
     s = (0.04 * height / vmax) if scale is None else float(scale)
     X = assembly.vertices + s * vv
-    speed = np.maximum.reduceat(np.hypot(vv[:, 0], vv[:, 1]), assembly.offsets[:-1]) / vmax
+    speed = result.speed(assembly) / vmax
     show = assembly.kind != 0
     polys = [X[assembly.offsets[i]:assembly.offsets[i + 1]] for i in np.flatnonzero(show)]
     fig, ax = plt.subplots(figsize=(7.5, 7.5 * min(2.0, max(0.6, height / max(
