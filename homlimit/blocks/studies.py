@@ -168,33 +168,40 @@ def write_blocks_outputs(analysis: BlocksAnalysis, out_dir) -> list[Path]:
     height) and blocks_whole.png (whole wall), blocks_scan.csv (the h-scan) and
     blocks_summary.json. Returns the paths."""
     from ..report import write_csv, write_json
-    from .output import (
-        plot_blocks_mechanism,
-        write_blocks_vtu,
-        write_contacts_csv,
-        write_contacts_vtu,
-    )
+    from .output import write_blocks_vtu, write_contacts_csv, write_contacts_vtu
 
     out = Path(out_dir)
     A, r, bi = analysis.critical_assembly, analysis.critical_result, analysis.critical_impulse
-    name = analysis.case.name
-    paths = [
+    crit, whole = _mechanism_pngs(analysis, out, "blocks")
+    return [
         write_blocks_vtu(out / "blocks.vtu", A, r, bi.body_mask),
         write_contacts_vtu(out / "blocks_contacts.vtu", A, r),
         write_contacts_csv(out / "blocks_contacts.csv", A, r),
-        plot_blocks_mechanism(
-            out / "blocks_mechanism.png", A, r, bi.body_mask, bi.O,
-            title=f"{name}: blocks, critical height h = {bi.h:.2f} m, λ = {r.multiplier:.4f}, "
-                  f"v_g/√(gb) = {bi.vnorm:.3f}"),
-        plot_blocks_mechanism(
-            out / "blocks_whole.png", analysis.assembly, analysis.whole, None,
-            (analysis.whole_record.get("x_O", math.nan), analysis.whole_record.get("z_O",
-                                                                                  math.nan)),
-            title=f"{name}: blocks, whole wall, λ = {analysis.whole.multiplier:.4f}"),
+        crit, whole,
         write_csv(out / "blocks_scan.csv", analysis.scan),
         write_json(out / "blocks_summary.json", analysis.summary()),
     ]
-    return paths
+
+
+def _mechanism_pngs(analysis: BlocksAnalysis, out: Path, stem: str) -> tuple[Path, Path]:
+    """<stem>_mechanism.png (critical height) and <stem>_whole.png (whole wall), or for a
+    Table 1 stem <stem>_critical.png and <stem>_whole.png."""
+    from .output import plot_blocks_mechanism
+
+    A, r, bi = analysis.critical_assembly, analysis.critical_result, analysis.critical_impulse
+    name = analysis.case.name
+    w = analysis.whole_record
+    first = "mechanism" if stem == "blocks" else "critical"
+    crit = plot_blocks_mechanism(
+        out / f"{stem}_{first}.png", A, r, bi.body_mask, bi.O,
+        title=f"{name}: blocks, critical height h = {bi.h:.2f} m, λ = {r.multiplier:.4f}, "
+              f"v_g/√(gb) = {bi.vnorm:.3f}")
+    whole = plot_blocks_mechanism(
+        out / f"{stem}_whole.png", analysis.assembly, analysis.whole, None,
+        (w.get("x_O", math.nan), w.get("z_O", math.nan)),
+        title=f"{name}: blocks, whole wall, λ = {analysis.whole.multiplier:.4f}, "
+              f"h = {w.get('h', math.nan):.2f} m")
+    return crit, whole
 
 
 def homogenisation_study(case: Case, factors=(1, 2, 4, 8), facades=("through", "running-bond"),
@@ -277,12 +284,14 @@ def _mechanism_geometry(A: Assembly, r: BlockLimitResult) -> dict:
 
 def table1_blocks(step: int = 1, facade: str = "through", non_associative_check: bool = True,
                   options: SolverOptions = SolverOptions(), tests=None, verbose: bool = False,
-                  out_dir=None) -> tuple[list[dict], dict]:
+                  out_dir=None, figures_dir=None, figures_for=()) -> tuple[list[dict], dict]:
     """Table 1 with the discrete column: for every wall (or ``tests``), the closed forms I and
     II, the paper's DEM, and the rigid-block model (whole-wall λ and hinge, critical height of
     the h-scan, v̄_g/√(gb) one-DOF and rigid body, the non-associative check). Returns (rows,
     ratios) with the ratios B4/B1, B5/B2, B6/B3 of v̄_g/√(gb) for the DEM, I, II and the
-    blocks. ``out_dir``: write each wall's files there (``write_blocks_outputs``)."""
+    blocks. ``out_dir``: write each wall's files there (``write_blocks_outputs``);
+    ``figures_dir``: the critical and whole-wall mechanism PNGs of the walls ``figures_for``
+    as blocks_table1_<test>_critical.png, blocks_table1_<test>_whole.png."""
     from ..mechanisms import mechanism_I, mechanism_II
     from ..paper import table1
 
@@ -315,6 +324,8 @@ def table1_blocks(step: int = 1, facade: str = "through", non_associative_check:
         rows.append(row)
         if out_dir is not None:
             write_blocks_outputs(an, Path(out_dir) / t.test)
+        if figures_dir is not None and t.test in figures_for:
+            _mechanism_pngs(an, Path(figures_dir), f"blocks_table1_{t.test}")
         if verbose:
             print(f"  {t.test}: λ_whole = {w['multiplier']:.4f}, critical h = {c['h']:.2f} m, "
                   f"v/√(gb) = {c['vnorm']:.3f} (rigid {c['vnorm_rigid']:.3f}), DEM "
