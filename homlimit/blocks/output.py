@@ -134,11 +134,13 @@ def write_contacts_csv(path, assembly: Assembly, result: BlockLimitResult) -> Pa
 
 def plot_blocks_mechanism(path, assembly: Assembly, result: BlockLimitResult, body_mask=None,
                           O=None, title: str | None = None, scale: float | None = None,  # noqa: E741
-                          zmin: float | None = None) -> Path:
+                          zmin: float | None = None, rays=()) -> Path:
     """PNG of the mechanism: blocks in the displaced configuration (displacement = ``scale`` ×
     velocity, default: the fastest vertex moves by 4 % of the drawing's height), coloured by
-    speed (fixed blocks grey); open joints red, sliding joints blue; the failing body
-    outlined and the rotation centre O marked, if given. zmin: lower edge of the view."""
+    speed (fixed blocks grey; block edges drawn up to 3000 blocks); open joints red, sliding
+    joints blue; the failing body outlined and the rotation centre O marked, if given.
+    zmin: lower edge of the view; rays: lines x − x0 = T (z − z0) from (x0, z0) to the top,
+    given as (x0, z0, T, label), e.g. the edges of a hinge + fan (``fan.optimise_fan``)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -162,7 +164,8 @@ def plot_blocks_mechanism(path, assembly: Assembly, result: BlockLimitResult, bo
         float(np.ptp(bb[show][:, [0, 2]])), 1e-9)))))
     try:
         cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.85")
-        col = PolyCollection(polys, cmap=cmap, edgecolors="0.35", linewidths=0.25)
+        edges = 0.25 if len(polys) <= 3000 else 0.0
+        col = PolyCollection(polys, cmap=cmap, edgecolors="0.35", linewidths=edges)
         col.set_array(np.where(assembly.fixed[show], np.nan, speed[show]))
         col.set_clim(0.0, 1.0)
         ax.add_collection(col)
@@ -180,6 +183,10 @@ def plot_blocks_mechanism(path, assembly: Assembly, result: BlockLimitResult, bo
             ax.add_collection(PolyCollection(
                 [X[assembly.offsets[i]:assembly.offsets[i + 1]] for i in bm],
                 facecolors="none", edgecolors="white", linewidths=0.6))
+        ztop = float(bb[show][:, 3].max())
+        for (x0, z0, T, label), ls in zip(rays, ("--", ":", "-.", (0, (5, 1)))):
+            ax.plot([x0, x0 + T * (ztop - z0)], [z0, ztop], color="tab:orange", ls=ls, lw=1.3,
+                    label=label)
         if O is not None and all(math.isfinite(v) for v in O):
             ax.plot([O[0]], [O[1]], marker="o", color="tab:orange", ms=7, mec="k",
                     label=f"rotation centre O ({O[0]:.2f}, {O[1]:.2f}) m", ls="none")

@@ -237,8 +237,11 @@ def homogenisation_study(case: Case, factors=(1, 2, 4, 8), facades=("through", "
             if figures_dir is not None:
                 from .output import plot_blocks_mechanism
 
+                rays = [(0.0, fan.z0, fan.T1, f"hinge + fan edge tan ψ = {fan.T1:.3f}"),
+                        (0.0, fan.z0, fan.T2, f"hinge + fan edge tan ψ = {fan.T2:.3f}")]
                 plot_blocks_mechanism(
                     Path(figures_dir) / f"blocks_homogenisation_{facade}_k{int(k)}.png", A, r,
+                    O=(rec["x_hinge"], rec["z_hinge"]), rays=rays,
                     title=f"{case.name} blocks/{int(k)} ({facade} façade): λ = "
                           f"{r.multiplier:.4f}, hinge + fan {fan.lam:.4f}")
             if verbose:
