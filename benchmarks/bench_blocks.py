@@ -6,7 +6,8 @@ about 20 000 blocks. Every size runs in a fresh subprocess, so the peak resident
 run's own. Printed per size: free blocks, interfaces, contact points, LP unknowns and rows,
 seconds to generate the blocks and find the interfaces, to assemble the contact operator, for
 cvxpy to build the program, for Clarabel to solve it (wall clock and CPU), interior-point
-iterations, peak memory, λ; then the fitted exponent p of solve time ∝ blocks^p.
+iterations, peak memory, λ; then the fitted exponent p of solve time ∝ blocks^p (wall clock
+and CPU). Above limit.FAER_ABOVE unknowns the solve uses faer on one thread.
 
     python benchmarks/bench_blocks.py [--k 1 2 3 4 5 6.45] [--generator-only 100000]
 
@@ -89,10 +90,11 @@ def main(argv=None):
               f"{r['lam']:.5f}", flush=True)
     if len(rows) >= 3:
         n = np.array([r["blocks"] for r in rows], float)
-        t = np.array([r["solve"] for r in rows], float)
         big = n >= 1000
-        p = np.polyfit(np.log(n[big]), np.log(t[big]), 1)[0] if big.sum() >= 2 else np.nan
-        print(f"solve time ~ blocks^{p:.2f} (fit over >= 1000 blocks)")
+        for key, what in (("solve", "wall clock"), ("solve_cpu", "CPU")):
+            t = np.array([r[key] for r in rows], float)
+            p = np.polyfit(np.log(n[big]), np.log(t[big]), 1)[0] if big.sum() >= 2 else np.nan
+            print(f"solve time ({what}) ~ blocks^{p:.2f} (fit over >= 1000 blocks)")
     if args.generator_only:
         g = generator_only(args.generator_only)
         print(f"generator alone: {g['blocks']} blocks, {g['interfaces']} interfaces in "
