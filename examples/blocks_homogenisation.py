@@ -9,12 +9,14 @@ hinge + fan (``fan.optimise_fan``), for both façade bonds:
 Writes
     <out>/blocks_homogenisation.csv            one record per (façade, k)
     <out>/blocks_homogenisation.png            λ against the block size, fan line, trends
+    <out>/blocks_homogenisation_fe.json        the FE multipliers (with --fe)
     <out>/blocks_homogenisation_<facade>_k<k>.png   each mechanism (blocks coloured by speed)
 
 Usage: python examples/blocks_homogenisation.py [--out docs/figures] [--factors 1 2 4 8]
 [--fe]  (k = 8 has 29–31 thousand blocks and takes 7–12 minutes per façade on 2 shared cores;
 --fe adds the FE multipliers of the homogenised and bed-joints façades at h = 0.25, 0.125 m,
-about 3 minutes). The write-up is docs/blocks.md.
+about 3 minutes; --plot-only redraws the summary PNG from the files already in --out). The
+write-up is docs/blocks.md.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from pathlib import Path
 
 from homlimit.blocks.studies import homogenisation_study
 from homlimit.params import Case, Masonry, Wall
-from homlimit.report import format_table, write_csv
+from homlimit.report import format_table, write_csv, write_json
 
 B1 = Case(Wall(H=9, L=6, s=0.5, b=0.5, l=6), Masonry(a=0.3, c=0.2, f=0.6), name="B1")
 
@@ -50,15 +52,21 @@ def plot(path: Path, recs: list[dict], fe: dict) -> Path:
 
     from homlimit.report import write_figure
 
-    fig, ax = plt.subplots(figsize=(7, 4.8))
+    fig, ax = plt.subplots(figsize=(10.5, 4.8))
     for facade, marker in (("through", "o"), ("running-bond", "s")):
         sel = [r for r in recs if r["facade"] == facade]
         if sel:
             ax.plot([r["a"] for r in sel], [r["multiplier"] for r in sel], marker=marker,
                     label=f"blocks, {facade} façade")
+        lam = richardson(sel)
+        if math.isfinite(lam):
+            ax.plot([0.0], [lam], marker=marker, mfc="none", ls="none",
+                    color=ax.lines[-1].get_color(),
+                    label=f"extrapolated ({facade}): {lam:.4f}")
     ax.axhline(recs[0]["fan_multiplier"], color="k", ls="--",
                label=f"hinge + fan (homogenised façade) {recs[0]['fan_multiplier']:.4f}")
-    for (name, h), lam in fe.items():
+    for key, lam in fe.items():
+        name, h = key.split("@")
         ax.plot([0.0], [lam], marker="x" if name == "bedjoints" else "+", color="tab:red"
                 if name == "bedjoints" else "tab:green", ls="none", ms=9,
                 label=f"FE {name} façade, h = {h} m: {lam:.4f}")
@@ -66,7 +74,8 @@ def plot(path: Path, recs: list[dict], fe: dict) -> Path:
     ax.set_ylabel("collapse multiplier λ (whole wall)")
     ax.set_xlim(left=-0.01)
     ax.set_title("B1 in rigid blocks: the homogenisation limit (a, c)/k")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.tight_layout()
     try:
         return write_figure(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
     finally:
@@ -79,8 +88,21 @@ def main(argv=None):
     ap.add_argument("--factors", type=float, nargs="+", default=[1, 2, 4, 8])
     ap.add_argument("--facades", nargs="+", default=["through", "running-bond"])
     ap.add_argument("--fe", action="store_true")
+    ap.add_argument("--plot-only", action="store_true",
+                    help="redraw the summary PNG from the CSV and FE JSON already in --out")
     args = ap.parse_args(argv)
     out = Path(args.out)
+    if args.plot_only:
+        import csv
+        import json
+
+        with open(out / "blocks_homogenisation.csv", newline="") as fh:
+            recs = [{k: (v if k == "facade" else float(v)) for k, v in r.items()}
+                    for r in csv.DictReader(fh)]
+        fe_path = out / "blocks_homogenisation_fe.json"
+        fe = json.loads(fe_path.read_text()) if fe_path.exists() else {}
+        plot(out / "blocks_homogenisation.png", recs, fe)
+        return
     recs = homogenisation_study(B1, args.factors, args.facades, figures_dir=out, verbose=True)
     fe = {}
     if args.fe:
@@ -89,8 +111,10 @@ def main(argv=None):
 
         for name in ("homogenised", "bedjoints"):
             for h in (0.25, 0.125):
-                fe[(name, h)] = solve_kinematic(t_section(B1, facade=name, h=h)).multiplier
-                print(f"  FE {name} façade, h = {h} m: λ = {fe[(name, h)]:.5f}", flush=True)
+                lam = solve_kinematic(t_section(B1, facade=name, h=h)).multiplier
+                fe[f"{name}@{h}"] = lam
+                print(f"  FE {name} façade, h = {h} m: λ = {lam:.5f}", flush=True)
+        write_json(out / "blocks_homogenisation_fe.json", fe)
     write_csv(out / "blocks_homogenisation.csv", recs)
     plot(out / "blocks_homogenisation.png", recs, fe)
     rows = [[r["facade"], int(r["k"]), r["a"], r["blocks"], r["multiplier"],
