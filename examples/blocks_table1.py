@@ -83,7 +83,7 @@ def main(argv=None):
     write_json(out / "blocks_table1_ratios.json", ratios)
     plot(out / "blocks_table1.png", rows)
     print(format_table(
-        ["test", "blocks", "lam_whole", "h_whole", "h crit", "lam crit", "vn blocks",
+        ["test", "blocks", "mult whole", "h_whole", "h crit", "lam crit", "vn blocks",
          "vn rigid", "vn non-assoc", "lam I", "vn I", "lam II", "vn II", "lam DEM", "vn DEM"],
         [[r["test"], r["blocks"], r["multiplier_whole"], r["h_whole"], r["h_blocks"],
           r["lam_blocks"], r["vnorm_blocks"], r["vnorm_blocks_rigid"], r.get("vnorm_na"),

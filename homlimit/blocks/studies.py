@@ -317,6 +317,7 @@ def table1_blocks(step: int = 1, facade: str = "through", non_associative_check:
                "lam_blocks": c["lam"], "vnorm_blocks": c["vnorm"],
                "vnorm_blocks_rigid": c["vnorm_rigid"], "method": c["method"],
                "W_rest_share": c.get("W_rest_share", math.nan),
+               "M_rest_share": c.get("M_rest_share", math.nan),
                "ratio_blocks_dem": c["vnorm"] / t.vg_norm, "time": an.times["total"]}
         if an.non_associative is not None:
             na = an.non_associative
