@@ -115,6 +115,10 @@ def main(argv=None):
                 fe[f"{name}@{h}"] = lam
                 print(f"  FE {name} façade, h = {h} m: λ = {lam:.5f}", flush=True)
         write_json(out / "blocks_homogenisation_fe.json", fe)
+    elif (out / "blocks_homogenisation_fe.json").exists():     # from an earlier --fe run
+        import json
+
+        fe = json.loads((out / "blocks_homogenisation_fe.json").read_text())
     write_csv(out / "blocks_homogenisation.csv", recs)
     plot(out / "blocks_homogenisation.png", recs, fe)
     rows = [[r["facade"], int(r["k"]), r["a"], r["blocks"], r["multiplier"],

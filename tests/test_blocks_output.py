@@ -17,7 +17,12 @@ from homlimit.blocks.output import (
     write_contacts_csv,
     write_contacts_vtu,
 )
-from homlimit.blocks.studies import analyse_blocks, h_scan_blocks, write_blocks_outputs
+from homlimit.blocks.studies import (
+    analyse_blocks,
+    h_scan_blocks,
+    table1_blocks,
+    write_blocks_outputs,
+)
 from homlimit.errors import ParameterError
 from homlimit.params import Case, Masonry, Wall
 
@@ -98,4 +103,6 @@ def test_bad_input(solved, tmp_path):
         analyse_blocks("B1")
     with pytest.raises(ParameterError, match="step = 0"):
         h_scan_blocks(SMALL, step=0)
+    with pytest.raises(ParameterError, match=r"tests = \['B9'\]"):
+        table1_blocks(tests=["B1", "B9"])
     assert not (tmp_path / "x.vtu").exists()

@@ -298,8 +298,14 @@ def table1_blocks(step: int = 1, facade: str = "through", non_associative_check:
     from ..mechanisms import mechanism_I, mechanism_II
     from ..paper import table1
 
+    walls = table1()
+    names = [t.test for t in walls]
+    unknown = sorted(set(tests or ()) - set(names))
+    if unknown:
+        raise ParameterError(f"tests = {unknown!r} is out of range: allowed Table 1 walls "
+                             f"{names}")
     rows = []
-    for t in table1():
+    for t in walls:
         if tests is not None and t.test not in tests:
             continue
         case = t.case
