@@ -11,7 +11,7 @@ Writes
     <out>/blocks_table1/<test>/...   each wall's files (with --files): blocks.vtu, PNGs, contacts
 
 Usage: python examples/blocks_table1.py [--out docs/figures] [--files] [--tests B1 B4]
-[--figures B1 B4]
+[--figures B1 B4] [--plot-only]
 (about 6 minutes on 2 shared cores). The write-up is docs/blocks.md.
 """
 
@@ -32,7 +32,7 @@ def plot(path: Path, rows: list[dict]) -> Path:
 
     from homlimit.report import write_figure
 
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5.6))
     x = range(len(rows))
     labels = [r["test"] for r in rows]
     ax = axes[0]
@@ -46,7 +46,7 @@ def plot(path: Path, rows: list[dict]) -> Path:
                     label=lab, mfc="none" if m not in ("k*", "o") else None)
     ax.set_xticks(list(x), labels)
     ax.set_ylabel("v̄_g / √(g b)")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3)
     ax.set_title("collapse ground velocity")
     ax = axes[1]
     for key, lab, m in (("lam_dem", "DEM (paper)", "k*"), ("lam_I", "mechanism I", "v"),
@@ -56,7 +56,7 @@ def plot(path: Path, rows: list[dict]) -> Path:
                 mfc="none" if m not in ("k*", "o") else None)
     ax.set_xticks(list(x), labels)
     ax.set_ylabel("λ = h / b")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3)
     ax.set_title("height of the failing part")
     fig.tight_layout()
     try:
@@ -72,8 +72,23 @@ def main(argv=None):
     ap.add_argument("--tests", nargs="+", default=None)
     ap.add_argument("--step", type=int, default=1)
     ap.add_argument("--figures", nargs="*", default=["B1", "B4"])
+    ap.add_argument("--plot-only", action="store_true",
+                    help="redraw blocks_table1.png from the CSV already in --out")
     args = ap.parse_args(argv)
     out = Path(args.out)
+    if args.plot_only:
+        import csv
+
+        def num(v):
+            try:
+                return float(v)
+            except ValueError:
+                return v
+
+        with open(out / "blocks_table1.csv", newline="") as fh:
+            plot(out / "blocks_table1.png", [{k: num(v) for k, v in r.items()}
+                                             for r in csv.DictReader(fh)])
+        return
     rows, ratios = table1_blocks(step=args.step, tests=args.tests, verbose=True,
                                  out_dir=(out / "blocks_table1") if args.files else None,
                                  figures_dir=out, figures_for=tuple(args.figures))
