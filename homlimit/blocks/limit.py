@@ -55,7 +55,7 @@ from ..kinematic import SolverOptions
 from .geometry import FACADE, TOOTHING, Assembly, block_speed, vertex_velocity
 
 __all__ = ["contact_operator", "loads", "BlockLimitResult", "RigidFit", "solve_blocks",
-           "equilibrium_residual", "FRICTION_MODELS"]
+           "equilibrium_residual", "clarabel_settings", "FRICTION_MODELS", "FAER_ABOVE"]
 
 FRICTION_MODELS = ("associative", "non-associative")
 # Above FAER_ABOVE unknowns Clarabel's faer factorisation on one thread beats qdldl on the
@@ -192,6 +192,26 @@ class BlockLimitResult:
         return block_speed(assembly, self.velocity)
 
 
+def clarabel_settings(options: SolverOptions, n_unknowns: int) -> dict:
+    """Clarabel settings of the block LP from ``options`` (read by attribute only: tol,
+    direct_solve_method, max_iter, equilibrate, iterative_refinement): tolerance 1e-9 by
+    default (gap and feasibility); the factorisation "qdldl" (or unset) becomes faer on one
+    thread above FAER_ABOVE unknowns; iterative refinement off up to 100 000 unknowns unless
+    asked for (the kinematic program's rule; no block LP has stalled without it)."""
+    tol = getattr(options, "tol", None) or 1e-9
+    method = getattr(options, "direct_solve_method", None) or "qdldl"
+    refine = getattr(options, "iterative_refinement", None)
+    out = {"tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
+           "max_iter": int(getattr(options, "max_iter", None) or 400),
+           "equilibrate_enable": bool(getattr(options, "equilibrate", True)),
+           "iterative_refinement_enable": bool(refine if refine is not None
+                                               else n_unknowns > 100_000),
+           "direct_solve_method": method}
+    if method == "qdldl" and n_unknowns > FAER_ABOVE:
+        out.update(direct_solve_method="faer", max_threads=1)
+    return out
+
+
 def _solve(prob: cp.Problem, options: SolverOptions, n_free: int):
     """Compile, solve and unpack ``prob`` with Clarabel (faer on one thread above FAER_ABOVE
     unknowns); returns (raw solution, times, iterations)."""
@@ -199,9 +219,7 @@ def _solve(prob: cp.Problem, options: SolverOptions, n_free: int):
     t0 = time.perf_counter()
     data, chain, inv = prob.get_problem_data(cp.CLARABEL)
     times["build"] = time.perf_counter() - t0
-    opts = options.solver_opts(conic=False, n_free=n_free)
-    if n_free > FAER_ABOVE and opts.get("direct_solve_method") == "qdldl":
-        opts.update(direct_solve_method="faer", max_threads=1)
+    opts = clarabel_settings(options, n_free)
     if hasattr(inv[-1], "solver_options"):
         inv[-1].solver_options = dict(opts)
     t0 = time.perf_counter()
@@ -362,8 +380,7 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
     sizes = {"blocks": assembly.n_blocks, "free_blocks": int(free_blk.sum()),
              "interfaces": jt.count, "contact_points": int(P), "unknowns": int(free.size),
              "rows": int(C.shape[0]), "nnz": int(C.nnz),
-             "factorisation": "faer" if free.size > FAER_ABOVE
-             and options.direct_solve_method == "qdldl" else options.direct_solve_method}
+             "factorisation": clarabel_settings(options, free.size)["direct_solve_method"]}
     xv = np.asarray(x.value, float)
     history = [lam]
     converged = True
