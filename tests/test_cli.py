@@ -575,3 +575,32 @@ def test_pulse_command_bad_keys_exit_2(tmp_path):
     assert "[pulse] kinds[0] = 'square' is not allowed" in res.stderr
     assert "periods[0] = -1.0 s is out of range" in res.stderr
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.slow
+def test_run_with_the_rigid_block_model(tmp_path):
+    """[analysis] blocks = true: the discrete column in the summary and its files; the same
+    wall through `table1 --blocks` gives the same critical record; too many blocks is exit 2
+    naming the keys."""
+    import csv
+
+    res = CliRunner().invoke(app, ["demo", "--json", "--out", str(tmp_path / "o"),
+                                   "--set", "analysis.fe=false", "--set", "analysis.blocks=true",
+                                   "--set", "output.png=false"])
+    assert res.exit_code == 0, res.stderr
+    s = json.loads(res.stdout)
+    blk = s["mechanisms"]["blocks"]
+    scan = list(csv.DictReader((tmp_path / "o" / "blocks_scan.csv").open()))
+    assert blk["vnorm"] == pytest.approx(min(float(r["vnorm"]) for r in scan if r["vnorm"]))
+    assert {"blocks_vtu", "blocks_contacts_vtu", "blocks_contacts_csv"} <= set(s["files"])
+    assert s["blocks"]["settings"]["facade"] == "through"
+    res = CliRunner().invoke(app, ["table1", "--blocks", "-t", "B1", "--json",
+                                   "--out", str(tmp_path / "t")])
+    assert res.exit_code == 0, res.stderr
+    (row,) = json.loads(res.stdout)["rows"]
+    assert row["vnorm_blocks"] == pytest.approx(blk["vnorm"], rel=1e-9)
+    res = CliRunner().invoke(app, ["demo", "--out", str(tmp_path / "x"),
+                                   "--set", "analysis.blocks=true",
+                                   "--set", "blocks.max_blocks=100"])
+    assert res.exit_code == 2 and "[blocks] max_blocks = 100" in res.stderr
+    assert not (tmp_path / "x").exists()

@@ -215,13 +215,31 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
            facade: Annotated[str, typer.Option(help="Façade model of the FE scan: bedjoints "
                                                "or homogenised (with --fe).")] = "bedjoints",
            test: Annotated[list[str] | None, typer.Option(
-               "--test", "-t", help="Only this Table 1 test, e.g. B1 (repeatable).")] = None):
+               "--test", "-t", help="Only this Table 1 test, e.g. B1 (repeatable).")] = None,
+           blocks: Annotated[bool, typer.Option("--blocks", help="Instead: the rigid-block "
+                                                "model's column (slow: one scan per wall).")]
+           = False,
+           blocks_facade: Annotated[str, typer.Option(help="Façade of the block model: "
+                                                      "through or running-bond (with "
+                                                      "--blocks).")] = "through"):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
     from . import plots, report
-    from .pipeline import table1_records
+    from .pipeline import table1_blocks_records, table1_records
 
     out = out or Path("homlimit-out") / "table1"
     _logging(verbose, quiet, as_json)
+    if blocks:
+        with _stdout_quiet(as_json) as stdout:
+            rows, ratios = table1_blocks_records(test, facade=blocks_facade)
+            files = [report.write(out / "table1_blocks.csv", rows),
+                     report.write(out / "table1_blocks_ratios.json", ratios)]
+        cols = ["test", "blocks", "lam_blocks", "h_blocks", "vnorm_blocks", "lam_I",
+                "vnorm_I", "vnorm_II", "lam_dem", "vnorm_dem", "ratio_blocks_dem"]
+        _show(stdout, as_json, {"rows": rows, "ratios": ratios}, rows, cols,
+              "Table 1 with the rigid-block model: vnorm = vg/sqrt(gb); ratios "
+              + ", ".join(f"{k} blocks {v['vnorm_blocks']:.2f} (DEM {v['vnorm_dem']:.2f})"
+                          for k, v in ratios.items()), files)
+        return
     with _stdout_quiet(as_json) as stdout:
         rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test,
                               facade=facade)

@@ -26,12 +26,13 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from ..blocks.geometry import FACADE_BONDS
 from ..dynamics.pulses import PULSE_KINDS
 from ..errors import ParameterError, check_range
 from ..params import FACADE_DEFAULT, FACADE_MODELS, Case, Masonry, Wall
 
-__all__ = ["AnalysisConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig", "OutputConfig",
-           "PulseConfig", "SCHEMA", "default_case", "load_case", "schema_markdown"]
+__all__ = ["AnalysisConfig", "BlocksConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig",
+           "OutputConfig", "PulseConfig", "SCHEMA", "default_case", "load_case", "schema_markdown"]
 
 REQUIRED = object()
 
@@ -124,6 +125,25 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "tol": Key(float, 0.0, "", lo=0.0, hi=1e-2,
                    doc="Clarabel gap and feasibility tolerance (0: the solver default of "
                        "homlimit.fe.solver.SolverOptions)"),
+        "blocks": Key(bool, False, doc="the rigid-block model of the running bond "
+                                       "(``homlimit.blocks``, [blocks]): the block size "
+                                       "enters; files blocks*.vtu/png/csv"),
+    },
+    "blocks": {
+        "facade": Key(str, "through", choices=FACADE_BONDS,
+                      doc="façade of the block model: one block through its thickness b, as "
+                          "the paper builds it, or laid in running bond"),
+        "friction": Key(str, "associative", choices=("associative", "non-associative"),
+                        doc="joint flow rule: associative Coulomb (the homogenised domain's), "
+                            "or no dilatancy by the iterative scheme of Gilbert, Casapulla & "
+                            "Ahmed (2006)"),
+        "step": Key(int, 1, "", 1, 1000, doc="courses between the scanned part heights"),
+        "non_associative_check": Key(bool, False,
+                                     doc="also solve the critical height without "
+                                         "dilatancy (associative friction only)"),
+        "max_blocks": Key(int, 50000, "", 1, 10 ** 6,
+                          doc="largest assembly allowed ((H/a)(L/2c + 1) blocks; 20 000 "
+                              "blocks solve in about 90 s of CPU)"),
     },
     "pulse": {
         "kinds": Key(list, ["rectangular", "one-sine"], item=str, choices=tuple(PULSE_KINDS),
@@ -186,6 +206,18 @@ class AnalysisConfig:
     heights: int = 6
     static: bool = True
     tol: float = 0.0
+    blocks: bool = False
+
+
+@dataclass(frozen=True)
+class BlocksConfig:
+    """[blocks]: the rigid-block model (``homlimit.blocks.analyse_blocks``)."""
+
+    facade: str = "through"
+    friction: str = "associative"
+    step: int = 1
+    non_associative_check: bool = False
+    max_blocks: int = 50000
 
 
 @dataclass(frozen=True)
@@ -215,8 +247,8 @@ class OutputConfig:
     vtu: bool = True
 
 
-SECTIONS = {"mesh": MeshConfig, "analysis": AnalysisConfig, "pulse": PulseConfig,
-            "output": OutputConfig}
+SECTIONS = {"mesh": MeshConfig, "analysis": AnalysisConfig, "blocks": BlocksConfig,
+            "pulse": PulseConfig, "output": OutputConfig}
 
 
 @dataclass(frozen=True)
@@ -226,6 +258,7 @@ class CaseConfig:
     case: Case
     mesh: MeshConfig = field(default_factory=MeshConfig)
     analysis: AnalysisConfig = field(default_factory=AnalysisConfig)
+    blocks: BlocksConfig = field(default_factory=BlocksConfig)
     pulse: PulseConfig = field(default_factory=PulseConfig)
     output: OutputConfig = field(default_factory=OutputConfig)
     source: str = "<dict>"
@@ -344,6 +377,14 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
         if size > span:
             problems.append(f"[mesh] size = {size!r} m is out of range: "
                             f"allowed 0 < size <= min(H, b + L) = {span:g} m")
+    if case is not None and values["analysis"]["blocks"]:
+        w, m = case.wall, case.masonry
+        n = math.ceil(w.H / m.a) * (math.ceil(w.L / (2 * m.c)) + 1)
+        if n > values["blocks"]["max_blocks"]:
+            problems.append(f"[analysis] blocks = true needs about {n} blocks ((H/a)(L/2c + "
+                            f"1)): allowed up to [blocks] max_blocks = "
+                            f"{values['blocks']['max_blocks']} (larger blocks a, c, or "
+                            f"raise max_blocks)")
     if problems:
         raise ConfigError(source, [p.strip() for p in problems])
     return CaseConfig(case=case, source=source, **{

@@ -38,7 +38,7 @@ from . import report
 from .config import CaseConfig, load_case
 
 __all__ = ["Result", "crack_study_records", "mesh_case", "output_dir", "package_version",
-           "pulse_records", "run", "table1_records"]
+           "pulse_records", "run", "table1_blocks_records", "table1_records"]
 
 log = logging.getLogger(__name__)
 
@@ -80,6 +80,7 @@ class Result:
     fe: FEResult | None = None
     dem: DemResult | None = None
     hinges: dict[str, Any] = field(default_factory=dict)   # name → dynamics.HoldingPulse
+    blocks: Any = None                   # blocks.BlocksAnalysis ([analysis] blocks)
     files: dict[str, Path] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
 
@@ -114,6 +115,7 @@ class Result:
             "mechanisms": {k: m.as_dict() for k, m in self.mechanisms.items()},
             "hinges": {k: dataclasses.asdict(h) for k, h in self.hinges.items()},
             "fe": None if self.fe is None else self.fe.as_dict(),
+            "blocks": None if self.blocks is None else self.blocks.summary(),
             "critical": self.critical(),
             "dem_table1": None if self.dem is None else self.dem.as_dict(),
             "files": {k: str(v) for k, v in self.files.items()},
@@ -162,7 +164,7 @@ def _hinges(case: Case, mechanisms: dict) -> dict:
     needs |P_x/P_z| (``hinge_ratio``), more than f for the Table 1 walls."""
     from ..dynamics import case_rockers, holding_pulse
 
-    closed = [k for k in ("I", "II") if k in mechanisms]
+    closed = [k for k in ("I", "II") if k in mechanisms]   # (no rocker of the blocks yet)
     rockers = case_rockers(case, closed, fe_body=mechanisms.get("FE"))
     return {k: holding_pulse(rk, case.masonry.f) for k, rk in rockers.items()}
 
@@ -203,6 +205,22 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
                     "mechanism_fe": crit.kind, "multiplier_fe": crit.multiplier,
                     "critical_at_fe": res.critical_at, "hinge_ratio_fe": crit.hinge_ratio})
     return rows
+
+
+def table1_blocks_records(tests: list[str] | None = None, step: int = 1,
+                          facade: str = "through", non_associative_check: bool = False
+                          ) -> tuple[list[dict], dict]:
+    """Table 1 with the rigid-block column (``blocks.table1_blocks``): rows and the ratios
+    B4/B1, B5/B2, B6/B3 of v̄_g/√(gb) of the DEM, I, II and the blocks."""
+    from ..blocks import table1_blocks
+    from ..blocks.geometry import FACADE_BONDS
+
+    check_range("step", step, 1, 1000)
+    check_choice("facade", facade, FACADE_BONDS)
+    names = [t.test for t in table1()]
+    for t in tests or ():
+        check_choice("test", t, names)
+    return table1_blocks(step, facade, non_associative_check, _solver_options(), tests=tests)
 
 
 def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
@@ -305,6 +323,11 @@ def _outputs(result: Result) -> dict[str, tuple[str, object]]:
         out["fe_scan_csv"] = ("fe_scan.csv", [m.record() for m in art.scan])
         if cfg.vtu:
             out["mechanism_vtu"] = ("mechanism.vtu", report.mechanism_mesh(art))
+    if result.blocks is not None:
+        out.update({name.replace(".", "_"): (name, data)
+                    for name, data in result.blocks.files().items()
+                    if (cfg.png or not name.endswith(".png"))
+                    and (cfg.vtu or not name.endswith(".vtu"))})
     return out
 
 
@@ -355,6 +378,14 @@ def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
                                   whole=whole, static=an.static, heights=an.heights)
         if result.fe.critical is not None:
             result.mechanisms["FE"] = result.fe.critical
+    if an.blocks:
+        from ..blocks import analyse_blocks
+
+        b = config.blocks
+        with _stage(result.timings, "rigid blocks", f"façade {b.facade}, {b.friction}"):
+            result.blocks = analyse_blocks(case, b.facade, b.friction, b.step,
+                                           b.non_associative_check, _solver_options(an.tol))
+        result.mechanisms["blocks"] = result.blocks
     if result.mechanisms:
         with _stage(result.timings, "hinge check", "the shortest pulse the hinge holds"):
             result.hinges = _hinges(case, result.mechanisms)

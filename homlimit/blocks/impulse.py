@@ -1,0 +1,209 @@
+"""The collapse ground velocity of a discrete mechanism (paper eqs 4–7, 18, generalised).
+
+The mechanism of ``limit.solve_blocks`` gives every block a velocity (u_i, w_i, ω_i) about its
+centroid. Its *body* is found as the FE path finds it (``homlimit.fe_impulse``): a rotation ω
+about a centre O is fitted to the fastest blocks (mass-weighted least squares), each moving
+block gets its participation p_i = ⟨q_i, q_R,i⟩ / ⟨q_R,i, q_R,i⟩ in the block's kinetic-energy
+inner product (m |v_G|² + I_G ω²; q_R,i the fitted rotation's velocity of block i), the body is
+the blocks with p_i >= 1/2, and the fit is repeated on the body until it no longer changes.
+
+With the shape φ = q/ω (unit rotation rate of the body) and one degree of freedom, the body's
+rotation angle θ (``fe_impulse``'s one-DOF generalisation, for rigid blocks):
+- generalised mass M = Σ_i m_i |φ_Gi|² + I_Gi φ_ωi²  (= I_O for one rigid body);
+- impulse M θ̇0 = v_g Π, Π = Σ_i m_i (−φ_ui)  (= m z_G, eq. 4);
+- restoring work W(θ) = W_body + W_rest + W_friction:
+  * W_body = m g (x_G sin θ + z_G cos θ − z_G): the body's exact rotation about O, with its
+    exact mass properties (``RigidBody.from_triangles`` on the blocks' parts);
+  * W_rest = θ g Σ_rest m_i φ_wi: the other moving blocks (a discrete fan), to first order;
+  * W_friction: the friction dissipated at the sliding contacts of a non-associative
+    mechanism (an associative one dissipates nothing: its dilatant lift is in W_body and
+    W_rest). The counterpart of eqs 8–10 for the real bond: at sliding interface k the
+    dissipation rate of the mechanism, D_k = Σ_ends |T| |φ_t| with the contact forces T of the
+    static dual at collapse, falls linearly as the slip s_k = θ |φ_t,k| consumes the contact
+    length ℓ_k (eq. 8's (c − u)), so W_friction = Σ_k D_k θ (1 − s_k / (2 ℓ_k)) while
+    s_k < ℓ_k, and D_k ℓ_k / (2 |φ_t,k|) after;
+- the body tips over when its G passes over the vertical through O, θ_m = atan(x_G / z_G)
+  (eq. 18), and v̄_g = √(2 W(θ_m) M) / Π  (eq. 7). For one rigid body restrained by gravity
+  only this is eq. 19 exactly.
+
+Approximations (stated, not hidden): the mechanism is followed with a fixed shape (no
+geometry update of the contacts, no change of mechanism during the motion); the rest's lift
+is linear in θ; the friction forces are those at collapse, reduced only by the lost overlap.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ParameterError, check_range
+from ..impulse import RigidBody
+from .geometry import Assembly
+from .limit import BlockLimitResult
+
+__all__ = ["BlockImpulse", "failing_body", "block_impulse"]
+
+
+@dataclass(frozen=True)
+class BlockImpulse:
+    """The impulse criterion of one discrete mechanism (module docstring).
+
+    vg [m/s], vnorm = vg/√(g b); method: "rigid body (eqs 7, 18)" when the moving blocks are
+    one rigid body, else "one-DOF (eqs 4-7 generalised)"; O (x_O, z_O) [m]; h = z_top − z_O
+    [m]; body: the ``RigidBody`` of the blocks of participation >= 1/2 about O; n_body and
+    n_moving blocks; M [kg m²], Pi [kg m], theta_m [rad]; W_m = W(θ_m) [J] and its parts
+    W_body, W_rest, W_friction; M_rest_share: the share of M outside the body; multiplier λ.
+    """
+
+    vg: float
+    vnorm: float
+    method: str
+    O: tuple  # noqa: E741 (the paper's O)
+    h: float
+    body: RigidBody
+    n_body: int
+    n_moving: int
+    M: float
+    Pi: float
+    theta_m: float
+    W_m: float
+    W_body: float
+    W_rest: float
+    W_friction: float
+    M_rest_share: float
+    multiplier: float
+    body_mask: np.ndarray = field(repr=False, default=None)
+
+    def as_dict(self) -> dict:
+        return {"vg": self.vg, "vnorm": self.vnorm, "method": self.method,
+                "x_O": self.O[0], "z_O": self.O[1], "h": self.h, "n_body": self.n_body,
+                "n_moving": self.n_moving, "m_body": self.body.m, "x_G": self.body.x_G,
+                "z_G": self.body.z_G, "I_O": self.body.I_O, "M": self.M, "Pi": self.Pi,
+                "theta_m": self.theta_m, "W_m": self.W_m, "W_body": self.W_body,
+                "W_rest": self.W_rest, "W_friction": self.W_friction,
+                "M_rest_share": self.M_rest_share, "multiplier": self.multiplier}
+
+
+def _energy_inner(assembly: Assembly, q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
+    """Per block m (u1 u2 + w1 w2) + I_G ω1 ω2."""
+    return (assembly.mass * (q1[:, 0] * q2[:, 0] + q1[:, 1] * q2[:, 1])
+            + assembly.inertia * q1[:, 2] * q2[:, 2])
+
+
+def _rotation(assembly: Assembly, O, omega: float) -> np.ndarray:  # noqa: E741 (the paper's O)
+    """Block velocities (u, w, ω) of a rigid rotation ω about O."""
+    G = assembly.centroid
+    return np.c_[-omega * (G[:, 1] - O[1]), omega * (G[:, 0] - O[0]),
+                 np.full(G.shape[0], omega)]
+
+
+def _fit(assembly: Assembly, q: np.ndarray, sel: np.ndarray):
+    """Kinetic-energy-weighted least squares of q on the blocks ``sel`` by a rotation ω about
+    O: unknowns (ω, ω x_O, ω z_O). Returns (O, ω)."""
+    G = assembly.centroid[sel]
+    m = assembly.mass[sel]
+    r = np.sqrt(assembly.inertia[sel] / np.maximum(m, 1e-300))   # radius of gyration
+    k = m.size
+    Mx = np.zeros((3 * k, 3))
+    Mx[:k, 0], Mx[:k, 1] = -G[:, 1], 1.0                 # u = −ω z_G + ω z_O
+    Mx[k:2 * k, 0], Mx[k:2 * k, 2] = G[:, 0], -1.0       # w = ω x_G − ω x_O
+    Mx[2 * k:, 0] = r                                    # r ω_i = r ω
+    rhs = np.r_[q[sel, 0], q[sel, 1], r * q[sel, 2]]
+    wt = np.sqrt(np.r_[m, m, m])
+    sol, *_ = np.linalg.lstsq(Mx * wt[:, None], rhs * wt, rcond=None)
+    omega, a, b = sol
+    if omega == 0:
+        raise ParameterError("the mechanism's fastest blocks do not rotate (ω = 0): a "
+                             "translation has no tipping angle, allowed a rotating body")
+    return (b / omega, a / omega), float(omega)
+
+
+def failing_body(assembly: Assembly, result: BlockLimitResult, level: float = 0.5,
+                 max_iter: int = 20):
+    """(body mask, O, ω): the blocks of participation >= ``level`` in the rotation fitted to
+    them (module docstring), found by fixed-point iteration from the blocks moving at more
+    than half the top speed."""
+    level = check_range("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
+    q = result.velocity
+    moving = result.moving
+    if not np.any(moving):
+        raise ParameterError("result has 0 moving blocks: allowed a mechanism")
+    speed = result.speed(assembly)
+    body = moving & (speed >= 0.5 * speed[moving].max())
+    for _ in range(max_iter):
+        O, omega = _fit(assembly, q, body)  # noqa: E741 (the paper's O)
+        qR = _rotation(assembly, O, omega)
+        den = _energy_inner(assembly, qR, qR)
+        p = np.where(den > 0, _energy_inner(assembly, q, qR) / np.maximum(den, 1e-300), 0.0)
+        new = moving & (p >= level)
+        if not np.any(new) or np.array_equal(new, body):
+            break
+        body = new
+    size = float(np.ptp(assembly.vertices, axis=0).max())
+    G = assembly.centroid[body].mean(axis=0)
+    if math.hypot(O[0] - G[0], O[1] - G[1]) > 10.0 * size:
+        raise ParameterError(f"rotation centre at {math.hypot(O[0] - G[0], O[1] - G[1]):.3g} m "
+                             f"from the body is out of range: allowed within 10 × the "
+                             f"assembly's size ({size:.3g} m); the mechanism is a translation "
+                             "(sliding), which has no tipping angle for eq. 7")
+    return body, O, omega
+
+
+def block_impulse(assembly: Assembly, result: BlockLimitResult, g: float | None = None
+                  ) -> BlockImpulse:
+    """v̄_g of the discrete mechanism ``result`` of ``assembly`` (module docstring)."""
+    if not isinstance(assembly, Assembly) or not isinstance(result, BlockLimitResult):
+        raise ParameterError("assembly, result are out of range: allowed a "
+                             "homlimit.blocks.Assembly and its BlockLimitResult")
+    if result.velocity.shape[0] != assembly.n_blocks:
+        raise ParameterError(f"result has {result.velocity.shape[0]} blocks and assembly "
+                             f"{assembly.n_blocks}: allowed the result of this assembly")
+    g = check_range("g", assembly.meta.get("g", 9.81) if g is None else g, 0.0, lo_open=True,
+                    unit="m/s^2")
+    body_mask, O, omega = failing_body(assembly, result)  # noqa: E741 (the paper's O)
+    body_mask = body_mask & ~assembly.fixed
+    phi = result.velocity / omega
+    moving = ~assembly.fixed          # the whole mode: slow blocks count too
+    e = _energy_inner(assembly, phi, phi)
+    M = float(e[moving].sum())
+    Pi = float((assembly.mass * -phi[:, 0])[moving].sum())
+    rest = moving & ~body_mask
+    pts, tri, dens, _ = assembly.triangles(body_mask)
+    body = RigidBody.from_triangles(pts, tri, dens, O=O)
+    if body.x_G <= 0 or Pi <= 0:
+        raise ParameterError(f"x_G = {body.x_G:.4g} m, Pi = {Pi:.4g} kg m are out of range: "
+                             "the body must have a restoring lever (x_G > 0) and be driven "
+                             "by the impulse (Pi > 0)")
+    theta_m = math.atan2(body.x_G, body.z_G)
+    W_body = body.m * g * (body.r_G - body.z_G)                # eq. 18 at θ_m
+    W_rest = theta_m * g * float((assembly.mass * phi[:, 1])[rest].sum())
+    W_fric = 0.0
+    if result.friction == "non-associative":
+        jt = assembly.interfaces
+        slip = np.abs(result.slip) / abs(omega)                # |φ_t| per end point
+        D = (np.abs(result.shear) * slip).sum(axis=1)          # dissipation rate per interface
+        sk = theta_m * slip.mean(axis=1)
+        ell = jt.length
+        with np.errstate(divide="ignore", invalid="ignore"):
+            w_in = D * theta_m * (1.0 - sk / (2.0 * ell))
+            w_out = D * ell / (2.0 * np.maximum(slip.mean(axis=1), 1e-300))
+        W_fric = float(np.where(D > 0, np.where(sk < ell, w_in, w_out), 0.0).sum())
+    W_m = W_body + W_rest + W_fric
+    if not W_m > 0:
+        raise ParameterError(f"W(theta_m) = {W_m!r} J is out of range: the mechanism must be "
+                             "restrained, allowed > 0 J")
+    vg = math.sqrt(2.0 * W_m * M) / Pi
+    b = float(assembly.meta.get("b", 1.0))
+    rigid = float(e[rest].sum()) <= 1e-9 * M
+    z_top = float(assembly.meta.get("H", assembly.bounds()[:, 3].max()))
+    return BlockImpulse(vg=vg, vnorm=vg / math.sqrt(g * b),
+                        method="rigid body (eqs 7, 18)" if rigid else
+                        "one-DOF (eqs 4-7 generalised)",
+                        O=(float(O[0]), float(O[1])), h=z_top - float(O[1]), body=body,
+                        n_body=int(body_mask.sum()), n_moving=int(result.moving.sum()), M=M,
+                        Pi=Pi,
+                        theta_m=theta_m, W_m=W_m, W_body=W_body, W_rest=W_rest,
+                        W_friction=W_fric, M_rest_share=float(e[rest].sum()) / M,
+                        multiplier=result.multiplier, body_mask=body_mask)

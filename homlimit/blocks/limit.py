@@ -1,0 +1,462 @@
+"""Rigid-block kinematic limit analysis as one sparse linear (conic) program, Clarabel via cvxpy.
+
+Unknowns: the velocity of every free block about its centroid G_i, q_i = (u_i, w_i, ω_i)
+(ω counter-clockwise in the x–z view, so ω > 0 tips the top towards −x, the façade's outward
+side). A point p of block i moves with v_i(p) = (u_i − ω_i (p_z − G_iz), w_i + ω_i (p_x − G_ix)).
+At each end point p of each interface (normal n from block a to block b, tangent t) the
+relative velocity [v] = v_b(p) − v_a(p) has the opening δ_n = [v]·n and the slip δ_t = [v]·t.
+Relative velocities are linear along a rigid interface, so the conditions at the two end
+points hold on the whole segment.
+
+Associative Coulomb joints without cohesion or tension (the flow rule eq. 15 is derived from,
+de Buhan & de Felice 1997): δ_n >= f |δ_t|, i.e. δ_n − f δ_t >= 0 and δ_n + f δ_t >= 0, and
+no dissipation. Loads: self-weight dead, a horizontal body force λ g per unit mass towards −x
+live. The kinematic theorem gives
+
+    λ = min_q  −P_dead(q) / κ   s.t.  P_live(q) / κ = 1,   C q >= 0,
+
+with κ = g × (mass of the free blocks), so that the mass-weighted mean of −u is 1. C is one
+sparse matrix (two rows per contact point, six non-zeros per row) assembled in one vectorised
+pass; the fixed blocks (the ground, or the part below an analysed height) have no unknowns.
+
+The static dual: the multipliers y⁻, y⁺ >= 0 of the rows δ_n ∓ f δ_t give, at each contact
+point, the force F = N n + T t exerted by block a on block b,
+N = κ (y⁻ + y⁺) >= 0 (compression) and T = κ f (y⁺ − y⁻) (so |T| <= f N): stationarity of the
+Lagrangian is the virtual-power statement P_dead + λ P_live + Σ_p (N δ_n + T δ_t) = 0 for
+every q, i.e. equilibrium of every block (``equilibrium_residual`` checks it block by block).
+
+Non-associative friction (``friction="non-associative"``): the iterative scheme of Gilbert,
+Casapulla & Ahmed (2006, Computers & Structures 84:873–887), in this variant. Each iteration
+solves the same LP with the Coulomb cone at every contact point replaced by a surface of zero
+dilatancy whose shear capacity is fixed by the normal force of the previous iteration,
+|T| <= f N_prev (kinematically: δ_n >= 0 and a dissipation f N_prev |δ_t|). It starts from the
+associative forces and relaxes them, N_prev ← r N + (1 − r) N_prev (r = ``relax``). It stops
+when λ changed by less than ``tol`` over the last three iterations and the last force field
+meets Coulomb with its own normal forces. A converged iterate is a mechanism and a force field
+with |T| <= f N at the same λ, sliding without dilatancy. Such a state need not exist, be
+unique, or be the lowest one. Measured (docs/blocks.md): single blocks and stacks converge in
+3 iterations; a running-bond panel converges to a state above its lowest non-associative
+load; on the T-section λ settles into a narrow band while the normal forces keep moving. The
+record keeps λ per iteration (``history``) and the flag ``converged``.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import cvxpy as cp
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import ParameterError, SolverError, check_range
+from ..fe.solver import SolverOptions
+from .geometry import FACADE, TOOTHING, Assembly, block_speed, vertex_velocity
+
+__all__ = ["contact_operator", "loads", "BlockLimitResult", "RigidFit", "solve_blocks",
+           "equilibrium_residual", "clarabel_settings", "FRICTION_MODELS", "FAER_ABOVE"]
+
+FRICTION_MODELS = ("associative", "non-associative")
+# Above FAER_ABOVE unknowns Clarabel's faer factorisation on one thread beats qdldl on the
+# block LP (measured, benchmarks/bench_blocks.py, CPU seconds: 11 400 blocks = 34 200 unknowns
+# qdldl 43 s, faer 49 s; 19 012 blocks = 57 036 unknowns qdldl 119 s, faer 88 s; 7 320 blocks
+# qdldl 19 s, faer 29 s). Used when the options ask for the default "qdldl".
+FAER_ABOVE = 45_000
+_CLOSED, _OPEN, _SLIDING = 0, 1, 2
+STATE_NAMES = {_CLOSED: "closed", _OPEN: "open", _SLIDING: "sliding"}
+
+
+def _scale(assembly: Assembly) -> np.ndarray:
+    """Length ℓ_i per block (√area of its outline) scaling ω into a velocity ℓ ω."""
+    from .geometry import polygon_moments
+
+    A = polygon_moments(assembly.vertices, assembly.offsets)[0]
+    return np.sqrt(np.abs(A))
+
+
+def contact_operator(assembly: Assembly, scaled: bool = True):
+    """Sparse (2K, 3n) operators Dn, Dt with [δ_n; δ_t] at the contact points 2k + e (interface
+    k, end e) as Dn @ q, Dt @ q, for q = (u_0, w_0, ℓ_0 ω_0, u_1, ...) (``scaled``) or
+    (u_0, w_0, ω_0, ...). Six non-zeros per row; built without a loop over blocks."""
+    jt = assembly.interfaces
+    G = assembly.centroid
+    ell = _scale(assembly) if scaled else np.ones(assembly.n_blocks)
+    K = jt.count
+    p = jt.p.reshape(-1, 2)                               # (2K, 2): point 2k + e
+    n = np.repeat(jt.n, 2, axis=0)
+    t = np.c_[-n[:, 1], n[:, 0]]
+    rows = np.arange(2 * K)
+    mats = []
+    for vec in (n, t):
+        data, cols, rr = [], [], []
+        for blk, sign in ((np.repeat(jt.b, 2), 1.0), (np.repeat(jt.a, 2), -1.0)):
+            r = p - G[blk]
+            rot = (r[:, 0] * vec[:, 1] - r[:, 1] * vec[:, 0]) / ell[blk]
+            data += [sign * vec[:, 0], sign * vec[:, 1], sign * rot]
+            cols += [3 * blk, 3 * blk + 1, 3 * blk + 2]
+            rr += [rows] * 3
+        mats.append(sp.csr_matrix((np.concatenate(data), (np.concatenate(rr),
+                                                          np.concatenate(cols))),
+                                  shape=(2 * K, 3 * assembly.n_blocks)))
+    return mats[0], mats[1]
+
+
+def loads(assembly: Assembly):
+    """(live, dead) power vectors on q (scaled ω): P_live = live·q for a unit multiplier (the
+    horizontal force −m g per block), P_dead = dead·q (the weight −m g vertical)."""
+    g = float(assembly.meta.get("g", 9.81))
+    n = assembly.n_blocks
+    live, dead = np.zeros(3 * n), np.zeros(3 * n)
+    live[0::3] = -assembly.mass * g
+    dead[1::3] = -assembly.mass * g
+    return live, dead
+
+
+@dataclass(frozen=True)
+class RigidFit:
+    """Least-squares fit of the moving blocks' velocities by one rotation ω about O:
+    u_i = −ω (z_Gi − z_O), w_i = ω (x_Gi − x_O), ω_i = ω (mass-weighted).
+
+    O (x_O, z_O) [m]; omega [1/s] of the normalised mechanism; residual: the rms misfit over
+    the rms velocity of the moving blocks (0 for one rigid body)."""
+
+    O: tuple  # noqa: E741 (the paper's O)
+    omega: float
+    residual: float
+
+
+@dataclass(frozen=True)
+class BlockLimitResult:
+    """The collapse multiplier and mechanism of a rigid-block assembly, with its static dual.
+
+    multiplier      λ (horizontal acceleration / g at collapse)
+    velocity        (n, 3) block velocities (u, w, ω) about the centroids [m/s, m/s, 1/s],
+                    normalised so that the mass-weighted mean of −u over the free blocks is 1
+    opening, slip   (K, 2) δ_n, δ_t at the two end points of each interface [m/s]
+    normal, shear   (K, 2) contact forces N (compression >= 0) and T at the end points [N per
+                    slab of thickness s]: the force of block a on block b is N n + T t
+    state           (K,) 0 closed, 1 open (no slip), 2 sliding (``STATE_NAMES``)
+    active          (K,) interfaces with a free block on at least one side
+    moving          (n,) the failing set: blocks whose fastest vertex moves faster than
+                    tol_motion (default 1 %) × the fastest vertex of the mechanism (optimal
+                    mechanisms of the T-section move the rest of the wall at 0.1–1 %: the
+                    body pushes it aside below the hinge; a simplex vertex shows the same)
+    h               height of the failing part: top of the wall minus the lowest base of a
+                    moving façade block (or of any moving block, if no façade block moves) [m]
+    z_base          that lowest base [m]
+    fit             ``RigidFit`` of the moving blocks; rigid: the failing set moves as one body
+    friction        "associative" or "non-associative"; f the friction coefficient
+    primal_objective, dual_objective, status, iterations, times [s], sizes
+    history         non-associative loop: λ per iteration (associative start first)
+    """
+
+    multiplier: float
+    velocity: np.ndarray
+    opening: np.ndarray
+    slip: np.ndarray
+    normal: np.ndarray
+    shear: np.ndarray
+    state: np.ndarray
+    active: np.ndarray
+    moving: np.ndarray
+    h: float
+    z_base: float
+    fit: RigidFit
+    rigid: bool
+    friction: str
+    f: float
+    primal_objective: float
+    dual_objective: float
+    status: str
+    iterations: int
+    times: dict = field(default_factory=dict)
+    sizes: dict = field(default_factory=dict)
+    history: tuple = ()
+    converged: bool = True
+
+    @property
+    def n_open(self) -> int:
+        return int(np.count_nonzero(self.state == _OPEN))
+
+    @property
+    def n_sliding(self) -> int:
+        return int(np.count_nonzero(self.state == _SLIDING))
+
+    def vertex_velocity(self, assembly: Assembly) -> np.ndarray:
+        """Velocity (P, 2) of every outline vertex of ``assembly`` under this mechanism."""
+        return vertex_velocity(assembly, self.velocity)
+
+    def speed(self, assembly: Assembly) -> np.ndarray:
+        """Per block, the speed of its fastest vertex [m/s]."""
+        return block_speed(assembly, self.velocity)
+
+
+def clarabel_settings(options: SolverOptions, n_unknowns: int) -> dict:
+    """Clarabel settings of the block LP from ``options`` (read by attribute only: tol,
+    direct_solve_method, max_iter, equilibrate, iterative_refinement): tolerance 1e-9 by
+    default (gap and feasibility); the factorisation "qdldl" (or unset) becomes faer on one
+    thread above FAER_ABOVE unknowns; iterative refinement off up to 100 000 unknowns unless
+    asked for (the kinematic program's rule; no block LP has stalled without it)."""
+    tol = getattr(options, "tol", None) or 1e-9
+    method = getattr(options, "direct_solve_method", None) or "qdldl"
+    refine = getattr(options, "iterative_refinement", None)
+    out = {"tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
+           "max_iter": int(getattr(options, "max_iter", None) or 400),
+           "equilibrate_enable": bool(getattr(options, "equilibrate", True)),
+           "iterative_refinement_enable": bool(refine if refine is not None
+                                               else n_unknowns > 100_000),
+           "direct_solve_method": method}
+    if method == "qdldl" and n_unknowns > FAER_ABOVE:
+        out.update(direct_solve_method="faer", max_threads=1)
+    return out
+
+
+def _solve(prob: cp.Problem, options: SolverOptions, n_free: int):
+    """Compile, solve and unpack ``prob`` with Clarabel (faer on one thread above FAER_ABOVE
+    unknowns); returns (raw solution, times, iterations)."""
+    times = {}
+    t0 = time.perf_counter()
+    data, chain, inv = prob.get_problem_data(cp.CLARABEL)
+    times["build"] = time.perf_counter() - t0
+    opts = clarabel_settings(options, n_free)
+    if hasattr(inv[-1], "solver_options"):
+        inv[-1].solver_options = dict(opts)
+    t0 = time.perf_counter()
+    try:
+        raw = chain.solve_via_data(prob, data, warm_start=False, verbose=options.verbose,
+                                   solver_opts=dict(opts))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            prob.unpack_results(raw, chain, inv)
+    except cp.error.SolverError as exc:
+        raise SolverError(f"CLARABEL failed on the block program: {exc}",
+                          status="solver_error") from exc
+    times["solve"] = time.perf_counter() - t0
+    if prob.status != cp.OPTIMAL:
+        cause = {
+            "infeasible": "no admissible mechanism has unit live-load power: the contacts "
+                          "lock every free block (or the live load does no work)",
+            "unbounded": "the self-weight does unbounded work on an admissible mechanism: "
+                         "some block is not supported (unstable under gravity alone)",
+            "optimal_inaccurate": "the solver stalled before the requested accuracy (try a "
+                                  "looser tol or another direct_solve_method)",
+        }.get(prob.status, "numerical trouble or iteration limit")
+        raise SolverError(f"CLARABEL ended with status {prob.status!r} on the block program: "
+                          f"{cause}", status=prob.status)
+    stats = prob.solver_stats
+    return raw, times, int(stats.num_iters or 0)
+
+
+def _rigid_fit(assembly: Assembly, q: np.ndarray, moving: np.ndarray) -> RigidFit:
+    """Mass-weighted least squares for (ω, ω x_O, ω z_O) over the moving blocks."""
+    if not np.any(moving):
+        return RigidFit((float("nan"), float("nan")), 0.0, float("nan"))
+    G = assembly.centroid[moving]
+    m = assembly.mass[moving]
+    ell = np.sqrt(np.maximum(assembly.inertia[moving] / np.maximum(m, 1e-300), 0.0))
+    u, w, om = q[moving, 0], q[moving, 1], q[moving, 2]
+    k = m.size
+    # unknowns (ω, a = ω z_O, b = ω x_O): u = −ω z_G + a, w = ω x_G − b, ℓ ω_i = ℓ ω
+    M = np.zeros((3 * k, 3))
+    M[:k, 0], M[:k, 1] = -G[:, 1], 1.0
+    M[k:2 * k, 0], M[k:2 * k, 2] = G[:, 0], -1.0
+    M[2 * k:, 0] = ell
+    rhs = np.r_[u, w, ell * om]
+    wt = np.sqrt(np.r_[m, m, m])
+    sol, *_ = np.linalg.lstsq(M * wt[:, None], rhs * wt, rcond=None)
+    omega, a, b = sol
+    res = np.linalg.norm((M @ sol - rhs) * wt) / max(np.linalg.norm(rhs * wt), 1e-300)
+    if abs(omega) < 1e-12 * max(np.abs(rhs).max(), 1e-300):
+        return RigidFit((float("nan"), float("nan")), float(omega), float(res))
+    return RigidFit((float(b / omega), float(a / omega)), float(omega), float(res))
+
+
+def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, raw, iters, times, friction, f,
+            tol_motion, history=(), converged=True, sizes=None) -> BlockLimitResult:
+    """The result record: block velocities from the scaled unknowns, relative velocities at
+    the contact points, the joint states, the failing set and its height, the rigid fit."""
+    n = assembly.n_blocks
+    xs = np.zeros(3 * n)
+    xs[free] = x
+    q = xs.reshape(n, 3).copy()
+    q[:, 2] /= ell
+    dn = (Dn @ xs).reshape(-1, 2)
+    dt = (Dt @ xs).reshape(-1, 2)
+    speed = block_speed(assembly, q)
+    thr = tol_motion * (float(speed.max()) if speed.size else 0.0)
+    moving = (speed > thr) & ~assembly.fixed
+    jt = assembly.interfaces
+    active = ~(assembly.fixed[jt.a] & assembly.fixed[jt.b])
+    state = np.where(np.abs(dt).max(axis=1) > thr, _SLIDING,
+                     np.where(dn.max(axis=1) > thr, _OPEN, _CLOSED)).astype(np.int8)
+    state[~active] = _CLOSED
+    bb = assembly.bounds()
+    fac = moving & np.isin(assembly.kind, (FACADE, TOOTHING))
+    base_set = fac if np.any(fac) else moving
+    z_top = float(assembly.meta.get("H", bb[:, 3].max()))
+    z_base = float(bb[base_set, 1].min()) if np.any(base_set) else float("nan")
+    fit = _rigid_fit(assembly, q, moving)
+    return BlockLimitResult(
+        multiplier=lam, velocity=q, opening=dn, slip=dt, normal=N, shear=T, state=state,
+        active=active, moving=moving, h=z_top - z_base, z_base=z_base, fit=fit,
+        rigid=bool(np.isfinite(fit.residual) and fit.residual < 1e-3), friction=friction, f=f,
+        primal_objective=float(getattr(raw, "obj_val", lam)),
+        dual_objective=float(getattr(raw, "obj_val_dual", lam)), status="optimal",
+        iterations=iters, times=times, sizes=sizes or {}, history=tuple(history),
+        converged=converged)
+
+
+def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "associative",
+                 options: SolverOptions = SolverOptions(), tol_motion: float = 1e-2,
+                 max_iter: int = 50, relax: float = 0.5, tol: float = 1e-6
+                 ) -> BlockLimitResult:
+    """Collapse multiplier λ, mechanism and contact forces of ``assembly`` (module docstring).
+
+    f: friction coefficient of every joint (default ``assembly.meta["f"]``); friction:
+    "associative" (one LP, exact for the associative model: primal = dual) or
+    "non-associative" (Gilbert, Casapulla & Ahmed 2006: at most ``max_iter`` LPs, relaxation
+    ``relax`` of the normal forces, converged when λ changed by less than ``tol`` relative over
+    the last three iterations and the last force field meets Coulomb with its own normal
+    forces); tol_motion: a block moves if its fastest vertex exceeds tol_motion × the
+    fastest vertex of the mechanism (also the threshold for open and sliding joints).
+    """
+    if not isinstance(assembly, Assembly):
+        raise ParameterError(f"assembly = {type(assembly).__name__} is out of range: allowed a "
+                             "homlimit.blocks.Assembly")
+    if friction not in FRICTION_MODELS:
+        raise ParameterError(f"friction = {friction!r} is out of range: allowed "
+                             f"{FRICTION_MODELS}")
+    if not isinstance(options, SolverOptions) or options.solver != "CLARABEL":
+        raise ParameterError(f"options = {options!r} is out of range: allowed a "
+                             "homlimit.kinematic.SolverOptions with solver='CLARABEL'")
+    if f is None:
+        if "f" not in assembly.meta:
+            raise ParameterError("f = None is out of range: give the friction coefficient "
+                                 "(the assembly carries none), allowed 0 < f")
+        f = assembly.meta["f"]
+    f = check_range("f", f, 0.0, lo_open=True)
+    tol_motion = check_range("tol_motion", tol_motion, 0.0, 1.0, lo_open=True, hi_open=True)
+    max_iter = int(check_range("max_iter", max_iter, 1))
+    relax = check_range("relax", relax, 0.0, 1.0, lo_open=True)
+    tol = check_range("tol", tol, 0.0, lo_open=True)
+    if assembly.n_free == 0:
+        raise ParameterError("assembly has 0 free blocks: allowed at least one block that is "
+                             "not fixed")
+
+    t0 = time.perf_counter()
+    ell = _scale(assembly)
+    Dn, Dt = contact_operator(assembly)
+    live, dead = loads(assembly)
+    free_blk = ~assembly.fixed
+    free = np.flatnonzero(np.repeat(free_blk, 3))
+    jt = assembly.interfaces
+    act_pts = np.repeat(free_blk[jt.a] | free_blk[jt.b], 2)
+    rows = np.flatnonzero(act_pts)
+    Dnf, Dtf = Dn[rows][:, free].tocsr(), Dt[rows][:, free].tocsr()
+    kappa = float(-live[free].sum())                     # g × free mass
+    if not kappa > 0:
+        raise ParameterError("mass of the free blocks = 0 kg is out of range: the live load "
+                             "must do work, allowed > 0 kg")
+    c_obj = -dead[free] / kappa
+    l_vec = live[free] / kappa
+    t_asm = time.perf_counter() - t0
+
+    x = cp.Variable(free.size)
+    C = sp.vstack([Dnf - f * Dtf, Dnf + f * Dtf]).tocsr()
+    cone = C @ x >= 0
+    norm = l_vec @ x == 1.0
+    prob = cp.Problem(cp.Minimize(c_obj @ x), [norm, cone])
+    raw, times, iters = _solve(prob, options, free.size)
+    times["assembly"] = t_asm
+    lam = float(prob.value)
+    P = rows.size
+    y = np.asarray(cone.dual_value, float).ravel()
+    ym, yp = y[:P], y[P:]
+    Np = np.zeros(2 * jt.count)
+    Tp = np.zeros(2 * jt.count)
+    Np[rows] = kappa * (ym + yp)
+    Tp[rows] = kappa * f * (yp - ym)
+    sizes = {"blocks": assembly.n_blocks, "free_blocks": int(free_blk.sum()),
+             "interfaces": jt.count, "contact_points": int(P), "unknowns": int(free.size),
+             "rows": int(C.shape[0]), "nnz": int(C.nnz),
+             "factorisation": clarabel_settings(options, free.size)["direct_solve_method"]}
+    xv = np.asarray(x.value, float)
+    history = [lam]
+    converged = True
+    if friction == "non-associative":
+        xv, lam, Np, Tp, history, converged, raw, iters2, t_na, viol = _non_associative(
+            Dnf, Dtf, rows, c_obj, l_vec, kappa, f, Np, options, free.size, max_iter, relax,
+            tol, history, jt.count)
+        iters += iters2
+        times["non_associative"] = t_na
+        sizes["coulomb_violation"] = viol[-1]
+        sizes["non_associative_iterations"] = len(viol)
+    times["total"] = sum(v for k, v in times.items() if k != "total")
+    return _finish(assembly, free, xv, ell, Dn, Dt, Np.reshape(-1, 2), Tp.reshape(-1, 2), lam,
+                   raw, iters, times, friction, f, tol_motion, history, converged, sizes)
+
+
+def _non_associative(Dnf, Dtf, rows, c_obj, l_vec, kappa, f, N0, options, n_free, max_iter,
+                     relax, tol, history, K):
+    """Gilbert, Casapulla & Ahmed (2006): LPs with |T| <= f N_prev, zero dilatancy.
+
+    Converged when λ changed by less than ``tol`` (relative) over the last three iterations
+    and the force field of the last one meets Coulomb with its own normal forces,
+    max(|T| − f N)⁺ <= tol_c · max N with tol_c = max(tol, 1e-4)."""
+    t0 = time.perf_counter()
+    P = rows.size
+    x = cp.Variable(n_free)
+    tau = cp.Variable(P)
+    cap = cp.Parameter(P, nonneg=True)
+    c_open = Dnf @ x >= 0
+    c_m = tau - Dtf @ x >= 0
+    c_p = tau + Dtf @ x >= 0
+    norm = l_vec @ x == 1.0
+    prob = cp.Problem(cp.Minimize(c_obj @ x + cap @ tau), [norm, c_open, c_m, c_p])
+    N_prev = N0[rows].copy()
+    converged = False
+    iters = 0
+    raw = None
+    violation = []
+    Np, Tp = np.zeros(2 * K), np.zeros(2 * K)
+    for _ in range(max_iter):
+        cap.value = f * N_prev / kappa
+        raw, _, it = _solve(prob, options, n_free)
+        iters += it
+        lam = float(prob.value)
+        N = kappa * np.asarray(c_open.dual_value, float).ravel()
+        T = kappa * (np.asarray(c_p.dual_value, float).ravel()
+                     - np.asarray(c_m.dual_value, float).ravel())
+        history.append(lam)
+        viol = float(np.maximum(np.abs(T) - f * N, 0.0).max()) / max(float(N.max()), 1e-300)
+        violation.append(viol)
+        N_prev = relax * N + (1.0 - relax) * N_prev
+        recent = np.asarray(history[-4:])
+        if (len(history) >= 4 and np.ptp(recent) <= tol * abs(recent[-1])
+                and viol <= max(tol, 1e-4)):
+            converged = True
+            break
+    Np[rows], Tp[rows] = N, T
+    return (np.asarray(x.value, float), lam, Np, Tp, history, converged, raw, iters,
+            time.perf_counter() - t0, violation)
+
+
+def equilibrium_residual(assembly: Assembly, result: BlockLimitResult) -> np.ndarray:
+    """Per free block, the out-of-balance (R_x, R_z [N], M [N m] about the centroid) of the
+    contact forces, the weight and the live load λ m g towards −x; (n_free, 3). Zero (to the
+    solver tolerance) when the contact forces are the static dual of the mechanism."""
+    jt = assembly.interfaces
+    g = float(assembly.meta.get("g", 9.81))
+    n = assembly.n_blocks
+    F = (result.normal[..., None] * jt.n[:, None, :]
+         + result.shear[..., None] * jt.t[:, None, :])           # (K, 2, 2) force on b
+    R = np.zeros((n, 3))
+    for blk, sign in ((jt.b, 1.0), (jt.a, -1.0)):
+        for e in (0, 1):
+            r = jt.p[:, e] - assembly.centroid[blk]
+            Fe = sign * F[:, e]
+            np.add.at(R, blk, np.c_[Fe, r[:, 0] * Fe[:, 1] - r[:, 1] * Fe[:, 0]])
+    R[:, 0] -= result.multiplier * assembly.mass * g
+    R[:, 1] -= assembly.mass * g
+    return R[~assembly.fixed]
