@@ -10,9 +10,13 @@
 
 Every computing command takes ``--json`` (machine-readable on stdout, nothing else there),
 ``--out DIR`` (default homlimit-out/NAME/), ``-v`` (solver logs) and ``-q`` (no progress);
-progress and logs go to stderr through ``logging``. Exit codes: 0 success,
-2 bad input (ParameterError, invalid case file, usage), 3 failure of a solver or of the mesher
-(SolverError, MeshError), with a one-line reason on stderr and no traceback.
+progress, warnings and logs go to stderr through ``logging``. Each command writes one result
+set: its folder is checked before any work and replaced whole at the end (``_io.result_set``).
+Exit codes: 0 success, 2 bad input (ParameterError, invalid case file, unusable output folder,
+usage), 3 a failure of the computation or of the disk (SolverError, MeshError, ResultError,
+OutputError, out of memory), with a one-line reason on stderr and no traceback; an interrupt
+(SIGINT, SIGTERM, SIGHUP) exits 128 + the signal's number after removing what it had begun,
+leaving the previous result set as it was.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ import functools
 import json
 import logging
 import os
+import signal
 import sys
 from contextlib import contextmanager
 from pathlib import Path
@@ -28,7 +33,15 @@ from typing import Annotated
 
 import typer
 
-from ..errors import HomlimitError, MeshError, ParameterError, SolverError
+from ..errors import (
+    HomlimitError,
+    MeshError,
+    OutputError,
+    ParameterError,
+    ResultError,
+    SolverError,
+)
+from .budget import DEFAULT_MAX_TRIANGLES
 
 __all__ = ["app", "main"]
 
@@ -42,8 +55,10 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
 
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print the results as JSON on stdout "
                                                       "(nothing else there); no progress.")]
-OutOpt = Annotated[Path | None, typer.Option("--out", "-o", help="Output folder "
-                                             "\\[default: homlimit-out/NAME/].")]
+OutOpt = Annotated[Path | None, typer.Option(
+    "--out", "-o", show_default=False,
+    help="Output folder, replaced whole by the new result set \\[default: homlimit-out/NAME/, "
+         "NAME the case name, with a hash of the inputs when --set changed them].")]
 VerboseOpt = Annotated[bool, typer.Option("--verbose", "-v", help="Show solver logs "
                                                                "(debug level) on stderr.")]
 QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="Only warnings and errors on "
@@ -52,7 +67,11 @@ SetOpt = Annotated[list[str] | None, typer.Option(
     "--set", "-s", help="Override a case key before validation, e.g. --set mesh.size=0.5 "
                         "--set analysis.fe=false (repeatable).")]
 CaseArg = Annotated[Path | None, typer.Argument(help="Case file (TOML); see docs/case-file.md. "
-                                                "Omitted: the embedded default case (B1).")]
+                                                "Omitted: the embedded default case (B1).",
+                                                show_default=False)]
+MaxTriOpt = Annotated[int, typer.Option(
+    help="Problem-size budget: the most triangles one FE mesh may have (estimated before "
+         "meshing; the default fits a 2-core, 24 GiB machine).")]
 
 
 _HANDLER: logging.Handler | None = None
@@ -93,15 +112,49 @@ def _fail(code: int, message: str):
     raise typer.Exit(code)
 
 
+class _Interrupted(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised like Ctrl-C so that every clean-up on the way runs."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def _raise_interrupt(signum, frame):
+    raise _Interrupted(signum)
+
+
+@contextmanager
+def _signals():
+    """SIGTERM and SIGHUP raise like SIGINT (the result set's clean-up runs); SIGXFSZ is
+    ignored, so that a write over ``ulimit -f`` fails with EFBIG (an OutputError) instead of
+    killing the process. The previous handlers are put back on exit."""
+    wanted = {"SIGTERM": _raise_interrupt, "SIGHUP": _raise_interrupt, "SIGXFSZ": signal.SIG_IGN}
+    saved = {}
+    try:
+        for name, handler in wanted.items():
+            if hasattr(signal, name):
+                saved[name] = signal.signal(getattr(signal, name), handler)
+    except ValueError:  # not the main thread: leave the signals alone
+        pass
+    try:
+        yield
+    finally:
+        for name, handler in saved.items():
+            signal.signal(getattr(signal, name), handler)
+
+
 def _guarded(fn):
-    """Map expected failures to exit codes 2 (bad input) and 3 (solver/mesher), no traceback."""
+    """Map expected failures to exit codes 2 (bad input) and 3 (computation or disk), and
+    interrupts to 128 + the signal number; one line on stderr, no traceback."""
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
         from .config import ConfigError
 
         try:
-            return fn(*args, **kwargs)
+            with _signals():
+                return fn(*args, **kwargs)
         except ConfigError as e:
             print(f"homlimit: error: {e.problems[0] if len(e.problems) == 1 else e}",
                   file=sys.stderr)
@@ -114,8 +167,20 @@ def _guarded(fn):
             _fail(EXIT_SOLVER, f"solver failed ({e.status or 'no status'}): {e}{hint}")
         except MeshError as e:
             _fail(EXIT_SOLVER, f"meshing failed: {e}")
+        except OutputError as e:
+            _fail(EXIT_SOLVER, f"{e}; the previous result set, if any, is kept")
+        except ResultError as e:
+            _fail(EXIT_SOLVER, f"no result: {e}")
         except HomlimitError as e:  # any other expected failure
             _fail(EXIT_SOLVER, str(e))
+        except MemoryError:
+            _fail(EXIT_SOLVER, "out of memory: a coarser [mesh] size, or a lower [mesh] "
+                               "max_triangles so that such cases stop before they start")
+        except KeyboardInterrupt as e:
+            signum = getattr(e, "signum", signal.SIGINT)
+            print(f"homlimit: interrupted ({signal.Signals(signum).name}): the result set "
+                  "being written was removed, the previous one is kept", file=sys.stderr)
+            raise typer.Exit(128 + signum) from None
 
     return wrapper
 
@@ -210,20 +275,25 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
            mesh_size: Annotated[float, typer.Option(help="FE mesh size \\[m] (with --fe).")]
            = 0.25,
            heights: Annotated[int, typer.Option(help="Collapse heights of the FE scan, "
-                                                "λ = h/b from 2 to H/b (with --fe).")] = 10,
+                                                "λ = h/b from 2 to H/b (with --fe; `run` "
+                                                "takes 6, [analysis] heights).")] = 10,
            test: Annotated[list[str] | None, typer.Option(
-               "--test", "-t", help="Only this Table 1 test, e.g. B1 (repeatable).")] = None):
+               "--test", "-t", show_default=False,
+               help="Only this Table 1 test, e.g. B1 (repeatable) \\[default: all 12].")]
+           = None,
+           max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
     from . import plots, report
-    from .pipeline import table1_records
+    from .pipeline import result_folder, table1_records
 
     out = out or Path("homlimit-out") / "table1"
     _logging(verbose, quiet, as_json)
-    with _stdout_quiet(as_json) as stdout:
-        rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test)
-        report.write(out / "table1.csv", rows)
-        report.write(out / "table1.json", rows)
-        plots.plot_table1(out / "table1.png", rows)
+    with _stdout_quiet(as_json) as stdout, result_folder(out, "table1") as staging:
+        rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test,
+                              max_triangles=max_triangles)
+        report.write(staging / "table1.csv", rows)
+        report.write(staging / "table1.json", rows)
+        plots.plot_table1(staging / "table1.png", rows)
     cols = ["test", "lam_I", "vnorm_I", "lam_II", "vnorm_II", "lam_dem", "vnorm_dem",
             "ratio_I", "ratio_II"] + (["lam_fe", "vnorm_fe", "tanpsi_fe", "mechanism_fe"]
                                       if fe else [])
@@ -235,18 +305,22 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
 @app.command()
 @_guarded
 def figure2(as_json: JsonOpt = False, out: OutOpt = None):
-    """The paper's Figure 2: critical λ and v̄_g/√(gb) against ρ, both mechanisms, DEM points."""
-    from . import plots
+    """The paper's Figure 2: critical λ and v̄_g/√(gb) against ρ, both mechanisms, DEM points.
+
+    Writes figure2.png and figure2.json (the curves); --json prints the curves."""
+    from . import plots, report
+    from .pipeline import figure2_curves, result_folder
 
     out = out or Path("homlimit-out") / "figure2"
-    path = out / "figure2.png"
-    with _stdout_quiet(as_json) as stdout:
-        out.mkdir(parents=True, exist_ok=True)
-        plots.figure2(path)
+    with _stdout_quiet(as_json) as stdout, result_folder(out, "figure2") as staging:
+        curves = figure2_curves()
+        plots.figure2(staging / "figure2.png", curves)
+        report.write(staging / "figure2.json", curves)
+    files = {"figure2_png": str(out / "figure2.png"), "figure2_json": str(out / "figure2.json")}
     if as_json:
-        _emit_json(stdout, {"figure2_png": str(path)})
+        _emit_json(stdout, {"curves": curves, "files": files})
     else:
-        print(f"Figure 2 written to {path}")
+        print(f"Figure 2 written to {files['figure2_png']} (curves: {files['figure2_json']})")
 
 
 @app.command("crack-study")
@@ -259,24 +333,31 @@ def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOp
                 quick: Annotated[bool, typer.Option(help="A small grid (c/a 0.5, 1, 3; f 0.3, "
                                                     "0.9), one mesh.")] = False,
                 c_over_a: Annotated[list[float] | None, typer.Option(
-                    "--c-over-a", help="Block proportion c/a (repeat for several).")] = None,
+                    "--c-over-a", show_default=False,
+                    help="Block proportion c/a \\[-] (repeat for several) \\[default: 0.5, "
+                         "0.75, 1, 1.5, 2, 3].")] = None,
                 friction: Annotated[list[float] | None, typer.Option(
-                    "--friction", help="Joint friction f (repeat for several).")] = None,
+                    "--friction", show_default=False,
+                    help="Joint friction f \\[-] (repeat for several) \\[default: 0.3, 0.6, "
+                         "0.9].")] = None,
                 facade: Annotated[list[str] | None, typer.Option(
-                    help="Façade model: homogenised or bedjoints (repeat for both).")] = None):
+                    show_default=False, help="Façade model: homogenised or bedjoints (repeat "
+                                             "for both) \\[default: both].")] = None,
+                max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES):
     """The crack-angle study: the FE crack slope over a grid of c/a and f, beside √(cf/a)."""
     from . import plots, report
-    from .pipeline import crack_study_records
+    from .pipeline import crack_study_records, result_folder
 
     out = out or Path("homlimit-out") / "crack-study"
     _logging(verbose, quiet, as_json)
-    with _stdout_quiet(as_json) as stdout:
+    with _stdout_quiet(as_json) as stdout, result_folder(out, "crack-study") as staging:
         records = crack_study_records(mesh_size=mesh_size, finer=finer or None, quick=quick,
-                                      c_over_a=c_over_a, frictions=friction, facades=facade)
-        files = {"csv": report.write(out / "crack_study.csv", records),
-                 "png": plots.plot_crack_study(out / "crack_study.png", records,
-                                               title="crack-angle study: FE crack against "
-                                                     "√(cf/a), f and c/a")}
+                                      c_over_a=c_over_a, frictions=friction, facades=facade,
+                                      max_triangles=max_triangles)
+        report.write(staging / "crack_study.csv", records)
+        plots.plot_crack_study(staging / "crack_study.png", records,
+                               title="crack-angle study: FE crack against √(cf/a), f and c/a")
+    files = {"csv": out / "crack_study.csv", "png": out / "crack_study.png"}
     cols = ["facade", "mesh_size", "c_over_a", "f", "mechanism_fe", "tanpsi_fe", "dtanpsi_fe",
             "tan_alpha", "tanpsi_block", "tanpsi_fixed", "multiplier_fe", "multiplier_fan"]
     _show(stdout, as_json, {"records": records, "files": files}, records, cols,
@@ -288,22 +369,26 @@ def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOp
 @_guarded
 def pulse(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
           verbose: VerboseOpt = False, quiet: QuietOpt = False, overrides: SetOpt = None):
-    """Overturning spectra: the critical pulse per mechanism against pulse period ([pulse])."""
+    """Overturning spectra: the critical pulse per mechanism against pulse period ([pulse]);
+    default folder homlimit-out/NAME/pulse/."""
     from ..closed_form.paper import dem_row
     from . import plots, report
     from .config import load_case
-    from .pipeline import output_dir, pulse_records
+    from .pipeline import announce, output_dir, pulse_records, result_folder
 
     _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout:
         config = load_case(case, overrides)
-        points, _ = pulse_records(config)
+        announce(config)
         out = out or output_dir(config) / "pulse"
-        dem = dem_row(config.case)
-        files = [report.write(out / "spectra.csv", [p.as_dict() for p in points]),
-                 plots.plot_spectra(out / "spectra.png", points,
-                                    dem_vnorm=None if dem is None else dem.vg_norm,
-                                    title=f"case {config.name}: critical pulses")]
+        with result_folder(out, "pulse", case=config.name) as staging:
+            points, _ = pulse_records(config)
+            dem = dem_row(config.case)
+            report.write(staging / "spectra.csv", [p.as_dict() for p in points])
+            plots.plot_spectra(staging / "spectra.png", points,
+                               dem_vnorm=None if dem is None else dem.vg_norm,
+                               title=f"case {config.name}: critical pulses")
+    files = [out / "spectra.csv", out / "spectra.png"]
     if as_json:
         _emit_json(stdout, {"points": [p.as_dict() for p in points], "files": files})
         return
@@ -316,13 +401,16 @@ def pulse(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
 @_guarded
 def mesh(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
          overrides: SetOpt = None):
-    """Mesh the T-section of a case only; write mesh.vtu and mesh.png for inspection."""
+    """Mesh the T-section of a case only; write mesh.vtu and mesh.png for inspection
+    (default folder homlimit-out/NAME/mesh/)."""
     from .config import load_case
-    from .pipeline import mesh_case, output_dir
+    from .pipeline import announce, mesh_case, output_dir
 
+    _logging(False, False, as_json)
     with _stdout_quiet(as_json) as stdout:
         config = load_case(case, overrides)
-        info = mesh_case(config, output_dir(config, out))
+        announce(config)
+        info = mesh_case(config, out or output_dir(config) / "mesh")
     if as_json:
         _emit_json(stdout, info)
     else:
