@@ -132,19 +132,30 @@ _DEFERRED = ("SIGINT", "SIGTERM", "SIGHUP")
 
 @contextmanager
 def _signals_deferred():
-    """Hold back SIGINT, SIGTERM and SIGHUP (delivered on exit) while a swap or a clean-up
-    must run to its end."""
+    """Hold back SIGINT, SIGTERM and SIGHUP while a swap or a clean-up must run to its end:
+    their handlers are replaced by a recorder, and a signal that came is sent again on exit,
+    to the handlers then in place. (Python runs signal handlers in the main thread, whichever
+    thread the system delivered to, so blocking with ``pthread_sigmask`` would not do; outside
+    the main thread no handler interrupts this code anyway.)"""
     import signal
+    import threading
 
-    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
-    sigs = {getattr(signal, n) for n in _DEFERRED if hasattr(signal, n)}
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
+    caught: list[int] = []
+    saved = {}
+    for name in _DEFERRED:
+        sig = getattr(signal, name, None)
+        if sig is not None and signal.getsignal(sig) is not None:
+            saved[sig] = signal.signal(sig, lambda signum, frame: caught.append(signum))
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        for sig, handler in saved.items():
+            signal.signal(sig, handler)
+        if caught:
+            os.kill(os.getpid(), caught[0])
 
 
 def _exchange(a: Path, b: Path) -> bool:
