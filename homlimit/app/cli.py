@@ -55,10 +55,17 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
 
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print the results as JSON on stdout "
                                                       "(nothing else there); no progress.")]
-OutOpt = Annotated[Path | None, typer.Option(
-    "--out", "-o", show_default=False,
-    help="Output folder, replaced whole by the new result set \\[default: homlimit-out/NAME/, "
-         "NAME the case name, with a hash of the inputs when --set changed them].")]
+
+
+def _out(default: str):
+    """The --out option of a command whose result set goes to ``default`` without it."""
+    return Annotated[Path | None, typer.Option(
+        "--out", "-o", show_default=False,
+        help=f"Output folder, replaced whole by the new result set \\[default: {default}].")]
+
+
+_NAME = ("NAME the case name, with a hash of its inputs when --set changed them")
+OutOpt = _out(f"homlimit-out/NAME/, {_NAME}")
 VerboseOpt = Annotated[bool, typer.Option("--verbose", "-v", help="Show solver logs "
                                                                "(debug level) on stderr.")]
 QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="Only warnings and errors on "
@@ -267,8 +274,8 @@ def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = Fal
 
 @app.command()
 @_guarded
-def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
-           quiet: QuietOpt = False,
+def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
+           verbose: VerboseOpt = False, quiet: QuietOpt = False,
            fe: Annotated[bool, typer.Option("--fe", help="Add the finite-element body's "
                                             "columns (slow: one scan over h per wall).")]
            = False,
@@ -276,7 +283,7 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
            = 0.25,
            heights: Annotated[int, typer.Option(help="Collapse heights of the FE scan, "
                                                 "λ = h/b from 2 to H/b (with --fe; `run` "
-                                                "takes 6, [analysis] heights).")] = 10,
+                                                "takes 6, \\[analysis] heights).")] = 10,
            test: Annotated[list[str] | None, typer.Option(
                "--test", "-t", show_default=False,
                help="Only this Table 1 test, e.g. B1 (repeatable) \\[default: all 12].")]
@@ -304,7 +311,7 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
 
 @app.command()
 @_guarded
-def figure2(as_json: JsonOpt = False, out: OutOpt = None):
+def figure2(as_json: JsonOpt = False, out: _out("homlimit-out/figure2/") = None):
     """The paper's Figure 2: critical λ and v̄_g/√(gb) against ρ, both mechanisms, DEM points.
 
     Writes figure2.png and figure2.json (the curves); --json prints the curves."""
@@ -325,8 +332,8 @@ def figure2(as_json: JsonOpt = False, out: OutOpt = None):
 
 @app.command("crack-study")
 @_guarded
-def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
-                quiet: QuietOpt = False,
+def crack_study(as_json: JsonOpt = False, out: _out("homlimit-out/crack-study/") = None,
+                verbose: VerboseOpt = False, quiet: QuietOpt = False,
                 mesh_size: Annotated[float, typer.Option(help="FE mesh size \\[m].")] = 0.5,
                 finer: Annotated[float, typer.Option(help="A second, finer mesh size \\[m] "
                                                      "(0: none).")] = 0.25,
@@ -367,7 +374,8 @@ def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOp
 
 @app.command()
 @_guarded
-def pulse(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
+def pulse(case: CaseArg = None, as_json: JsonOpt = False,
+          out: _out(f"homlimit-out/NAME/pulse/, {_NAME}") = None,
           verbose: VerboseOpt = False, quiet: QuietOpt = False, overrides: SetOpt = None):
     """Overturning spectra: the critical pulse per mechanism against pulse period ([pulse]);
     default folder homlimit-out/NAME/pulse/."""
@@ -399,7 +407,8 @@ def pulse(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
 
 @app.command()
 @_guarded
-def mesh(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
+def mesh(case: CaseArg = None, as_json: JsonOpt = False,
+         out: _out(f"homlimit-out/NAME/mesh/, {_NAME}") = None,
          overrides: SetOpt = None):
     """Mesh the T-section of a case only; write mesh.vtu and mesh.png for inspection
     (default folder homlimit-out/NAME/mesh/)."""

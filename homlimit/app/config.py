@@ -317,7 +317,7 @@ def _shown(value) -> str:
 
 def _range_problem(where: str, name: str, key: Key, value) -> str | None:
     """The out-of-range line of a number (its unit and the allowed range with units)."""
-    x = float(value) if abs(value) < 1e308 else math.copysign(math.inf, value)
+    x = float(value) if abs(value) < 1e308 else (math.inf if value > 0 else -math.inf)
     bad = not math.isfinite(x)
     if key.lo is not None and (x <= key.lo if key.lo_open else x < key.lo):
         bad = True
