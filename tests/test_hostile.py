@@ -231,6 +231,15 @@ def test_a_huge_case_file_and_a_folder_are_refused(sandbox, no_compute):
     assert doc("cannot read the case file") in invoke("run", sandbox / "dir.toml").stderr
 
 
+def test_a_binary_pulse_record_exits_2(sandbox):
+    (sandbox / "rec.csv").write_bytes(bytes(range(128, 256)))
+    res = invoke("pulse", "--set", "pulse.record=rec.csv", "--set", "pulse.periods=[0.5]",
+                 "--set", 'pulse.kinds=["rectangular"]')
+    assert res.exit_code == 2
+    assert doc("[pulse] record = 'rec.csv' is not UTF-8 text") in res.stderr
+    assert not (sandbox / "homlimit-out").exists()
+
+
 # ----------------------------------------------------------------------------- problem size
 @pytest.fixture
 def no_meshing(monkeypatch):

@@ -440,7 +440,8 @@ def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> l
                        f"L/(b tan ψ) = {w['L'] / (w['b'] * t):.4g} is out of range: allowed "
                        f"L/(b tan ψ) >= {LAM_MIN_CLOSED:g} (mechanism II's wedge must fit the "
                        f"transversal wall at λ = {LAM_MIN_CLOSED:g}: λ tan ψ <= L/b)")
-    fe = mesh_only or an.get("fe", False)
+    pulse_fe = "FE" in (v.get("pulse", {}).get("mechanisms") or ())   # `pulse` runs the FE path
+    fe = mesh_only or an.get("fe", False) or pulse_fe
     if not (fe and has(me, "size", "max_triangles") and has(w, "H", "b", "L")):
         return out
     size = me["size"]

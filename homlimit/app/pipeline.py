@@ -138,6 +138,7 @@ class Result:
 
 
 MAX_FOLDER_NAME = 80  # bytes of a folder name made from a case name
+MAX_RECORD_BYTES = 64 << 20  # an accelerogram of a million samples is ~30 MB
 
 
 def folder_name(name: str) -> str:
@@ -363,7 +364,17 @@ def pulse_records(config: CaseConfig) -> tuple[list, FEResult | None]:
     record = None
     if pc.record:
         base = Path(config.source).parent if Path(config.source).is_file() else Path.cwd()
-        record = RecordPulse.from_csv(base / pc.record)
+        path = base / pc.record
+        try:
+            if path.is_file() and path.stat().st_size > MAX_RECORD_BYTES:
+                raise ParameterError(f"[pulse] record = {pc.record!r} has "
+                                     f"{path.stat().st_size:,} bytes: allowed at most "
+                                     f"{MAX_RECORD_BYTES:,}")
+            record = RecordPulse.from_csv(path)
+        except UnicodeDecodeError as e:     # dynamics reads it as UTF-8 text
+            raise ParameterError(f"[pulse] record = {pc.record!r} is not UTF-8 text (byte "
+                                 f"0x{e.object[e.start]:02x} at offset {e.start}): allowed a "
+                                 "two-column CSV t [s], a_g [m/s^2]") from None
     fe = None
     if "FE" in pc.mechanisms:
         with _stage({}, "FE path for the FE rocker"):
