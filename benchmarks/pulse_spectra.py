@@ -1,8 +1,9 @@
 """Overturning spectra of the 12 Table 1 walls: the tables of docs/pulses.md, regenerated.
 
 For every wall, mechanisms I (eq. 10, the paper's linearised model) and II (rigid, exact
-geometry) at the critical λ of eq. 7, and the FE body once the lead plugs it in (FE_BODY
-below), the smallest overturning pulse is searched (homlimit.dynamics.case_spectra) for
+geometry) at the critical λ of eq. 7, and the critical FE mechanism of the default FE scan
+(bed-joint façade, mesh 0.25 m: its body if the crack is sharp, else its one-DOF shape), the
+smallest overturning pulse is searched (homlimit.dynamics.case_spectra) for
 - rectangular pulses of duration Δt (the ideal impulse as Δt → 0),
 - one-sine pulses (type A, forward velocity pulse) of period T_p, both polarities,
 at the periods of PERIODS. Prints markdown tables of pgv/√(gb) (and its ratio to eq. 7),
@@ -36,15 +37,15 @@ from homlimit.dynamics import (
     critical_pulse,
     make_pulse,
 )
+from homlimit.mechanism.analysis import fe_result
 
 PERIODS = (0.05, 0.1, 0.2, 0.5, 1.0, 2.0)  # s
 RTOL = 1e-6
 
 
-def FE_BODY(case):  # noqa: N802 - a placeholder the lead replaces
-    """PLACEHOLDER: the FE body of the case (a homlimit.impulse.RigidBody about its hinge), to
-    be wired by the lead once the FE path is settled. None leaves the FE column out."""
-    return None
+def FE_BODY(case):  # noqa: N802 - the FE column's mechanism
+    """The critical FE mechanism of the default scan (``mechanism.analysis.fe_result``)."""
+    return fe_result(case).critical
 
 
 def table(points, kind, polarity, walls):

@@ -11,12 +11,14 @@ from dataclasses import dataclass, fields
 
 from .errors import ParameterError, check_range
 
-__all__ = ["Wall", "Masonry", "Case", "G_STANDARD", "FACADE_MODELS"]
+__all__ = ["Wall", "Masonry", "Case", "G_STANDARD", "FACADE_DEFAULT", "FACADE_MODELS"]
 
 G_STANDARD = 9.81  # m/s², the value used throughout the paper's examples
-# strength of the façade in the section plane: eq. 15 like the wall, or bed joints only (its
-# blocks run through the thickness b)
+# strength of the façade in the section plane: bed joints only (its blocks run through the
+# thickness b, as the paper builds it: the default), or eq. 15 like the wall (the β → 0
+# idealisation, in which a crack may cut the façade diagonally)
 FACADE_MODELS = ("homogenised", "bedjoints")
+FACADE_DEFAULT = "bedjoints"
 
 
 @dataclass(frozen=True)

@@ -54,6 +54,7 @@ def test_block_constants_by_hand():
 
 @pytest.mark.parametrize("p_td, ref", [(0.1, 10.508332), (0.5, 2.541494), (1.0, 1.581977),
                                        (2.0, 1.156518), (5.0, 1.006784)])
+@pytest.mark.slow
 def test_housner_rectangular_pulse(p_td, ref):
     td = p_td / P
     closed = housner_rectangular(ALPHA, P, td)
@@ -69,6 +70,7 @@ def test_housner_rectangular_pulse(p_td, ref):
 
 @pytest.mark.parametrize("wp, ref", [(1.0, 1.41832), (2.0, 2.34990), (3.0, 3.63115),
                                      (4.0, 5.23896)])
+@pytest.mark.slow
 def test_one_sine_overturning_without_impact(wp, ref):
     T = 2 * math.pi / (wp * P)
     closed = one_sine_no_impact(ALPHA, P, T)
@@ -86,6 +88,7 @@ def test_one_sine_overturning_without_impact(wp, ref):
 
 @pytest.mark.parametrize("wp, ref, impacts", [(1.0, 1.09574, 3), (2.0, 1.21541, 1),
                                               (3.0, 1.37182, 1), (4.0, 1.66459, 1)])
+@pytest.mark.slow
 def test_one_sine_minimum_overturning_with_impact(wp, ref, impacts):
     T = 2 * math.pi / (wp * P)
     lin = linear_min_overturning(ALPHA, P, "one-sine", T, E)
@@ -100,6 +103,7 @@ def test_one_sine_minimum_overturning_with_impact(wp, ref, impacts):
 
 @pytest.mark.parametrize("wp, ref, no_impact", [(2.0, 1.25169, False), (3.0, 1.76864, False),
                                                 (1.0, 2.00374, True), (2.0, 5.22583, True)])
+@pytest.mark.slow
 def test_one_cosine_minimum_overturning(wp, ref, no_impact):
     T = 2 * math.pi / (wp * P)
     mi = 0 if no_impact else None
@@ -109,6 +113,7 @@ def test_one_cosine_minimum_overturning(wp, ref, no_impact):
     assert nl.pga == pytest.approx(lin, rel=0.01)
 
 
+@pytest.mark.slow
 def test_linearisation_error_is_second_order_in_alpha():
     """Halving α divides the nonlinear/small-angle deviation by about four."""
     devs = []
@@ -141,6 +146,7 @@ def test_energy_conserved_between_impacts_and_restitution_at_each_impact():
     assert not r.overturned
 
 
+@pytest.mark.slow
 def test_energy_balance_under_a_pulse():
     """E_final = E0 + work of the ground − impact losses, through impacts under a pulse."""
     T = 2 * math.pi / (2.0 * P)

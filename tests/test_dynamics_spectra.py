@@ -28,6 +28,7 @@ def spectra():
             + case_spectra(B1, kinds=("one-sine",), periods=(0.01,), polarities=(1, -1)))
 
 
+@pytest.mark.slow
 def test_points_and_normalisation(spectra):
     # rectangular: polarity −1 never pushes outwards, so 2 mechanisms × 3 periods; one-sine:
     # both polarities
@@ -42,6 +43,7 @@ def test_points_and_normalisation(spectra):
         assert p.ivp_rtol == 1e-10 and p.ivp_method == "DOP853"
 
 
+@pytest.mark.slow
 def test_rectangular_spectrum_tends_to_eq7_and_to_uplift(spectra):
     for m in ("I", "II"):
         rect = sorted((p for p in spectra if p.pulse == "rectangular" and p.mechanism == m),
@@ -57,6 +59,7 @@ def test_rectangular_spectrum_tends_to_eq7_and_to_uplift(spectra):
         assert rect[1].pga == pytest.approx(th.pga, rel=3e-6)
 
 
+@pytest.mark.slow
 def test_one_sine_of_polarity_minus_one_is_an_outward_half_sine(spectra):
     """With polarity −1 the first half of the one-sine only presses the façade on its seat;
     the second half is an outward half-sine whose impulse is the pgv: at short periods the
@@ -70,6 +73,7 @@ def test_one_sine_of_polarity_minus_one_is_an_outward_half_sine(spectra):
         assert pos.ratio > 30
 
 
+@pytest.mark.slow
 def test_hinge_ratio_of_a_rectangular_pulse(spectra):
     """Mechanism II: |P_x|/P_z at lift-off has the closed form ``hinge_ratio_at_rest``, which
     tends to (i − z_G²)/(x_G z_G) = 1.78 (mechanics.md: 1.8) for the ideal impulse; the
@@ -90,6 +94,7 @@ def test_hinge_ratio_of_a_rectangular_pulse(spectra):
             assert p.hinge_ratio < limit
 
 
+@pytest.mark.slow
 def test_csv_round_trip_and_plot(spectra, tmp_path):
     path = report.write(tmp_path / "out" / "spectra.csv", [p.as_dict() for p in spectra])
     with path.open() as fh:

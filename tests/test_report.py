@@ -83,17 +83,19 @@ def test_csv_headers_carry_units(tmp_path):
     from homlimit.dynamics.spectra import SPECTRUM_COLUMNS
     from homlimit.errors import ParameterError
 
-    scan = ["h_part", "h", "lam", "vg", "vnorm", "multiplier", "mechanism", "tanpsi",
-            "vg_method"]
+    scan = ["h_part", "h", "lam", "vg", "vnorm", "vg_body", "multiplier", "mechanism",
+            "tanpsi", "hinge_ratio", "status", "retries", "vg_method"]    # FEMechanism.record
     fe_cols = ["lam_fe", "vnorm_fe", "vg_fe", "tanpsi_fe", "tanpsi_fe_edges", "mechanism_fe",
-               "multiplier_fe"]
+               "multiplier_fe", "critical_at_fe", "hinge_ratio_fe"]
     for col in scan + list(table1_rows()[0]) + fe_cols + CRACK_COLUMNS + SPECTRUM_COLUMNS:
         report.csv_header(col)
     assert report.csv_header("vg") == "vg [m/s]" and report.csv_header("lam") == "lam [-]"
     assert report.csv_header("pga") == "pga [m/s^2]" and report.csv_header("test") == "test"
     with pytest.raises(ParameterError, match="column = 'speed' is out of range"):
-        report.write(tmp_path / "x.csv", [{"speed": 1.0}])
-    assert not list(tmp_path.iterdir())
+        report.csv_header("speed")
+    # a run still writes a column someone forgot to give a unit, flagged (and logged)
+    report.write(tmp_path / "x.csv", [{"speed": 1.0, "vg": 2.0}])
+    assert (tmp_path / "x.csv").read_text().splitlines()[0] == "speed [?],vg [m/s]"
 
 
 def test_vtu_round_trip(tmp_path):

@@ -63,15 +63,21 @@ def test_static_ladder_is_the_measured_one():
     assert len(SolverOptions(retries=False).ladder("static", 100, False)) == 1
 
 
-def test_kinematic_ladder_retries_a_stalled_lp_with_refinement():
-    """Kinematic: refinement off for an LP up to REFINE_ABOVE free unknowns, retried with it;
-    on (no retry) for larger LPs, with cones, or when forced."""
+def test_kinematic_ladder_retries_a_stalled_lp_with_refinement_then_tol_1e7():
+    """Kinematic: refinement off for an LP up to REFINE_ABOVE free unknowns, retried with it,
+    then with tolerance 1e-7 (default tolerance only); refinement on for larger LPs (then only
+    the 1e-7 rung follows); no retry with cones; a chosen tolerance is kept."""
     lp = SolverOptions().ladder("kinematic", REFINE_ABOVE, conic=False)
-    assert [s["iterative_refinement_enable"] for _, s in lp] == [False, True]
+    assert [s["iterative_refinement_enable"] for _, s in lp] == [False, True, True]
+    assert [s["tol_gap_rel"] for _, s in lp] == [1e-9, 1e-9, 1e-7]
     assert lp[0][1]["max_iter"] == 400 and lp[0][1]["direct_solve_method"] == "qdldl"
-    for opts, n, conic in ((SolverOptions(), REFINE_ABOVE + 1, False), (SolverOptions(), 10, True),
-                           (SolverOptions(iterative_refinement=False), 10, False)):
-        assert len(opts.ladder("kinematic", n, conic)) == 1
+    big = SolverOptions().ladder("kinematic", REFINE_ABOVE + 1, conic=False)
+    assert [s["tol_gap_rel"] for _, s in big] == [1e-9, 1e-7]
+    assert len(SolverOptions().ladder("kinematic", 10, conic=True)) == 1
+    chosen = SolverOptions(tol=1e-8).ladder("kinematic", 10, False)   # the user's tolerance
+    assert [s["tol_gap_rel"] for _, s in chosen] == [1e-8, 1e-8]
+    forced = SolverOptions(iterative_refinement=False).ladder("kinematic", 10, False)
+    assert [s["tol_gap_rel"] for _, s in forced] == [1e-9, 1e-7]
 
 
 def test_run_ladder_stops_at_the_first_solve_that_does_not_stall():

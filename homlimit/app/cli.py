@@ -281,9 +281,11 @@ def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
            = False,
            mesh_size: Annotated[float, typer.Option(help="FE mesh size \\[m] (with --fe).")]
            = 0.25,
-           heights: Annotated[int, typer.Option(help="Collapse heights of the FE scan, "
-                                                "λ = h/b from 2 to H/b (with --fe; `run` "
-                                                "takes 6, \\[analysis] heights).")] = 10,
+           heights: Annotated[int, typer.Option(help="Starting heights of the FE scan, from "
+                                                "one course to H, refined around its "
+                                                "minimum (with --fe).")] = 6,
+           facade: Annotated[str, typer.Option(help="Façade model of the FE scan: bedjoints "
+                                               "or homogenised (with --fe).")] = "bedjoints",
            test: Annotated[list[str] | None, typer.Option(
                "--test", "-t", show_default=False,
                help="Only this Table 1 test, e.g. B1 (repeatable) \\[default: all 12].")]
@@ -297,12 +299,12 @@ def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
     _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout, result_folder(out, "table1") as staging:
         rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test,
-                              max_triangles=max_triangles)
+                              facade=facade, max_triangles=max_triangles)
         report.write(staging / "table1.csv", rows)
         report.write(staging / "table1.json", rows)
         plots.plot_table1(staging / "table1.png", rows)
     cols = ["test", "lam_I", "vnorm_I", "lam_II", "vnorm_II", "lam_dem", "vnorm_dem",
-            "ratio_I", "ratio_II"] + (["lam_fe", "vnorm_fe", "tanpsi_fe", "mechanism_fe"]
+            "ratio_I", "ratio_II"] + (["lam_fe", "vnorm_fe", "mechanism_fe", "critical_at_fe"]
                                       if fe else [])
     _show(stdout, as_json, rows, rows, cols, "Table 1: closed forms (I, II) beside the DEM; "
           "vnorm = vg/sqrt(gb), ratio = closed form / DEM",

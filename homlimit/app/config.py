@@ -36,8 +36,7 @@ from typing import Any
 
 from ..dynamics.pulses import PULSE_KINDS
 from ..errors import ParameterError
-from ..mechanism.analysis import LAM_MIN, scan_lams
-from ..params import FACADE_MODELS, Case, Masonry, Wall
+from ..params import FACADE_DEFAULT, FACADE_MODELS, Case, Masonry, Wall
 from . import budget
 
 __all__ = ["AnalysisConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig", "OutputConfig",
@@ -141,12 +140,14 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "lam_points": Key(int, 200, "", lo=10, hi=100000,
                           doc="points of the v̄_g(λ) curves over 0 < λ <= H/b"),
         "fe": Key(bool, True, doc="finite-element kinematic mechanism, crack and impulse"),
-        "facade": Key(str, "homogenised", choices=FACADE_MODELS,
-                      doc="strength domain of the façade in the FE model (eq. 15, or bed "
-                          "joints only)"),
-        "heights": Key(int, 6, "", lo=1, hi=200,
-                       doc="collapse heights h tried by the FE impulse scan, λ = h/b spaced "
-                           "geometrically from 2 to H/b (v̄_g of eq. 7 minimised over λ)"),
+        "facade": Key(str, FACADE_DEFAULT, choices=FACADE_MODELS,
+                      doc="strength domain of the façade in the FE model: bed joints only "
+                          "(its blocks run through the thickness, as in the paper) or eq. 15 "
+                          "(homogenised, the β → 0 idealisation)"),
+        "heights": Key(int, 6, "", lo=2, hi=200,
+                       doc="starting heights of the FE impulse scan, spaced geometrically "
+                           "from one course (a) to H, refined around the minimum of v̄_g "
+                           "(eq. 7) to one course or 0.5 %"),
         "static": Key(bool, True,
                       doc="static lower bound of the whole wall's FE multiplier on the same "
                           "mesh (the bracket λ⁻ <= λ <= λ⁺), its stress field in "
@@ -215,7 +216,7 @@ class AnalysisConfig:
     tanpsi: float = 0.0
     lam_points: int = 200
     fe: bool = True
-    facade: str = "homogenised"
+    facade: str = FACADE_DEFAULT
     heights: int = 6
     static: bool = True
     tol: float = 0.0
@@ -450,16 +451,9 @@ def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> l
         out.append(f"[mesh] size = {size!r} m is out of range: "
                    f"allowed 0 < size <= min(H, b + L) = {span:g} m")
         return out
-    lams = ()
-    if not mesh_only and has(an, "heights"):
-        lam_max = w["H"] / w["b"]
-        lams = scan_lams_of(lam_max, an["heights"])[:-1]
-        h_min = min(LAM_MIN * w["b"], w["H"])   # the scan's lowest part
-        if an["heights"] > 1 and size > h_min:
-            out.append(f"[mesh] size = {size!r} m is out of range: allowed size <= "
-                       f"min({LAM_MIN:g}b, H) = {h_min:g} m, the height of the smallest "
-                       f"part of the FE impulse scan (or [analysis] heights = 1)")
-    n = budget.fe_triangles(w["H"], w["b"], w["L"], size, lams)
+    # the impulse scan's parts run from one course (a) to H, each meshed at min(size, h/10)
+    parts = (m["a"],) if not mesh_only and has(m, "a") else ()
+    n = budget.fe_triangles(w["H"], w["b"], w["L"], size, parts)
     if n > me["max_triangles"]:
         keys = "[mesh] size" + ("" if mesh_only else " (or [analysis] fe = false)")
         out.append(f"[mesh] size = {size!r} m gives about {n:.3g} triangles in the largest FE "
@@ -468,14 +462,6 @@ def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> l
                    f"[mesh] max_triangles = {me['max_triangles']:,}; raise {keys} or, on a "
                    "machine with the memory, [mesh] max_triangles")
     return out
-
-
-def scan_lams_of(lam_max: float, heights: int) -> list[float]:
-    """The slenderness values of the FE impulse scan (``mechanism.analysis.scan_lams``) from
-    λ_max = H/b alone."""
-    from types import SimpleNamespace
-
-    return list(scan_lams(SimpleNamespace(wall=SimpleNamespace(lam_max=lam_max)), heights))
 
 
 def _warnings(case: Case, values: dict) -> tuple[str, ...]:

@@ -23,6 +23,7 @@ commands' work is here too: ``table1_records``, ``crack_study_records``, ``mesh_
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import logging
 import math
@@ -40,8 +41,8 @@ from .. import _io
 from ..closed_form import mechanisms as mech
 from ..closed_form.paper import DemResult, dem_row, table1, table1_rows
 from ..errors import ParameterError, ResultError, check_choice, check_range
-from ..mechanism.analysis import FEResult, fe_result, scan_lams
-from ..params import FACADE_MODELS, Case
+from ..mechanism.analysis import FEResult, fe_result
+from ..params import FACADE_DEFAULT, FACADE_MODELS, Case
 from . import budget, report
 from .config import CaseConfig, check_mesh, load_case
 
@@ -77,8 +78,10 @@ class Result:
 
     mechanisms: name → mechanism ("I", "II": ``closed_form.mechanisms.MechanismResult``;
     "FE": the critical ``mechanism.analysis.FEMechanism``), each with ``label``, ``lam``,
-    ``h``, ``vg``, ``vnorm`` and ``as_dict()``; fe: the whole FE path (``FEResult``);
-    curves: λ and v̄_g(λ) of the closed forms; dem: the paper's Table 1 row of this wall.
+    ``h``, ``vg``, ``vnorm``, ``hinge_ratio`` and ``as_dict()``; fe: the whole FE path
+    (``FEResult``); curves: λ and v̄_g(λ) of the closed forms; dem: the paper's Table 1 row of
+    this wall; hinges: per mechanism, the shortest rectangular pulse whose acceleration the
+    hinge holds (a_g <= f g) that still overturns it (``dynamics.holding_pulse``).
     """
 
     config: CaseConfig
@@ -86,6 +89,7 @@ class Result:
     curves: dict = field(default_factory=dict)
     fe: FEResult | None = None
     dem: DemResult | None = None
+    hinges: dict[str, Any] = field(default_factory=dict)   # name → dynamics.HoldingPulse
     files: dict[str, Path] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
 
@@ -123,6 +127,7 @@ class Result:
                         "lam_max": c.wall.lam_max, "f": c.masonry.f,
                         "c_over_a": c.masonry.c / c.masonry.a},
             "mechanisms": {k: m.as_dict() for k, m in self.mechanisms.items()},
+            "hinges": {k: dataclasses.asdict(h) for k, h in self.hinges.items()},
             "fe": None if self.fe is None else self.fe.as_dict(),
             "critical": self.critical(),
             "dem_table1": None if self.dem is None else self.dem.as_dict(),
@@ -210,6 +215,17 @@ def _closed_form(config: CaseConfig) -> tuple[dict, dict]:
     return {"I": m1, "II": m2}, curves
 
 
+def _hinges(case: Case, mechanisms: dict) -> dict:
+    """Per mechanism, the shortest rectangular pulse of a_g = f g (the most the bed joint under
+    the hinge holds) that still overturns it (``dynamics.holding_pulse``): the ideal impulse
+    needs |P_x/P_z| (``hinge_ratio``), more than f for the Table 1 walls."""
+    from ..dynamics import case_rockers, holding_pulse
+
+    closed = [k for k in ("I", "II") if k in mechanisms]
+    rockers = case_rockers(case, closed, fe_body=mechanisms.get("FE"))
+    return {k: holding_pulse(rk, case.masonry.f) for k, rk in rockers.items()}
+
+
 def _whole_problem(config: CaseConfig):
     """The whole wall's T-section problem (``problems.t_section``, base at z = 0)."""
     from ..fe.problems import t_section
@@ -218,10 +234,12 @@ def _whole_problem(config: CaseConfig):
 
 
 # ----------------------------------------------------------------------------- other commands
-def _check_budget(option: str, walls, size: float, lams_of, max_triangles: int):
-    """ParameterError when the largest FE problem over ``walls`` (Wall objects) at mesh
-    ``size`` (scan parts ``lams_of(wall)``) exceeds ``max_triangles`` (``budget``)."""
-    n = max(budget.fe_triangles(w.H, w.b, w.L, size, lams_of(w)) for w in walls)
+def _check_budget(option: str, cases, size: float, max_triangles: int, scan: bool = True):
+    """ParameterError when the largest FE problem over ``cases`` at mesh ``size`` (with
+    ``scan``, the impulse scan's parts too, from one course a up) exceeds ``max_triangles``
+    (``budget``)."""
+    n = max(budget.fe_triangles(c.wall.H, c.wall.b, c.wall.L, size,
+                                (c.masonry.a,) if scan else ()) for c in cases)
     if n > max_triangles:
         raise ParameterError(
             f"{option} = {size!r} m gives about {n:.3g} triangles in the largest FE problem "
@@ -230,44 +248,40 @@ def _check_budget(option: str, walls, size: float, lams_of, max_triangles: int):
             "machine with the memory, --max-triangles")
 
 
-def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 10,
-                   tests: list[str] | None = None,
+def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
+                   tests: list[str] | None = None, facade: str = FACADE_DEFAULT,
                    max_triangles: int = budget.DEFAULT_MAX_TRIANGLES) -> list[dict]:
     """Table 1 reproduced (``paper.table1_rows``), optionally with the FE body's columns
-    lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe (the
-    critical height of an FE scan over ``heights`` collapse heights, ``analysis.scan_lams``;
-    10 by default, where ``run`` takes 6: B1's FE column differs from the demo's by the
-    heights tried). ``tests``: a subset of the test names (B1 ... C6). ``max_triangles``: the
-    problem-size budget of the FE meshes (``budget``), checked before any work."""
-    check_range("mesh_size", mesh_size, 0.0, 1e4, lo_open=True, unit="m")
-    check_range("heights", heights, 1, 200)
+    lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe,
+    critical_at_fe, hinge_ratio_fe (the critical height of the FE scan, ``fe_result``, from
+    ``heights`` starting heights). ``tests``: a subset of the test names (B1 ... C6).
+    ``max_triangles``: the problem-size budget of the FE meshes (``budget``), checked before
+    any work."""
+    check_range("mesh_size", mesh_size, 0.0, 9.0, lo_open=True, unit="m")
+    check_range("heights", heights, 2, 200)
+    check_choice("facade", facade, FACADE_MODELS)
     check_range("max_triangles", max_triangles, 100, 1e8)
     cases = {t.test: t.case for t in table1()}
     for t in tests or ():
         check_choice("test", t, tuple(cases))
-    chosen = [c for t, c in cases.items() if not tests or t in tests]
-    h_min = min(min(2.0 * c.wall.b, c.wall.H) for c in chosen)
-    if fe and heights > 1 and mesh_size > h_min:
-        raise ParameterError(f"mesh_size = {mesh_size!r} m is out of range: allowed "
-                             f"mesh_size <= {h_min:g} m, the smallest part of the FE scan "
-                             "(λ = 2, i.e. 2b)")
     if fe:
-        _check_budget("--mesh-size", [c.wall for c in chosen], mesh_size,
-                      lambda w: scan_lams(Case(w), int(heights))[:-1], max_triangles)
+        _check_budget("--mesh-size", [c for t, c in cases.items() if not tests or t in tests],
+                      mesh_size, max_triangles)
     timings: dict[str, float] = {}
     with _stage(timings, "closed forms for Table 1"):
         rows = [r for r in table1_rows() if not tests or r["test"] in tests]
     for k, row in enumerate(rows if fe else ()):
         case = cases[row["test"]]
         with _stage(timings, "FE body", f"{row['test']}, wall {k + 1}/{len(rows)}"):
-            crit = fe_result(case, scan_lams(case, int(heights)), mesh_size,
-                             options=_solver_options()).critical
+            res = fe_result(case, mesh_size, facade, _solver_options(), heights=heights)
+        crit = res.critical
         if crit is None:
             raise ParameterError(f"test = {row['test']!r}: no analysed height gave a v̄_g "
                                  "(see the scan's vg_method)")
         row.update({"lam_fe": crit.lam, "vnorm_fe": crit.vnorm, "vg_fe": crit.vg,
                     "tanpsi_fe": crit.tanpsi, "tanpsi_fe_edges": crit.tanpsi_edges,
-                    "mechanism_fe": crit.kind, "multiplier_fe": crit.multiplier})
+                    "mechanism_fe": crit.kind, "multiplier_fe": crit.multiplier,
+                    "critical_at_fe": res.critical_at, "hinge_ratio_fe": crit.hinge_ratio})
     return rows
 
 
@@ -321,8 +335,8 @@ def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quic
         for v in values or ():
             check_range(name, v, 0.0, 100.0, lo_open=True)
     finest = finer if finer is not None and not quick else mesh_size
-    _check_budget("--finer" if finest != mesh_size else "--mesh-size", [w], finest,
-                  lambda w: (), max_triangles)
+    _check_budget("--finer" if finest != mesh_size else "--mesh-size", [Case(w)], finest,
+                  max_triangles, scan=False)
     for fac in facades or ():
         check_choice("facade", fac, FACADE_MODELS)
     grid = {k: tuple(v) for k, v in (("c_over_a", c_over_a), ("frictions", frictions),
@@ -378,8 +392,8 @@ def pulse_records(config: CaseConfig) -> tuple[list, FEResult | None]:
     fe = None
     if "FE" in pc.mechanisms:
         with _stage({}, "FE path for the FE rocker"):
-            fe = fe_result(case, scan_lams(case, an.heights), config.mesh.size, an.facade,
-                           _solver_options(an.tol))
+            fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
+                           heights=an.heights)
         if fe.critical is None:
             raise ParameterError("[pulse] mechanisms = 'FE': the FE scan found no mechanism "
                                  "with a v̄_g (see fe_scan's vg_method)")
@@ -504,15 +518,17 @@ def compute(config: CaseConfig) -> Result:
             result.mechanisms.update(mechanisms)
     if an.fe:
         whole = _whole_problem(config)
-        lams = scan_lams(case, an.heights)
         with _stage(result.timings, "FE analyses",
-                    f"{len(lams)} collapse heights, whole wall {whole.n_triangles} triangles"
+                    f"scan from one course to H, whole wall {whole.n_triangles} triangles"
                     f"{', static bound' if an.static else ''}"):
-            result.fe = fe_result(case, lams, config.mesh.size, an.facade,
-                                  _solver_options(an.tol), whole=whole, static=an.static)
+            result.fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
+                                  whole=whole, static=an.static, heights=an.heights)
         if result.fe.critical is not None:
             result.mechanisms["FE"] = result.fe.critical
     check_results(result)
+    if result.mechanisms:
+        with _stage(result.timings, "hinge check", "the shortest pulse the hinge holds"):
+            result.hinges = _hinges(case, result.mechanisms)
     return result
 
 

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, check_range
-from ..impulse.body import RigidBody
+from ..impulse import RigidBody, hinge_impulse_ratio
 from ..params import Case
 
 __all__ = [
@@ -44,6 +44,10 @@ __all__ = [
     "MechanismResult",
     "mechanism_I",
     "mechanism_II",
+    "multiplier_I",
+    "multiplier_II",
+    "static_critical_I",
+    "static_critical_II",
 ]
 
 
@@ -157,6 +161,41 @@ def lam_max_II(H_over_b, L_over_b, tanpsi):
         return np.minimum(H_over_b, np.where(t > 0, L_over_b / t, np.inf))
 
 
+# --------------------------------------------------------------------------- collapse acceleration
+def multiplier_I(lam, rho, alpha):
+    """Collapse acceleration over g of mechanism I at rest (the kinematic check of a static
+    horizontal load): the façade strip rotating about its toe against its weight and the full
+    abutment friction of eq. 8 at u = 0, whose power is eq. 9 at θ = 0,
+
+        a/g = (m g b/2 + g γ s f c h³/(6a)) / (m g h/2) = 1/λ + α² λ/(3ρ),   m = γ l b h.
+    """
+    lam, rho, alpha = _bcast(lam, rho, alpha)
+    return 1.0 / lam + alpha ** 2 * lam / (3 * rho)
+
+
+def multiplier_II(lam, rho, tanpsi):
+    """Collapse acceleration over g of mechanism II at rest: the weight of façade strip + wedge
+    against the same horizontal acceleration about the outer toe, a/g = x_G/z_G (eq. 17)."""
+    xg, zg, _ = geometry_II(lam, rho, tanpsi)
+    return xg / zg
+
+
+def static_critical_I(rho, alpha, lam_max):
+    """The smallest a/g of mechanism I over 0 < λ <= lam_max and its λ: d(a/g)/dλ = 0 at
+    λ = √(3ρ)/α (a/g = 2α/√(3ρ)), or λ = lam_max when that is lower."""
+    rho, alpha, lam_max = _bcast(rho, alpha, lam_max)
+    lam = np.minimum(np.sqrt(3 * rho) / alpha, lam_max)
+    return lam, multiplier_I(lam, rho, alpha)
+
+
+def static_critical_II(rho, tanpsi, lam_max):
+    """The smallest a/g of mechanism II over 0 < λ <= lam_max (see lam_max_II) and its λ."""
+    rho, t, lam_max = _bcast(rho, tanpsi, lam_max)
+    r, tt = rho.ravel(), t.ravel()
+    lam, v = _minimise(lambda x, ix: multiplier_II(x, r[ix], tt[ix]), lam_max.ravel())
+    return lam.reshape(rho.shape), v.reshape(rho.shape)
+
+
 # --------------------------------------------------------------------------- minimisation
 def _minimise(fun, lam_max, lam_min=0.5, n_grid=160, n_golden=45):
     """Vectorised minimisation of fun(λ) over [lam_min, lam_max] for arrays of problems.
@@ -233,6 +272,13 @@ class MechanismResult:
     tanpsi: float | None = None
     theta_m_eq14: float | None = None
     lam_max: float = math.inf
+    multiplier: float = math.nan       # smallest collapse acceleration a/g (static check)
+    lam_multiplier: float = math.nan   # λ = h/b of that smallest a/g
+
+    @property
+    def hinge_ratio(self) -> float:
+        """|P_x/P_z| the hinge must transmit under the ideal impulse (``impulse``)."""
+        return hinge_impulse_ratio(self.body)
 
     @property
     def label(self) -> str:
@@ -243,7 +289,8 @@ class MechanismResult:
 
     def as_dict(self) -> dict:
         d = {k: getattr(self, k) for k in ("name", "lam", "h", "vnorm", "vg", "theta_m", "W_m",
-                                           "tanpsi", "theta_m_eq14", "lam_max")}
+                                           "tanpsi", "theta_m_eq14", "lam_max", "multiplier",
+                                           "lam_multiplier", "hinge_ratio")}
         d["body"] = {k: getattr(self.body, k) for k in ("m", "x_G", "z_G", "I_O")}
         return d
 
@@ -261,9 +308,10 @@ def mechanism_I(case: Case, lam: float | None = None) -> MechanismResult:
     m = w.gamma * h * w.b * w.l
     body = RigidBody(m=m, x_G=w.b / 2, z_G=h / 2, I_O=m * (h ** 2 + w.b ** 2) / 3)
     W_m = float(work_I(th, lam, rho, alpha, beta)) * w.g * w.gamma * w.s * w.b ** 3
+    lam_a, a_g = (float(x) for x in static_critical_I(rho, alpha, lam_max))
     return MechanismResult("I", float(lam), h, v, v * math.sqrt(w.g * w.b), th, W_m, body,
                            theta_m_eq14=float(theta_m_I_eq14(lam, rho, alpha, beta)),
-                           lam_max=lam_max)
+                           lam_max=lam_max, multiplier=a_g, lam_multiplier=lam_a)
 
 
 def mechanism_II(case: Case, tanpsi: float | None = None,
@@ -285,5 +333,6 @@ def mechanism_II(case: Case, tanpsi: float | None = None,
     body = RigidBody(m=m, x_G=xg * b, z_G=zg * b, I_O=m * i * b ** 2)
     theta_m = math.atan2(xg, zg)  # G over the vertical through O (eq. 18)
     W_m = m * w.g * (body.r_G - body.z_G)
+    lam_a, a_g = (float(x) for x in static_critical_II(rho, t, lam_max))
     return MechanismResult("II", lam, h, v, v * math.sqrt(w.g * b), theta_m, W_m, body,
-                           tanpsi=t, lam_max=lam_max)
+                           tanpsi=t, lam_max=lam_max, multiplier=a_g, lam_multiplier=lam_a)

@@ -69,7 +69,9 @@ def table1_rows() -> list[dict]:
 
     Keys: test, rho, alpha2, beta, lam_I, vnorm_I, lam_II, vnorm_II, lam_dem, vnorm_dem,
     ratio_I, ratio_II (closed form / DEM), theta_m_I, theta_m_I_eq14, eq14_error (relative
-    error of the printed eq. 14 against the exact θ_m).
+    error of the printed eq. 14 against the exact θ_m), multiplier_I, multiplier_II (the
+    smallest collapse acceleration a/g of a static check), hinge_ratio_I, hinge_ratio_II
+    (|P_x/P_z| the hinge must transmit under the ideal impulse).
     """
     rows = []
     for t in table1():
@@ -81,5 +83,7 @@ def table1_rows() -> list[dict]:
             "ratio_I": I.vnorm / t.vg_norm, "ratio_II": II.vnorm / t.vg_norm,
             "theta_m_I": I.theta_m, "theta_m_I_eq14": I.theta_m_eq14,
             "eq14_error": I.theta_m_eq14 / I.theta_m - 1.0,
+            "multiplier_I": I.multiplier, "multiplier_II": II.multiplier,
+            "hinge_ratio_I": I.hinge_ratio, "hinge_ratio_II": II.hinge_ratio,
         })
     return rows

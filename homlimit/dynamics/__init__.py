@@ -24,12 +24,13 @@ from .pulses import (
 )
 from .rocking import GeneralisedRocker, MechanismIRocker, RigidRocker, free_block
 from .spectra import SpectrumPoint, case_rockers, case_spectra, overturning_spectrum
-from .threshold import Threshold, critical_pulse
+from .threshold import HoldingPulse, Threshold, critical_pulse, holding_pulse
 
 __all__ = [
     "PULSE_KINDS", "GeneralisedRocker", "IntegrationOptions", "MavroeidisPapageorgiouPulse",
     "MechanismIRocker", "OneCosinePulse", "OneSinePulse", "RecordPulse", "RectangularPulse",
-    "Response", "RickerPulse", "RigidRocker", "SpectrumPoint", "Threshold", "case_rockers",
+    "HoldingPulse", "Response", "RickerPulse", "RigidRocker", "SpectrumPoint", "Threshold",
+    "case_rockers", "holding_pulse",
     "case_spectra", "critical_pulse", "free_block", "make_pulse", "overturning_spectrum",
     "simulate",
 ]

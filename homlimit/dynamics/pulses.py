@@ -180,13 +180,12 @@ class RectangularPulse(Pulse):
 
 
 @dataclass(frozen=True)
-class OneSinePulse(Pulse):
-    """a_g = polarity · a_p sin(2πt/T_p) on 0 <= t <= T_p (type-A cycloidal pulse)."""
+class _CyclePulse(Pulse):
+    """One cycle a_g = polarity · a_p f(2πt/T_p) on 0 <= t <= T_p (cycloidal pulses)."""
 
     a_p: float
     T_p: float
     polarity: int = 1
-    kind = "one-sine"
 
     def __post_init__(self):
         object.__setattr__(self, "a_p", check_range("a_p", self.a_p, 0.0, lo_open=True,
@@ -210,24 +209,16 @@ class OneSinePulse(Pulse):
 
     def a(self, t):
         t, on = _support(t, self.T_p)
-        return np.where(on, self.polarity * self.a_p * np.sin(self.omega * t), 0.0)
+        return np.where(on, self.polarity * self.a_p * self._f(self.omega * t), 0.0)
 
     def at(self, t):
         if 0.0 <= t <= self.T_p:
-            return self.polarity * self.a_p * math.sin(2 * math.pi * t / self.T_p)
+            return self.polarity * self.a_p * self._f_scalar(2 * math.pi * t / self.T_p)
         return 0.0
-
-    def v(self, t):
-        tc = np.clip(np.asarray(t, dtype=float), 0.0, self.T_p)
-        return self.polarity * self.a_p / self.omega * (1.0 - np.cos(self.omega * tc))
 
     @property
     def pga(self):
         return self.a_p
-
-    @property
-    def pgv(self):
-        return self.a_p * self.T_p / math.pi
 
     @property
     def a_extremes(self):
@@ -238,60 +229,35 @@ class OneSinePulse(Pulse):
 
 
 @dataclass(frozen=True)
-class OneCosinePulse(Pulse):
+class OneSinePulse(_CyclePulse):
+    """a_g = polarity · a_p sin(2πt/T_p) on 0 <= t <= T_p (type-A cycloidal pulse)."""
+
+    kind = "one-sine"
+    _f, _f_scalar = np.sin, math.sin
+
+    def v(self, t):
+        tc = np.clip(np.asarray(t, dtype=float), 0.0, self.T_p)
+        return self.polarity * self.a_p / self.omega * (1.0 - np.cos(self.omega * tc))
+
+    @property
+    def pgv(self):
+        return self.a_p * self.T_p / math.pi
+
+
+@dataclass(frozen=True)
+class OneCosinePulse(_CyclePulse):
     """a_g = polarity · a_p cos(2πt/T_p) on 0 <= t <= T_p (type-B cycloidal pulse)."""
 
-    a_p: float
-    T_p: float
-    polarity: int = 1
     kind = "one-cosine"
-
-    def __post_init__(self):
-        object.__setattr__(self, "a_p", check_range("a_p", self.a_p, 0.0, lo_open=True,
-                                                    unit="m/s^2"))
-        object.__setattr__(self, "T_p", check_range("T_p", self.T_p, 0.0, lo_open=True,
-                                                    unit="s"))
-        object.__setattr__(self, "polarity", _polarity(self.polarity))
-
-    @property
-    def t_end(self):
-        return self.T_p
-
-    @property
-    def period(self):
-        return self.T_p
-
-    @property
-    def omega(self):
-        return 2 * math.pi / self.T_p
-
-    def a(self, t):
-        t, on = _support(t, self.T_p)
-        return np.where(on, self.polarity * self.a_p * np.cos(self.omega * t), 0.0)
-
-    def at(self, t):
-        if 0.0 <= t <= self.T_p:
-            return self.polarity * self.a_p * math.cos(2 * math.pi * t / self.T_p)
-        return 0.0
+    _f, _f_scalar = np.cos, math.cos
 
     def v(self, t):
         tc = np.clip(np.asarray(t, dtype=float), 0.0, self.T_p)
         return self.polarity * self.a_p / self.omega * np.sin(self.omega * tc)
 
     @property
-    def pga(self):
-        return self.a_p
-
-    @property
     def pgv(self):
         return self.a_p * self.T_p / (2 * math.pi)
-
-    @property
-    def a_extremes(self):
-        return (-self.a_p, self.a_p)
-
-    def with_pga(self, pga):
-        return dataclasses.replace(self, a_p=pga)
 
 
 @dataclass(frozen=True)

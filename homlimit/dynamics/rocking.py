@@ -45,7 +45,7 @@ from scipy.optimize import brentq
 
 from ..closed_form.mechanisms import mechanism_I, work_I
 from ..errors import ParameterError, check_range
-from ..impulse.body import RigidBody
+from ..impulse import RigidBody, peak_work
 from ..params import G_STANDARD, Case
 
 __all__ = ["Rocker", "RigidRocker", "MechanismIRocker", "GeneralisedRocker", "free_block",
@@ -419,10 +419,9 @@ class GeneralisedRocker(Rocker):
 
     I = M [kg m²] (generalised mass ∫ρ|φ|²), Π(q) = (Pi − m_b z_G) + m_b (z_G cos q + x_G sin q)
     (Pi = ∫ρ(−φ_x) [kg m] at q = 0; the rest's share stays linear),
-    R(q) = m_b g (x_G cos q − z_G sin q) + L·[q < q_m],  W(q) = W_b(q) + L min(q, q_m),
-    q_m = atan(x_G/z_G), with L = g ∫_rest ρ φ_z [N m] the rest's linearised lift. The
-    linearised lift would never stop growing; it is taken to saturate at the block's tipping
-    angle q_m, which makes W(q_m) the ``GeneralisedImpulse.W_m`` of the static criterion.
+    R(q) = m_b g (x_G cos q − z_G sin q) + L,  W(q) = W_b(q) + L q, with L [N m] the rest's
+    linearised lift; R vanishes at q_m, the peak of W (``impulse.peak_work``), which makes
+    W(q_m) the ``GeneralisedImpulse.W_m`` of the static criterion.
     """
 
     M: float
@@ -453,9 +452,9 @@ class GeneralisedRocker(Rocker):
     @classmethod
     def from_impulse(cls, gi, g: float = G_STANDARD, restitution: float = 0.0,
                      name: str = "FE one-DOF") -> GeneralisedRocker:
-        """From a ``fe_impulse.GeneralisedImpulse``: L = W_rest_share · W_m / q_m."""
-        lift = gi.W_rest_share * gi.W_m / gi.q_m
-        return cls(gi.M, gi.Pi, gi.block, lift, g=g, restitution=restitution, name=name)
+        """From a ``fe_impulse.GeneralisedImpulse`` (its block and lift L)."""
+        return cls(gi.M, gi.Pi, gi.block, gi.lift_rest, g=g, restitution=restitution,
+                   name=name)
 
     @property
     def inertia(self):
@@ -463,7 +462,7 @@ class GeneralisedRocker(Rocker):
 
     @property
     def theta_m(self):
-        return math.atan2(self.block.x_G, self.block.z_G)
+        return peak_work(self.block, self.lift_rest, self.g)[0]
 
     @property
     def W_m(self):
@@ -482,17 +481,15 @@ class GeneralisedRocker(Rocker):
         b = self.block
         c, s = math.cos(phi), math.sin(phi)
         return (self.Pi - b.m * b.z_G + b.m * (b.z_G * c + b.x_G * s),
-                b.m * self.g * (b.x_G * c - b.z_G * s)
-                + (self.lift_rest if phi < self.theta_m else 0.0), 0.0)
+                b.m * self.g * (b.x_G * c - b.z_G * s) + self.lift_rest, 0.0)
 
     def restoring(self, phi):
         b = self.block
         phi = np.asarray(phi, dtype=float)
-        return (b.m * self.g * (b.x_G * np.cos(phi) - b.z_G * np.sin(phi))
-                + np.where(phi < self.theta_m, self.lift_rest, 0.0))
+        return b.m * self.g * (b.x_G * np.cos(phi) - b.z_G * np.sin(phi)) + self.lift_rest
 
     def work(self, phi):
         b = self.block
         phi = np.asarray(phi, dtype=float)
         return (b.m * self.g * (b.x_G * np.sin(phi) + b.z_G * (np.cos(phi) - 1.0))
-                + self.lift_rest * np.minimum(phi, self.theta_m))
+                + self.lift_rest * phi)

@@ -150,8 +150,8 @@ def case_rockers(case: Case, mechanisms: Sequence[str] = ("I", "II"),
     """Rockers of a case: "I" (``MechanismIRocker`` at the critical λ, gravity per
     ``gravity_I``), "II" (the rigid body of ``mechanism_II`` at its critical λ, exact
     geometry), and "FE" if ``fe_body`` is given: a RigidBody (exact geometry), or an FE
-    mechanism (``mechanism.analysis.FEMechanism``) as its v̄_g is computed — a sharp crack
-    its body inside the 50 % line, a fan or distributed mechanism its one-DOF shape."""
+    mechanism (``mechanism.analysis.FEMechanism``) as its v̄_g is computed: its one-DOF
+    shape (the body inside the 50 % line turning exactly, the rest linearised)."""
     if not isinstance(case, Case):
         raise ParameterError(f"case = {case!r} is not a homlimit.params.Case")
     out = {}
@@ -167,10 +167,8 @@ def case_rockers(case: Case, mechanisms: Sequence[str] = ("I", "II"),
     if isinstance(fe_body, RigidBody):
         out["FE"] = RigidRocker(fe_body, g=case.wall.g, restitution=restitution, name="FE")
     elif fe_body is not None:
-        out["FE"] = (RigidRocker(fe_body.body, g=case.wall.g, restitution=restitution,
-                                 name="FE") if fe_body.kind == "rigid" else
-                     GeneralisedRocker.from_impulse(fe_body.impulse, g=case.wall.g,
-                                                    restitution=restitution, name="FE"))
+        out["FE"] = GeneralisedRocker.from_impulse(fe_body.impulse, g=case.wall.g,
+                                                   restitution=restitution, name="FE")
     return out
 
 

@@ -15,16 +15,17 @@ For a pulse shape (any ``Pulse``, scaled by its peak ground acceleration), the s
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from scipy.optimize import brentq
 
 from ..errors import ParameterError, SolverError, check_range
 from .integrate import IntegrationOptions, Response, simulate
-from .pulses import Pulse
+from .pulses import Pulse, RectangularPulse
 from .rocking import Rocker
 
-__all__ = ["Threshold", "critical_pulse"]
+__all__ = ["HoldingPulse", "Threshold", "critical_pulse", "holding_pulse"]
 
 
 @dataclass(frozen=True)
@@ -121,3 +122,46 @@ def critical_pulse(rocker: Rocker, pulse: Pulse, *, rtol: float = 1e-6,
                      down, n, rtol, scan_ratio)
 
 
+
+
+@dataclass(frozen=True)
+class HoldingPulse:
+    """The shortest rectangular pulse whose acceleration the hinge can hold (a_g = f g, no
+    sliding) and that still overturns the rocker: duration [s], pgv = f g·duration [m/s] and
+    its ratio to eq. 7's ideal impulse; duration = NaN (and ``reason``) when no such pulse
+    exists (f g below the lift-off acceleration: the hinge slides before the body lifts)."""
+
+    f: float
+    duration: float
+    pgv: float
+    ratio: float
+    reason: str = ""
+
+
+def holding_pulse(rocker: Rocker, f: float, *, rtol: float = 1e-4,
+                  options: IntegrationOptions | None = None) -> HoldingPulse:
+    """Bisect the duration of a rectangular pulse of amplitude f g (the most a hinge of
+    friction f holds) between eq. 7's ideal impulse v̄_g/(f g), which a finite pulse never
+    reaches, and the first doubling that overturns."""
+    f = check_range("f", f, 0.0, lo_open=True)
+    rtol = check_range("rtol", rtol, 1e-10, 1e-2)
+    a = f * rocker.g
+    v7 = rocker.vg_impulse
+    if a <= rocker.a_uplift:
+        return HoldingPulse(f, math.nan, math.nan, math.nan,
+                            f"f g = {a:.3g} m/s² does not lift the body (lift-off at "
+                            f"{rocker.a_uplift:.3g} m/s²): the hinge slides first")
+
+    def overturns(dt):
+        return simulate(rocker, RectangularPulse(a, dt), options=options).overturned
+
+    lo, hi = v7 / a, 2 * v7 / a      # a finite pulse needs more than the ideal impulse
+    while not overturns(hi):
+        lo, hi = hi, 2.0 * hi
+        if hi > 1e3 * v7 / a:
+            raise SolverError(f"no rectangular pulse of {a:.3g} m/s² shorter than "
+                              f"{hi:.3g} s overturns {rocker.name}", status="no bracket")
+    while hi - lo > rtol * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if overturns(mid) else (mid, hi)
+    return HoldingPulse(f, hi, a * hi, a * hi / v7)

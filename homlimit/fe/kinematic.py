@@ -222,7 +222,7 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
     sizes = {"triangles": int(nel), "dofs": int(disc.basis.N), "free": int(free.size),
              "variables": int(data["A"].shape[1]), "rows": int(data["A"].shape[0]),
              "nnz": int(data["A"].nnz), "iterations": int(stats.num_iters or 0),
-             "retried": int(len(attempts) > 1)}
+             "retried": int(len(attempts) > 1), "attempts": attempts}
     return KinematicSolution(
         multiplier=primal, u=u, velocity=u[disc.basis.nodal_dofs].T.copy(),
         dissipation=dissip_pt.reshape(nel, 3).sum(axis=1), interface_dissipation=idis,

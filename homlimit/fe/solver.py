@@ -137,6 +137,9 @@ class SolverOptions:
                          equilibrate_enable=self.equilibrate)
             rungs = [{}] + ([{"iterative_refinement_enable": True}]
                             if self.iterative_refinement is None and not refine else [])
+            if self.tol is None and not conic:   # last resort: 1e-7 (docs/kinematic.md)
+                rungs.append({"iterative_refinement_enable": True, "tol_gap_abs": 1e-7,
+                              "tol_gap_rel": 1e-7, "tol_feas": 1e-7})
         else:
             method = self.direct_solve_method or ("faer" if n_unknowns > FAER_ABOVE else "qdldl")
             first["direct_solve_method"] = method

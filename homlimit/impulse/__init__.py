@@ -1,7 +1,14 @@
 """The energy-based impulse criterion (paper eqs 1–7, 18–19) and the rigid body it acts on."""
 
 from .body import RigidBody, triangle_moments
-from .criterion import collapse_velocity, rigid_restoring_work, theta_dot0
+from .criterion import (
+    collapse_velocity,
+    hinge_impulse_ratio,
+    peak_work,
+    rigid_restoring_work,
+    theta_dot0,
+)
 
-__all__ = ["RigidBody", "collapse_velocity", "rigid_restoring_work", "theta_dot0",
+__all__ = ["RigidBody", "collapse_velocity", "hinge_impulse_ratio", "peak_work",
+           "rigid_restoring_work", "theta_dot0",
            "triangle_moments"]

@@ -14,16 +14,43 @@ from __future__ import annotations
 
 import math
 
-from ..errors import check_range
+from ..errors import ParameterError, check_range
 from ..params import G_STANDARD
 from .body import RigidBody
 
-__all__ = ["theta_dot0", "rigid_restoring_work", "collapse_velocity"]
+__all__ = ["theta_dot0", "peak_work", "rigid_restoring_work", "collapse_velocity",
+           "hinge_impulse_ratio"]
 
 
 def theta_dot0(body: RigidBody, v_g: float) -> float:
     """Angular velocity right after the impulse, θ̇0 = m z_G v_g / I_O [rad/s] (eq. 4)."""
     return body.m * body.z_G * float(v_g) / body.I_O
+
+
+def peak_work(body: RigidBody, lift: float = 0.0, g: float = G_STANDARD
+              ) -> tuple[float, float]:
+    """The peak (θ_m, W(θ_m)) of the restoring work of the body turning about O by θ, plus a
+    work ``lift``·θ done by material carried linearly (a fan's dilatant lift, [N m]):
+
+        W(θ) = m g (x_G sin θ + z_G cos θ − z_G) + lift θ,
+        dW/dθ = m g r_G cos(θ + φ_G) + lift = 0,  φ_G = atan2(z_G, x_G),
+        θ_m = arccos(−lift / (m g r_G)) − φ_G.
+
+    For lift = 0, θ_m = atan(x_G/z_G): G over the vertical through O, W = m g (r_G − z_G)
+    (eq. 18). W never peaks if lift >= m g r_G (ParameterError); θ_m = 0 and W = 0 if the body
+    has no restoring lever.
+    """
+    g = check_range("g", g, 0.0, lo_open=True, unit="m/s^2")
+    lift = check_range("lift", lift, 0.0, unit="N m")
+    mgr = body.m * g * body.r_G
+    if lift >= mgr:
+        raise ParameterError(f"lift = {lift:g} N m is out of range: the restoring work has no "
+                             f"peak unless lift < m g r_G = {mgr:g} N m")
+    theta = math.acos(-lift / mgr) - math.atan2(body.z_G, body.x_G)
+    if theta <= 0.0:
+        return 0.0, 0.0
+    W = body.m * g * (body.x_G * math.sin(theta) + body.z_G * (math.cos(theta) - 1.0))
+    return theta, W + lift * theta
 
 
 def rigid_restoring_work(body: RigidBody, g: float = G_STANDARD) -> float:
@@ -46,3 +73,13 @@ def collapse_velocity(body: RigidBody, W: float | None = None, g: float = G_STAN
         W = rigid_restoring_work(body, g)
     W = check_range("W", W, 0.0, unit="J")
     return body.i / body.z_G * math.sqrt(2.0 * W / body.I_O)
+
+
+def hinge_impulse_ratio(body: RigidBody) -> float:
+    """|P_x/P_z| of the impulse the hinge O must transmit when an ideal impulse v_g sets the
+    body rotating (eq. 4): P_x = m v_g (i − z_G²)/i, P_z = m v_g x_G z_G/i, so
+    |P_x/P_z| = (i − z_G²)/(x_G z_G). Above the friction coefficient f of the bed joint under O
+    the hinge slides instead (the ideal impulse is not attainable without sliding)."""
+    if body.x_G <= 0:
+        return math.inf
+    return (body.i - body.z_G ** 2) / (body.x_G * body.z_G)

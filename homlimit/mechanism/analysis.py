@@ -2,10 +2,19 @@
 
 ``analyse`` solves one kinematic problem and measures what the mechanism is: the rigid fit
 (``rigidfit``), the crack's mid-line and fan edges (``crack``), its kind, the failing body and
-the collapse ground velocity (``fe_impulse``, eqs 4–7). ``h_scan`` repeats it over collapse
-heights (the part above z0 = H − h, base fixed at z0); ``fe_result`` adds the whole wall and,
-optionally, its static lower bound on the same mesh. The critical FE mechanism is the scan's
-lowest v̄_g (eq. 7 minimised over λ = h/b).
+the collapse ground velocity (``fe_impulse``, eqs 4–7). ``h_scan`` repeats it over the heights
+of the failing part (the part above z0 = H − h, base fixed at z0); ``fe_result`` runs the scan
+over the heights the masonry admits and, optionally, the whole wall's static lower bound on
+the same mesh. The critical FE mechanism is the scan's lowest v̄_g (eq. 7 minimised over h).
+
+The block is the internal length. The homogenised continuum has none: a corner chip cut from
+an outer-face hinge opens without dissipation and eq. 7 gives v̄_g ∝ √(size), so an unbounded
+scan runs to ever smaller parts. In the wall no failing part is lower than one course, so the
+scan spans a <= h <= H; with the default bed-joint façade (its blocks run through the
+thickness) no crack cuts the façade diagonally. The scan starts from ``heights`` heights spaced
+geometrically over that range and bisects around its minimum until the neighbouring heights
+are one ``step`` (default a) apart or within ``rtol`` (0.5 %) of the minimum; the result says
+whether the minimum is interior or sits at a bound (one course, or the whole wall).
 """
 
 from __future__ import annotations
@@ -19,28 +28,16 @@ import numpy as np
 
 from ..errors import ParameterError, check_choice, check_range
 from ..fe.problems import Problem, t_section
-from ..impulse import RigidBody, collapse_velocity
-from ..params import FACADE_MODELS, Case
+from ..impulse import RigidBody, collapse_velocity, hinge_impulse_ratio
+from ..params import FACADE_DEFAULT, FACADE_MODELS, Case
 from .crack import FanEdges, fan_edges, mechanism_type
-from .fe_impulse import GeneralisedImpulse, fe_body, generalised_impulse, p2_nodes
+from .fe_impulse import GeneralisedImpulse, contour_pieces, generalised_impulse, p2_nodes
 from .rigidfit import MechanismMeasures, measure_mechanism
 
-__all__ = ["FEMechanism", "FEResult", "LAM_MIN", "analyse", "densities", "fe_result",
-           "h_scan", "part_problem", "scan_lams"]
+__all__ = ["FEMechanism", "FEResult", "analyse", "densities", "fe_result", "h_scan",
+           "part_problem"]
 
 log = logging.getLogger(__name__)
-
-LAM_MIN = 2.0  # the smallest slenderness λ = h/b of the FE impulse scan (a part of height 2b)
-
-
-def scan_lams(case: Case, heights: int) -> np.ndarray:
-    """Slenderness values of the FE impulse scan: ``heights`` values spaced geometrically from
-    λ = LAM_MIN to H/b (one value: the whole wall)."""
-    lam_max = case.wall.lam_max
-    if heights <= 1:
-        return np.array([lam_max])
-    return np.geomspace(min(LAM_MIN, lam_max), lam_max, int(heights))
-
 
 def densities(case: Case) -> dict[str, float]:
     """Mass per unit area of each T-section region in the section plane, times the
@@ -129,18 +126,40 @@ class FEMechanism:
         return (self.edges.T_mid, self.edges.T_mid) if self.edges.sharp else self.edges.edges
 
     @property
+    def vg_body(self) -> float:
+        """Eq. 7 + eq. 18 of the body inside the 50 % line alone [m/s] (NaN without one)."""
+        return math.nan if self.body is None else collapse_velocity(self.body,
+                                                                     g=self.case.wall.g)
+
+    @property
+    def hinge_ratio(self) -> float:
+        """|P_x/P_z| the hinge must transmit under the ideal impulse (``impulse``), for the
+        body inside the 50 % line (NaN without a body)."""
+        return math.nan if self.body is None else hinge_impulse_ratio(self.body)
+
+    @property
     def label(self) -> str:
         return f"FE body, {self.kind} (eq. 7)"
 
     def record(self) -> dict:
         """The flat record of one analysed height (fe_scan.csv)."""
         return {"h_part": self.h_part, "h": self.h, "lam": self.lam, "vg": self.vg,
-                "vnorm": self.vnorm, "multiplier": self.multiplier, "mechanism": self.kind,
-                "tanpsi": self.tanpsi, "vg_method": self.vg_method}
+                "vnorm": self.vnorm, "vg_body": self.vg_body, "multiplier": self.multiplier,
+                "mechanism": self.kind,
+                "tanpsi": self.tanpsi, "hinge_ratio": self.hinge_ratio,
+                "status": self.solution.status,
+                "retries": len(self.solution.sizes.get("attempts", [0])) - 1,
+                "vg_method": self.vg_method}
 
     def as_dict(self) -> dict:
         """The mechanism's row of summary.json (as the closed forms' ``as_dict``)."""
         return {"name": self.name, **self.record()}
+
+    def body_pieces(self):
+        """The failing body as triangles (points (k, 3, 2), density (k,) [kg/m²]): the
+        pieces inside the 50 % participation line (``fe_impulse.contour_pieces``)."""
+        X, _, el, rho = p2_nodes(self.solution, densities(self.case))
+        return contour_pieces(X, el, rho, self.measures)
 
     def drawing(self) -> dict:
         """What ``plots.plot_mechanism`` draws: points, triangles and velocity at the mesh
@@ -166,9 +185,10 @@ def analyse(case: Case, problem: Problem, options=None) -> FEMechanism:
     """Solve ``problem`` (a ``t_section`` of ``case``, base fixed at its z0) and measure its
     mechanism: rigid fit, crack, kind, body and v̄_g.
 
-    A sharp crack (``kind == "rigid"``) gets eq. 7 + eq. 18 of the body inside its 50 % line
-    (the limit of the one-DOF value as the smeared band thins); a fan or a distributed
-    mechanism the one-DOF generalisation of eqs 4–7, fan included (``fe_impulse``).
+    v̄_g is the one-DOF generalisation of eqs 4–7 for every kind (``fe_impulse``): for a sharp
+    crack (``kind == "rigid"``) it tends to eq. 7 + eq. 18 of the body inside the 50 % line as
+    the smeared band thins (that value is kept as ``vg_body``), and one rule for all kinds keeps
+    v̄_g continuous when refining the mesh turns a smeared crack into a resolved fan.
     """
     from ..fe.kinematic import solve_kinematic
     from ..fe.solver import SolverOptions
@@ -185,43 +205,51 @@ def analyse(case: Case, problem: Problem, options=None) -> FEMechanism:
                   mesh_size=float(meta.get("h", math.nan)))
     try:
         gi = generalised_impulse(X, V, el, rho, mm, g=w.g)
-        body = fe_body(X, el, rho, mm)
     except ParameterError as exc:
         return FEMechanism(**common, body=None, impulse=None, vg=math.nan,
                            vg_method=f"not available: {exc}")
-    if kind == "rigid":
-        vg, how = (collapse_velocity(body, g=w.g),
-                   "eq. 7 + eq. 18, body inside the 50 % participation line")
-    else:
-        vg, how = gi.vg, ("one-DOF generalisation of eqs 4-7 (fe_impulse docstring): body "
-                          "inside the 50 % line at finite rotation, the rest linearised")
-    return FEMechanism(**common, body=body, impulse=gi, vg=vg, vg_method=how)
+    return FEMechanism(**common, body=gi.block, impulse=gi, vg=gi.vg, vg_method=(
+        "one-DOF generalisation of eqs 4-7 (fe_impulse docstring): body inside the 50 % line "
+        "at finite rotation, the rest linearised, W at its peak"))
 
 
-def h_scan(case: Case, lams, mesh_size: float = 0.25, facade: str = "homogenised",
+def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
            options=None) -> list[FEMechanism]:
-    """``analyse`` on the part above z0 = H − λ b for every λ in ``lams``. The hinge may float
-    above the base of the analysed part: each mechanism's own h = H − z_O."""
+    """``analyse`` on the top part of height h_part for every h_part in ``h_parts`` [m]. The
+    hinge may float above the base of the analysed part: each mechanism's own h = H − z_O."""
     w = case.wall
     out = []
-    for k, lam in enumerate(lams):
-        hp = check_range("lam", lam, 0.0, w.lam_max, lo_open=True) * w.b
-        log.info("FE analysis %d/%d: part of height %.2f m", k + 1, len(lams), hp)
+    for k, hp in enumerate(h_parts):
+        hp = check_range("h_part", hp, 0.0, w.H, lo_open=True, unit="m")
+        log.info("FE analysis %d/%d: part of height %.3f m", k + 1, len(h_parts), hp)
         out.append(analyse(case, part_problem(case, hp, facade, mesh_size), options))
     return out
 
 
 @dataclass(frozen=True)
 class FEResult:
-    """The FE path of one wall: the impulse scan over collapse heights (the whole wall last)
-    and the whole wall's static lower bound on the same mesh (None if not run)."""
+    """The FE path of one wall: the impulse scan over the heights of the failing part, sorted
+    by height (the whole wall last), and the whole wall's static lower bound on the same mesh
+    (None if not run). ``h_min``: the smallest part the masonry admits (one course, a)."""
 
     scan: tuple[FEMechanism, ...]
     static: object = None
+    h_min: float = 0.0
 
     @property
     def whole(self) -> FEMechanism:
         return self.scan[-1]
+
+    @property
+    def critical_at(self) -> str:
+        """Where the scan's minimum lies: "interior", "bound: one course" or "bound: whole
+        wall" (a minimum at a bound is set by that bound, not by the mechanics)."""
+        crit = self.critical
+        if crit is None or len(self.scan) < 2:
+            return "interior" if crit is not None else "none"
+        if crit is self.scan[0] and math.isclose(crit.h_part, self.h_min, rel_tol=1e-9):
+            return "bound: one course"
+        return "bound: whole wall" if crit is self.scan[-1] else "interior"
 
     @property
     def critical(self) -> FEMechanism | None:
@@ -261,23 +289,44 @@ class FEResult:
             "critical_mechanism": None if crit is None else crit.kind,
             "critical_multiplier": None if crit is None else crit.multiplier,
             "vg_method": None if crit is None else crit.vg_method,
+            "critical_at": self.critical_at, "h_min": self.h_min,
             "scan": [m.record() for m in self.scan]}
 
 
-def fe_result(case: Case, lams, mesh_size: float = 0.25, facade: str = "homogenised",
-              options=None, whole: Problem | None = None, static: bool = False) -> FEResult:
-    """The scan over ``lams`` (the last value must be H/b: the whole wall) and, with
-    ``static``, the whole wall's lower bound on the same mesh. ``whole``: the whole wall's
-    problem if already built (``t_section(case, facade=facade, h=mesh_size)``)."""
+def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT, options=None,
+              whole: Problem | None = None, static: bool = False, heights: int = 6,
+              step: float | None = None, rtol: float = 0.005) -> FEResult:
+    """The FE impulse scan over a <= h_part <= H (module docstring): ``heights`` starting
+    heights, refined around the minimum down to ``step`` [m] (default a) or ``rtol``; with
+    ``static``, the whole wall's lower bound on its mesh. ``whole``: the whole wall's problem if
+    already built (``t_section(case, facade=facade, h=mesh_size)``)."""
     check_choice("facade", facade, FACADE_MODELS)
-    lams = np.asarray(lams, float)
-    if not lams.size or not math.isclose(lams[-1], case.wall.lam_max, rel_tol=1e-12):
-        raise ParameterError(f"lams = {lams.tolist()!r} is out of range: the last value must "
-                             f"be H/b = {case.wall.lam_max:g} (the whole wall)")
-    scan = h_scan(case, lams[:-1], mesh_size, facade, options)
+    w, a = case.wall, case.masonry.a
+    heights = int(check_range("heights", heights, 2, 200))
+    step = a if step is None else check_range("step", step, 0.0, w.H, lo_open=True, unit="m")
+    rtol = check_range("rtol", rtol, 0.0, 0.5, lo_open=True)
     whole = whole or t_section(case, facade=facade, h=mesh_size)
-    log.info("FE mechanism of the whole wall: %d triangles, P2", whole.n_triangles)
-    scan.append(analyse(case, whole, options))
+    done: dict[float, FEMechanism] = {}
+
+    def run(hs):
+        for hp in sorted(set(hs) - set(done)):
+            if hp >= w.H:
+                log.info("FE mechanism of the whole wall: %d triangles, P2", whole.n_triangles)
+                done[hp] = analyse(case, whole, options)
+            else:
+                done.update(zip([hp], h_scan(case, [hp], mesh_size, facade, options)))
+
+    run(list(np.geomspace(a, w.H, heights)[:-1]) + [w.H])
+    while True:                          # bisect the gaps beside the minimum
+        hs = sorted(done)
+        v = [done[h].vg if np.isfinite(done[h].vg) else math.inf for h in hs]
+        k = int(np.argmin(v))
+        new = [0.5 * (hs[j] + hs[j + d]) for d, j in ((-1, k), (1, k))
+               if 0 <= j + d < len(hs) and abs(hs[j + d] - hs[j]) > step * (1 + 1e-9)
+               and not (math.isfinite(v[k]) and abs(v[j + d] / v[k] - 1) <= rtol)]
+        if not new:
+            break
+        run(new)
     sta = None
     if static:
         from ..fe.solver import SolverOptions
@@ -285,5 +334,4 @@ def fe_result(case: Case, lams, mesh_size: float = 0.25, facade: str = "homogeni
 
         log.info("static lower bound of the whole wall: %d triangles", whole.n_triangles)
         sta = solve_static(whole, options or SolverOptions())
-    return FEResult(tuple(scan), sta)
-
+    return FEResult(tuple(done[h] for h in sorted(done)), sta, a)

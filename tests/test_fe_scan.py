@@ -1,0 +1,74 @@
+"""The FE collapse velocity is set by the masonry (issue 13): the scan's range starts at one
+course, its minimum is interior for the paper's bed-joint façade and sits on the bound for the
+homogenised one, and the hinge's impulse ratio and holding pulse are those of eq. 4."""
+
+import math
+
+import pytest
+
+from homlimit import mechanism_I, mechanism_II
+from homlimit.dynamics import MechanismIRocker, RectangularPulse, RigidRocker, holding_pulse
+from homlimit.dynamics.integrate import simulate
+from homlimit.impulse import hinge_impulse_ratio
+from homlimit.mechanism.analysis import fe_result, h_scan
+
+
+@pytest.mark.slow
+def test_scan_below_one_course_does_not_lower_the_bed_joint_minimum(table1_case):
+    """B1, bed-joint façade: the minimum over heights is interior, and parts lower than one
+    course (a/2, a/4: smaller than any block) give no lower v̄_g — the reported minimum is the
+    mechanics', not the scan's bound."""
+    case = table1_case("B1")
+    res = fe_result(case, mesh_size=0.5, facade="bedjoints", heights=4)
+    assert res.critical_at == "interior"
+    a = case.masonry.a
+    below = h_scan(case, [a / 2, a / 4], mesh_size=0.5, facade="bedjoints")
+    assert all(not math.isfinite(m.vg) or m.vg > res.critical.vg for m in below), \
+        [(m.h_part, m.vg) for m in below]
+
+
+@pytest.mark.slow
+def test_homogenised_facade_minimum_sits_on_the_one_course_bound(table1_case):
+    """B1 with the homogenised façade (a crack may cut it diagonally: no internal length):
+    the smallest part is critical, and the result says the bound sets it."""
+    case = table1_case("B1")
+    res = fe_result(case, mesh_size=0.5, facade="homogenised", heights=4)
+    assert res.critical_at == "bound: one course"
+    assert res.critical.h_part == pytest.approx(case.masonry.a)
+
+
+def test_hinge_impulse_ratio_of_the_closed_forms_of_B1(table1_case):
+    """|P_x/P_z| = (i − z_G²)/(x_G z_G) (eq. 4's hinge impulse) for B1: 3.44 (mechanism I)
+    and 1.78 (II), as an independent prototype found (shared/design/mechanics.md), both above
+    f = 0.6; for a free block b × h about its toe, i = (b² + h²)/3 and G = (b/2, h/2)."""
+    case = table1_case("B1")
+    assert hinge_impulse_ratio(mechanism_I(case).body) == pytest.approx(3.44, abs=0.005)
+    assert hinge_impulse_ratio(mechanism_II(case).body) == pytest.approx(1.78, abs=0.005)
+    from homlimit.impulse import RigidBody
+
+    b, h, m = 0.5, 3.0, 1.0
+    block = RigidBody(m=m, x_G=b / 2, z_G=h / 2, I_O=m * (b * b + h * h) / 3)
+    i = (b * b + h * h) / 3
+    assert hinge_impulse_ratio(block) == pytest.approx((i - h * h / 4) / (b * h / 4), rel=1e-14)
+
+
+@pytest.mark.parametrize("mech", ["I", "II"])
+def test_holding_pulse_is_the_shortest_overturning_pulse_at_f_g(table1_case, mech):
+    """The shortest rectangular pulse of a_g = f g that overturns: just shorter is safe, it
+    overturns, and it needs more than eq. 7's ideal impulse (a finite pulse always does)."""
+    case = table1_case("B1")
+    rk = (MechanismIRocker(case) if mech == "I"
+          else RigidRocker(mechanism_II(case).body, g=case.wall.g))
+    f, g = case.masonry.f, case.wall.g
+    hp = holding_pulse(rk, f, rtol=1e-5)
+    assert hp.pgv == pytest.approx(f * g * hp.duration, rel=1e-12)
+    assert simulate(rk, RectangularPulse(f * g, hp.duration)).overturned
+    assert not simulate(rk, RectangularPulse(f * g, hp.duration * (1 - 3e-5))).overturned
+    assert 1.0 < hp.ratio < 1.5 and hp.ratio == pytest.approx(hp.pgv / rk.vg_impulse)
+
+
+def test_no_holding_pulse_when_f_g_does_not_lift_the_body(table1_case):
+    case = table1_case("B1")
+    rk = RigidRocker(mechanism_II(case).body, g=case.wall.g)
+    hp = holding_pulse(rk, 0.5 * rk.a_uplift / case.wall.g)
+    assert math.isnan(hp.duration) and "slides first" in hp.reason
