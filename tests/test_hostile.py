@@ -384,7 +384,9 @@ def test_version_and_help_show_defaults_and_units():
         assert f"[default: homlimit-out/{folder}" in text, cmd
     t1 = helptext("table1")
     assert "FE mesh size [m] (with --fe). [default: 0.25]" in t1
-    assert "--max-triangles" in t1 and "[default: 100000]" in t1
+    from homlimit.app.budget import DEFAULT_MAX_TRIANGLES
+
+    assert "--max-triangles" in t1 and f"[default: {DEFAULT_MAX_TRIANGLES}]" in t1
     cs = helptext("crack-study")
     assert "A second, finer mesh size [m] (0: none). [default: 0.25]" in cs
     assert "Joint friction f [-]" in cs and "[default: 0.3, 0.6, 0.9]" in cs

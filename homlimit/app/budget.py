@@ -25,12 +25,16 @@ GROWTH = 1.15    # growth of the crossed mesh's column widths away from the junc
 GMSH_AREA = 2.36
 GMSH_TRANSITION = 2.76
 
-# Peak memory of the conic programs per triangle (measured on B1, both meshers,
-# benchmarks/bench_memory.py): the larger of the two bounds sizes the default.
-KIB_PER_TRIANGLE = {"kinematic": 33.0, "static": 60.0}
+# Peak memory of the conic programs per triangle: the largest measured above 5 000 triangles
+# (B1, both meshers, 4 300 .. 19 000 triangles, benchmarks/bench_memory.py): kinematic
+# 33.0 .. 37.5 KiB, static 24.4 .. 35.3 KiB; the larger sizes the default.
+KIB_PER_TRIANGLE = {"kinematic": 37.5, "static": 35.3}
 #: memory a run may take on the reference machine (2 cores, 24 GiB, shared with others)
 MEMORY_BUDGET_GIB = 8.0
-DEFAULT_MAX_TRIANGLES = 100_000
+#: 150 000 triangles: 5.4 GiB at 37.5 KiB each, leaving a quarter of MEMORY_BUDGET_GIB for
+#: the fill-in of the sparse factorisation growing faster than linearly beyond the measured
+#: sizes (~n log n: +25 % from 15k to 150k) and for the scan's solutions held in memory
+DEFAULT_MAX_TRIANGLES = 150_000
 
 
 def estimate_triangles(H: float, b: float, L: float, h: float, mesher: str = "crossed"

@@ -131,7 +131,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                  "(estimated from the wall and size before meshing, "
                                  "homlimit.app.budget) must not have more triangles; the "
                                  "default fits a 2-core, 24 GiB machine with margin "
-                                 f"(about {budget.MEMORY_BUDGET_GIB:g} GiB at its peak)"),
+                                 f"(about {budget.memory_gib(budget.DEFAULT_MAX_TRIANGLES):.1f}"
+                                 " GiB at its peak; docs/cli.md)"),
     },
     "analysis": {
         "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),
