@@ -69,7 +69,11 @@ def main():
         for mesher in args.mesher:
             for h in args.h:
                 out = subprocess.run([sys.executable, __file__, "--one", bound, mesher, str(h)],
-                                     capture_output=True, text=True, check=True)
+                                     capture_output=True, text=True)
+                if out.returncode:
+                    print(f"{bound:9} {mesher:7} {h:5.3f} failed: "
+                          f"{out.stderr.strip().splitlines()[-1]}", flush=True)
+                    continue
                 r = json.loads(out.stdout.strip().splitlines()[-1])
                 rows.append(r)
                 kib = (r["peak_MiB"] - r["base_MiB"]) * 1024 / r["triangles"]

@@ -310,11 +310,12 @@ _TYPE_NAMES = {float: "a number", int: "an integer", bool: "true or false", str:
 
 
 def _shown(value) -> str:
-    """A value as a message shows it: huge integers shortened (the rest as repr)."""
+    """A value as a message shows it (repr): huge integers and long texts shortened."""
     if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10 ** 30:
         digits = len(str(abs(value)))
         return f"{str(value)[:8]}...({digits} digits)"
-    return repr(value)
+    text = repr(value)
+    return text if len(text) <= 60 else f"{text[:50]}... ({len(text)} characters)"
 
 
 def _range_problem(where: str, name: str, key: Key, value) -> str | None:
@@ -337,8 +338,8 @@ def _check_key(where: str, name: str, key: Key, value, problems: list[str]):
     (a list: every item checked against the key's type, range and choices)."""
     if key.kind is list:
         if not isinstance(value, list) or not value:
-            problems.append(f"{where} {name} = {value!r} has the wrong type: expected a "
-                            f"non-empty list, each item {_TYPE_NAMES[key.item]}")
+            problems.append(f"{where} {name} = {_shown(value)} has the wrong type: expected "
+                            f"a non-empty list, each item {_TYPE_NAMES[key.item]}")
             return None
         item = dataclasses.replace(key, kind=key.item, item=None)
         n = len(problems)
@@ -346,16 +347,16 @@ def _check_key(where: str, name: str, key: Key, value, problems: list[str]):
         return out if len(problems) == n else None
     ok, value = _typed(key.kind, value)
     if not ok:
-        problems.append(f"{where} {name} = {_shown(value)[:80]} has the wrong type: expected "
+        problems.append(f"{where} {name} = {_shown(value)} has the wrong type: expected "
                         f"{_TYPE_NAMES[key.kind]}")
         return None
     if key.choices and value not in key.choices:
-        problems.append(f"{where} {name} = {value!r} is not allowed: allowed "
+        problems.append(f"{where} {name} = {_shown(value)} is not allowed: allowed "
                         f"{key.range_text(name)}")
         return None
     if key.kind is str and any(unicodedata.category(ch) == "Cc" for ch in value):
-        problems.append(f"{where} {name} = {value!r} contains control characters (a NUL byte, "
-                        "a newline, an escape, ...): allowed printable text")
+        problems.append(f"{where} {name} = {_shown(value)} contains control characters (a NUL "
+                        "byte, a newline, an escape, ...): allowed printable text")
         return None
     if key.kind in (float, int):
         bad = _range_problem(where, name, key, value)
@@ -373,7 +374,7 @@ def _collect(data: dict, problems: list[str]) -> dict[str, dict[str, Any]]:
     for top, v in data.items():
         if top in SCHEMA:
             if not isinstance(v, dict):
-                problems.append(f"[{top}] must be a section (table), got {v!r}")
+                problems.append(f"[{top}] must be a section (table), got {_shown(v)}")
         elif top in TOP_LEVEL:
             out = _check_key("", top, TOP_LEVEL[top], v, problems)
             if isinstance(out, str) and len(out) > MAX_NAME:
