@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from homlimit._io import write_csv
 from homlimit.app.plots import plot_spectra
+from homlimit.app.report import write as write_csv  # unit-suffixed headers
 from homlimit.closed_form.mechanisms import mechanism_II
 from homlimit.closed_form.paper import table1
 from homlimit.dynamics import (

@@ -4,7 +4,8 @@ Runs ``homlimit.app.studies.crack_angle_study`` over c/a ∈ {0.5, 0.75, 1, 1.5,
 f ∈ {0.3, 0.6, 0.9}, both façade models, the default mesh (h = 0.5 m) and a finer one
 (h = 0.25 m), and writes
 
-    <out>/crack_angle_study.csv    one record per point (columns: studies.CRACK_COLUMNS)
+    <out>/crack_angle_study.csv    one record per point (columns: studies.CRACK_COLUMNS,
+                                   headers with units: report.csv_header)
     <out>/crack_angle_study.png    measured fan edges and mid-line against the predictions
 
 Usage: python examples/crack_angle_study.py [--out DIR] [--quick]
@@ -20,23 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from homlimit.app.report import write_csv
+from homlimit.app.report import read_csv, write
 from homlimit.app.studies import CRACK_COLUMNS, crack_angle_study
 from homlimit.mechanism.crack import fan_ray
-
-
-def read_csv(path: Path) -> list[dict]:
-    """Study records back from the CSV (numbers as floats, empty cells as NaN)."""
-    import csv
-
-    def num(v):
-        try:
-            return float(v) if v != "" else math.nan
-        except ValueError:
-            return v
-
-    with open(path, newline="") as fh:
-        return [{k: num(v) for k, v in r.items()} for r in csv.DictReader(fh)]
 
 
 def plot(path: Path, recs: list[dict]) -> Path:
@@ -100,10 +87,15 @@ def main():
     if args.replot:
         recs = read_csv(Path(args.replot))
     else:
-        recs = crack_angle_study(quick=args.quick, verbose=True)
-        write_csv(out / "crack_angle_study.csv", recs, CRACK_COLUMNS)
+        import logging
+
+        logging.basicConfig(level=logging.INFO, format="%(message)s")   # progress per point
+        recs = crack_angle_study(quick=args.quick)
+        write(out / "crack_angle_study.csv", [{k: r.get(k) for k in CRACK_COLUMNS}
+                                              for r in recs])
     plot(out / "crack_angle_study.png", recs)
-    print(f"wrote {out / 'crack_angle_study.csv'} and {out / 'crack_angle_study.png'}")
+    print(f"wrote {'' if args.replot else str(out / 'crack_angle_study.csv') + ' and '}"
+          f"{out / 'crack_angle_study.png'}")
 
 
 if __name__ == "__main__":

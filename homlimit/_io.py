@@ -1,9 +1,16 @@
-"""Whole-or-nothing file writing, shared by every module that writes a file.
+"""Whole-or-nothing writing, of one file and of a whole result set.
 
 Every writer writes a temporary file in the destination folder and renames it over the target
 with ``os.replace``, so a file is either whole or absent (a crash or an error while writing
-leaves the previous file, or nothing). JSON is plain data: numpy scalars and arrays become
+leaves the previous file, or nothing). Files get the permissions the umask gives (0644 under
+umask 022), as any file a program creates. JSON is plain data: numpy scalars and arrays become
 numbers and lists, non-finite floats become ``null``.
+
+``result_set(folder)`` does the same for a folder of files: the files are written into a fresh
+staging folder beside it, which replaces the folder in one rename at the end, so a reader sees
+the previous set or the new one, never a mix, and no file of an earlier run survives into a
+new set. A failure while writing (a full disk, ``EFBIG`` under ``ulimit -f``) raises
+``errors.OutputError`` naming the file.
 """
 
 from __future__ import annotations
@@ -13,33 +20,52 @@ import io
 import json
 import math
 import os
-import tempfile
+import secrets
 from collections.abc import Callable, Iterable, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
+from .errors import OutputError
+
 __all__ = ["atomic_path", "to_jsonable", "write_csv", "write_figure", "write_json",
            "write_text"]
+
+
+def _new_file(folder: Path, prefix: str, suffix: str) -> Path:
+    """Create an empty file with a fresh random name in ``folder``, mode 0666 less the umask
+    (``tempfile.mkstemp`` would make it 0600 whatever the umask)."""
+    for _ in range(100):
+        tmp = folder / f"{prefix}{secrets.token_hex(4)}{suffix}"
+        try:
+            os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+            return tmp
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"no free temporary name in {folder}")  # pragma: no cover
 
 
 @contextmanager
 def atomic_path(path: str | Path):
     """Yield a temporary path next to ``path`` (same suffix); rename it onto ``path`` on success.
 
-    On any exception the temporary file is removed and ``path`` is left untouched.
+    On any exception (an interrupt included) the temporary file is removed and ``path`` is left
+    untouched; an ``OSError`` of the file system (no space, file too large, permission) is
+    raised as ``OutputError`` naming ``path``.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
+    tmp = None
     try:
-        yield Path(tmp)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = _new_file(path.parent, f".{path.stem[:64]}.", path.suffix)
+        yield tmp
         os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
+    except BaseException as exc:
+        if tmp is not None and os.path.lexists(tmp):
             os.unlink(tmp)
+        if isinstance(exc, OSError) and not isinstance(exc, OutputError):
+            raise OutputError(f"cannot write {path}: {exc.strerror or exc}") from exc
         raise
 
 
@@ -96,3 +122,284 @@ def write_figure(path: str | Path, draw: Callable[[Path], None]) -> Path:
     with atomic_path(path) as tmp:
         draw(tmp)
     return Path(path)
+
+
+# ----------------------------------------------------------------------------- result sets
+#: the manifest of a result set: what wrote it and the files it holds (written last)
+MANIFEST = ".homlimit-set.json"
+_DEFERRED = ("SIGINT", "SIGTERM", "SIGHUP")
+
+
+@contextmanager
+def _signals_deferred():
+    """Hold back SIGINT, SIGTERM and SIGHUP while a swap or a clean-up must run to its end:
+    their handlers are replaced by a recorder, and a signal that came is sent again on exit,
+    to the handlers then in place. (Python runs signal handlers in the main thread, whichever
+    thread the system delivered to, so blocking with ``pthread_sigmask`` would not do; outside
+    the main thread no handler interrupts this code anyway.)"""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    saved = {}
+    for name in _DEFERRED:
+        sig = getattr(signal, name, None)
+        if sig is not None and signal.getsignal(sig) is not None:
+            saved[sig] = signal.signal(sig, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        for sig, handler in saved.items():
+            signal.signal(sig, handler)
+        if caught:
+            os.kill(os.getpid(), caught[0])
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two paths atomically (Linux ``renameat2(RENAME_EXCHANGE)``); False where the
+    system or the file system cannot."""
+    import ctypes
+    import errno
+
+    try:
+        fn = ctypes.CDLL(None, use_errno=True).renameat2
+    except (AttributeError, OSError):
+        return False
+    at_fdcwd, rename_exchange = -100, 2
+    if fn(at_fdcwd, os.fsencode(a), at_fdcwd, os.fsencode(b), rename_exchange) == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.ENOSYS, errno.EINVAL, errno.ENOTSUP):
+        return False
+    raise OSError(err, os.strerror(err), str(b))
+
+
+def _remove(path: Path):
+    """Remove a file or a folder tree, ignoring what is already gone."""
+    import shutil
+
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    elif os.path.lexists(path):
+        os.unlink(path)
+
+
+def _tag(target: Path) -> str:
+    """The prefix of ``target``'s staging and previous folders (short whatever its name)."""
+    import hashlib
+
+    return ".homlimit-" + hashlib.sha256(os.fsencode(target.name)).hexdigest()[:10]
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _recover(target: Path):
+    """Clean what a killed run (SIGKILL, power loss) left beside ``target``: staging folders of
+    dead processes are removed; a previous set moved aside but not replaced is put back."""
+    tag = _tag(target)
+    for p in target.parent.glob(tag + "-*"):
+        kind, _, rest = p.name[len(tag) + 1:].partition("-")
+        pid = rest.partition("-")[0]
+        if not pid.isdigit() or _alive(int(pid)):
+            continue
+        if kind == "old" and not os.path.lexists(target):
+            os.rename(p, target)
+        else:
+            _remove(p)
+
+
+def is_result_set(folder: Path, names: Iterable[str] = ()) -> bool:
+    """True when ``folder`` holds a result set: its manifest, or (sets written before there
+    were manifests) only files called one of ``names`` and folders that are result sets."""
+    folder = Path(folder)
+    if (folder / MANIFEST).is_file():
+        return True
+    names = set(names)
+    for p in folder.iterdir():
+        if p.is_symlink():
+            return False
+        if p.is_dir():
+            if not is_result_set(p, names):
+                return False
+        elif p.name not in names:
+            return False
+    return True
+
+
+def _nested_sets(folder: Path, names) -> list[Path]:
+    return [p for p in folder.iterdir() if p.is_dir() and not p.is_symlink()
+            and is_result_set(p, names)]
+
+
+def check_output_folder(target: str | Path, names: Iterable[str] = ()) -> Path:
+    """Check that ``target`` can become a result set, before any work: its name is a path
+    (no NUL byte, no component longer than the file system allows), it is not the working
+    folder or one of its parents, it is a folder (or absent) that is empty or a result set
+    (``is_result_set``) and writable, and the nearest existing parent is a writable folder.
+    Raises ParameterError naming the folder and the reason; returns the path."""
+    from .errors import ParameterError
+
+    text = os.fspath(target)
+    if "\x00" in text or not text.strip():
+        raise ParameterError(f"output folder = {text!r} is out of range: allowed a non-empty "
+                             "path without NUL bytes")
+    target = Path(text)
+
+    def bad(reason: str):
+        raise ParameterError(f"output folder = {text!r} {reason}")
+
+    absolute = Path(os.path.abspath(target))
+    cwd = Path(os.getcwd())
+    if absolute == cwd or absolute in cwd.parents:
+        bad("is the working folder or one of its parents: a result set replaces its folder "
+            "whole; give a folder of its own (e.g. --out results/NAME)")
+    existing = absolute
+    while not os.path.lexists(existing):
+        existing = existing.parent
+    try:
+        name_max = os.pathconf(existing if existing.is_dir() else existing.parent, "PC_NAME_MAX")
+    except (OSError, ValueError):  # pragma: no cover - no pathconf
+        name_max = 255
+    for part in absolute.parts:
+        if len(os.fsencode(part)) > name_max:
+            bad(f"has a component of {len(os.fsencode(part))} bytes: allowed at most "
+                f"{name_max} bytes per folder name here")
+    if target.is_symlink():
+        bad("is a symbolic link: give the folder itself")
+    if existing == absolute:
+        if not absolute.is_dir():
+            bad("is a file, not a folder")
+        if not os.access(absolute, os.W_OK | os.X_OK):
+            bad("is not writable")
+        if any(absolute.iterdir()) and not is_result_set(absolute, names):
+            bad(f"is a folder that holds other files (no {MANIFEST}): a result set replaces "
+                "its folder whole; give a new or empty folder, or remove it")
+    elif not existing.is_dir():
+        bad(f"cannot be created: {existing} is a file")
+    parent = absolute.parent if existing == absolute else existing
+    if not os.access(parent, os.W_OK | os.X_OK):
+        bad(f"cannot be written: {parent} is not writable")
+    return target
+
+
+@contextmanager
+def result_set(target: str | Path, *, info: Mapping | None = None,
+               names: Iterable[str] = ()):
+    """Write a whole set of files into the folder ``target``, replacing it in one rename.
+
+    Yields a fresh staging folder beside ``target`` (created now, so an impossible or read-only
+    output folder fails before any work: ``check_output_folder``); the caller writes its files
+    there, under the names they will have in ``target``. On success the manifest
+    (``MANIFEST``: ``info`` and the list of files) is written last and the staging folder
+    replaces ``target`` in one atomic exchange (Linux ``renameat2``; elsewhere two renames with
+    the interrupts held back in between), then the previous set is removed. Folders inside
+    the previous set that are result sets themselves (another command's, e.g. ``pulse/``) are
+    carried over. On any exception or interrupt the staging folder is removed and ``target``
+    is left as it was. ``names``: the file names of result sets written before manifests
+    existed (``is_result_set``). Files and folders get the modes the umask gives.
+    """
+    names = tuple(names)
+    target = check_output_folder(target, names)
+    created = []
+    staging = None
+    try:
+        with _signals_deferred():
+            for p in reversed(Path(os.path.abspath(target)).parents):
+                if not p.exists():
+                    os.mkdir(p, 0o777)
+                    created.append(p)
+            _recover(target)
+            staging = target.parent / f"{_tag(target)}-new-{os.getpid()}-{secrets.token_hex(3)}"
+            os.mkdir(staging, 0o777)
+    except OSError as exc:
+        for p in reversed(created):
+            with _quiet_oserror():
+                os.rmdir(p)
+        from .errors import ParameterError
+
+        raise ParameterError(f"output folder = {os.fspath(target)!r} cannot be created: "
+                             f"{exc.strerror or exc}") from None
+    def abandon():
+        with _signals_deferred():
+            _remove(staging)
+            for p in reversed(created):
+                with _quiet_oserror():
+                    os.rmdir(p)
+
+    try:
+        yield staging
+    except BaseException:
+        abandon()
+        raise
+    try:
+        files = sorted(str(p.relative_to(staging)) for p in staging.rglob("*")
+                       if p.is_file() and not _inside_nested(p, staging))
+        write_json(staging / MANIFEST, {**(info or {}), "files": files})
+        with _signals_deferred():
+            _swap(staging, target, names)
+    except BaseException as exc:
+        abandon()
+        if isinstance(exc, OSError) and not isinstance(exc, OutputError):
+            raise OutputError(f"cannot write the result set {target}: "
+                              f"{exc.strerror or exc}") from exc
+        raise
+
+
+@contextmanager
+def _quiet_oserror():
+    try:
+        yield
+    except OSError:
+        pass
+
+
+def _inside_nested(path: Path, root: Path) -> bool:
+    """Is ``path`` inside a folder of ``root`` that holds its own manifest?"""
+    return any((q / MANIFEST).is_file() for q in path.parents
+               if q != root and root in q.parents)
+
+
+def _swap(staging: Path, target: Path, names):
+    """Put ``staging`` in the place of ``target`` (nested result sets carried over)."""
+    if not os.path.lexists(target):
+        os.rename(staging, target)
+        return
+    for p in _nested_sets(target, names):
+        if not os.path.lexists(staging / p.name):
+            os.rename(p, staging / p.name)
+    if _exchange(staging, target):
+        _remove(staging)                      # now the previous set
+        return
+    old = target.parent / f"{_tag(target)}-old-{os.getpid()}-{secrets.token_hex(3)}"
+    os.rename(target, old)
+    try:
+        os.rename(staging, target)
+    except BaseException:
+        os.rename(old, target)
+        raise
+    _remove(old)
+
+
+def check_result_set(folder: str | Path) -> list[str]:
+    """Problems of the result set in ``folder`` (empty: complete): its manifest is missing or
+    unreadable, a listed file is missing, or a file is not listed."""
+    folder = Path(folder)
+    try:
+        listed = set(json.loads((folder / MANIFEST).read_text(encoding="utf-8"))["files"])
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        return [f"{folder}: no readable {MANIFEST} ({exc})"]
+    present = {str(p.relative_to(folder)) for p in folder.rglob("*")
+               if p.is_file() and p.name != MANIFEST and not _inside_nested(p, folder)}
+    return ([f"{folder}: {n} is listed but missing" for n in sorted(listed - present)]
+            + [f"{folder}: {n} is not listed" for n in sorted(present - listed)])

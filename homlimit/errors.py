@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["HomlimitError", "ParameterError", "MeshError", "SolverError", "check_choice",
-           "check_range"]
+__all__ = ["HomlimitError", "ParameterError", "MeshError", "OutputError", "ResultError",
+           "SolverError", "check_choice", "check_range"]
 
 
 class HomlimitError(Exception):
@@ -26,6 +26,16 @@ class SolverError(HomlimitError, RuntimeError):
     def __init__(self, message: str, status: str | None = None):
         super().__init__(message)
         self.status = status
+
+
+class OutputError(HomlimitError, OSError):
+    """A result file or set could not be written (no space, file too large, permissions).
+    Nothing half-written is left: the previous file or result set is kept."""
+
+
+class ResultError(HomlimitError, RuntimeError):
+    """A computation ended without a finite result (the message names the mechanism and the
+    quantity); nothing is written."""
 
 
 def check_range(

@@ -143,7 +143,7 @@ def test_console_script_help(tmp_path):
         assert f"{cmd} " in top and purpose in top, cmd
     run = helptext("run")
     for option in ("--json", "--out", "--set", "--verbose", "--quiet", "Case file (TOML)",
-                   "[default: homlimit-out/NAME/]", "mesh.size=0.5"):
+                   "[default: homlimit-out/NAME/, NAME the case name", "mesh.size=0.5"):
         assert option in run, option
     t1 = helptext("table1")
     assert "FE mesh size [m] (with --fe). [default: 0.25]" in t1
@@ -185,15 +185,18 @@ def test_demo_embedded_case_console_script(tmp_path, ref_B1, dem):
             "--out", tmp_path / "demo", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout)
-    assert s["case"] == "B1" and s["source"] == "<default: B1>"
+    # --set changed B1's inputs: the case is B1 plus a hash of its inputs, never "B1"
+    assert s["case"].startswith("B1-") and len(s["case"]) == len("B1-") + 8
+    assert s["modified"]["from"] == "B1" and s["source"] == "<default: B1>"
+    assert s["modified"]["changes"]["mesh.size"] == {"case": 0.25, "used": 0.8}
     assert s["inputs"]["mesh"]["size"] == 0.8 and s["inputs"]["analysis"]["heights"] == 2
     assert_closed_form(s, ref_B1)
     assert (s["dem_table1"]["lambda_v"], s["dem_table1"]["vg_norm"]) == dem["B1"]
     assert "Clarabel" in r.stderr                      # the solver log, on stderr
     assert s["fe"]["multiplier"] > 0 and len(s["fe"]["scan"]) >= 2
     assert s["inputs"]["analysis"]["facade"] == "bedjoints"          # the default façade
-    assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == ["fe_scan.csv",
-                                                                   "summary.json"]
+    assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == [
+        ".homlimit-set.json", "fe_scan.csv", "summary.json"]
     # `table1 --fe` for B1 with the same mesh and scan gives the same FE columns
     res = CliRunner().invoke(app, ["table1", "--fe", "-t", "B1", "--mesh-size", "0.8",
                                    "--heights", "2", "--json", "--out", str(tmp_path / "t")])
@@ -212,7 +215,8 @@ def test_set_overrides_are_validated(tmp_path):
     assert "--set 'oops': expected section.key=value" in res.stderr
     res = CliRunner().invoke(app, ["demo", "--set", "wall.H=-1", "--out", str(tmp_path)])
     assert res.exit_code == 2
-    assert "<default: B1>: [wall] H = -1.0 m is out of range: allowed 0 < H" in res.stderr
+    assert ("<default: B1>: [wall] H = -1 m is out of range: allowed 0.001 <= H <= 10000 m"
+            in res.stderr)
 
 
 @pytest.mark.slow
@@ -274,7 +278,7 @@ BROKEN = {
                          "[masonry] f is missing"),
     "out of range": ("[wall]\nH = 9\nL = 6\ns = 0.5\nb = 0.5\nl = 6\n"
                      "[masonry]\na = 0.3\nc = 0.2\nf = -0.6\n",
-                     "[masonry] f = -0.6 is out of range: allowed 0 < f"),
+                     "[masonry] f = -0.6 is out of range: allowed 0.001 <= f <= 100"),
     "not TOML": ("[wall\n", "not valid TOML"),
 }
 
@@ -300,7 +304,7 @@ def test_broken_case_file_console_script_lists_all_problems(tmp_path):
     r = _sh("run", case, cwd=tmp_path)
     assert r.returncode == 2 and r.stdout == ""
     assert "4 problems" in r.stderr
-    for piece in ("[wall] H = -9.0 m is out of range: allowed 0 < H",
+    for piece in ("[wall] H = -9 m is out of range: allowed 0.001 <= H <= 10000 m",
                   "[wall] b = True has the wrong type", "[wall] l is missing",
                   "[masonry] unknown key 'mortar'"):
         assert piece in r.stderr
@@ -351,16 +355,31 @@ def test_table1_json(tmp_path, dem):
         assert row["B1"][k] == pytest.approx(ref[k], rel=2e-5), k
     assert row["B1"]["lam_I"] == pytest.approx(ref["lam_I"], rel=2e-3)
     assert json.loads((tmp_path / "table1.json").read_text()) == rows
-    assert (tmp_path / "table1.csv").read_text().splitlines()[0].startswith("test,")
+    head = (tmp_path / "table1.csv").read_text().splitlines()[0].split(",")
+    assert head[:4] == ["test", "rho [-]", "alpha2 [-]", "beta [-]"]          # units in headers
+    from homlimit.app.report import read_csv
+
+    back = read_csv(tmp_path / "table1.csv")
+    assert [r["test"] for r in back] == list(dem)
+    assert back[0]["vnorm_I"] == pytest.approx(rows[0]["vnorm_I"], rel=1e-12)
 
 
 @pytest.mark.slow
 def test_figure2_png(tmp_path):
     res = CliRunner().invoke(app, ["figure2", "--json", "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output
-    path = Path(json.loads(res.stdout)["figure2_png"])
+    data = json.loads(res.stdout)
+    path = Path(data["files"]["figure2_png"])
     assert path == tmp_path / "figure2.png"
     assert_png(path, (10 * 120, int(7.5 * 120)))
+    # the curves themselves: mechanism I of Table 1's B1 (β = 0.4, α² = 0.4) at ρ = 12
+    panel = next(p for p in data["curves"]["panels"] if p["beta"] == 0.4)
+    curve = next(c for c in panel["curves"] if c["alpha2"] == 0.4)
+    k = data["curves"]["rho"].index(12.0)
+    ref = reference(*B1_ARGS)
+    assert curve["vnorm_I"][k] == pytest.approx(ref["vnorm_I"], rel=2e-5)
+    assert curve["vnorm_II"][k] == pytest.approx(ref["vnorm_II"], rel=2e-5)
+    assert json.loads((tmp_path / "figure2.json").read_text()) == data["curves"]
 
 
 @pytest.mark.slow
@@ -468,7 +487,10 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     import csv
 
     scan = list(csv.DictReader(files["fe_scan_csv"].open()))
-    assert [float(r["h_part"]) for r in scan] == [r["h_part"] for r in fe["scan"]]
+    assert list(scan[0])[:5] == ["h_part [m]", "h [m]", "lam [-]", "vg [m/s]", "vnorm [-]"]
+    assert not [h for h in scan[0] if h.endswith("[?]")]            # every column has a unit
+    assert None not in s["units"]["results"].values()
+    assert [float(r["h_part [m]"]) for r in scan] == [r["h_part"] for r in fe["scan"]]
     mech = meshio.read(files["mechanism_vtu"])
     assert mech.point_data["velocity"].shape == (len(mech.points), 3)
     for key in ("dissipation", "intensity", "region", "participation", "label", "crack"):
@@ -537,7 +559,8 @@ def test_crack_study_one_point(tmp_path):
     # the measured mid-line within its stated uncertainty (x 2) of sqrt(cf/a)
     assert abs(r["tanpsi_fe"] - r["tan_alpha"]) <= 2 * r["dtanpsi_fe"]
     rows = list(csv.DictReader((tmp_path / "crack_study.csv").open()))
-    assert len(rows) == 1 and float(rows[0]["tanpsi_fe"]) == pytest.approx(r["tanpsi_fe"])
+    assert len(rows) == 1 and float(rows[0]["tanpsi_fe [-]"]) == pytest.approx(r["tanpsi_fe"])
+    assert "psi_fe_deg [deg]" in rows[0] and "hinge_z [m]" in rows[0]
     assert_png(Path(out["files"]["png"]), (13 * 120, 6 * 120))
 
 
@@ -559,7 +582,8 @@ def test_pulse_command_spectra(tmp_path):
                                    "--set", "pulse.polarities=[1]"])
     assert res.exit_code == 0, res.stderr
     data = json.loads(res.stdout)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["spectra.csv", "spectra.png"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".homlimit-set.json", "spectra.csv",
+                                                          "spectra.png"]
     m1, m2 = homlimit.mechanism_I(homlimit.Case()), homlimit.mechanism_II(homlimit.Case())
     short = {p["mechanism"]: p for p in data["points"] if p["period"] == 0.005}
     assert short["I"]["pgv"] == pytest.approx(m1.vg, rel=0.01)
@@ -582,7 +606,7 @@ def test_run_with_the_rigid_block_model(tmp_path):
     """[analysis] blocks = true: the discrete column in the summary and its files; the same
     wall through `table1 --blocks` gives the same critical record; too many blocks is exit 2
     naming the keys."""
-    import csv
+    from homlimit.app.report import read_csv
 
     res = CliRunner().invoke(app, ["demo", "--json", "--out", str(tmp_path / "o"),
                                    "--set", "analysis.fe=false", "--set", "analysis.blocks=true",
@@ -590,8 +614,8 @@ def test_run_with_the_rigid_block_model(tmp_path):
     assert res.exit_code == 0, res.stderr
     s = json.loads(res.stdout)
     blk = s["mechanisms"]["blocks"]
-    scan = list(csv.DictReader((tmp_path / "o" / "blocks_scan.csv").open()))
-    assert blk["vnorm"] == pytest.approx(min(float(r["vnorm"]) for r in scan if r["vnorm"]))
+    scan = read_csv(tmp_path / "o" / "blocks_scan.csv")
+    assert blk["vnorm"] == pytest.approx(np.nanmin([r["vnorm"] for r in scan]))
     assert {"blocks_vtu", "blocks_contacts_vtu", "blocks_contacts_csv"} <= set(s["files"])
     assert s["blocks"]["settings"]["facade"] == "through"
     res = CliRunner().invoke(app, ["table1", "--blocks", "-t", "B1", "--json",

@@ -102,9 +102,11 @@ def test_csv_round_trip_and_plot(spectra, tmp_path):
     assert len(rows) == len(spectra)
     for r, p in zip(rows, spectra):
         assert r["mechanism"] == p.mechanism and r["pulse"] == p.pulse
-        assert float(r["pgv"]) == pytest.approx(p.pgv, rel=1e-15)
-        assert float(r["period"]) == p.period
-    assert list(rows[0]) == SPECTRUM_COLUMNS
+        assert float(r["pgv [m/s]"]) == pytest.approx(p.pgv, rel=1e-15)   # units in headers
+        assert float(r["period [s]"]) == p.period
+    assert list(rows[0]) == [report.csv_header(k) for k in SPECTRUM_COLUMNS]
+    back = report.read_csv(path)                     # read back into plain keys
+    assert list(back[0]) == SPECTRUM_COLUMNS and back[0]["pgv"] == spectra[0].pgv
     png = plot_spectra(tmp_path / "out" / "spectra.png", spectra, dem_vnorm=0.377, title="B1")
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(x.name for x in (tmp_path / "out").iterdir()) == ["spectra.csv",

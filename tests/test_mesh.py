@@ -81,8 +81,10 @@ def test_failed_write_leaves_old_file_untouched(tm, tmp_path, monkeypatch):
         Path(filename).write_text("partial")
         raise OSError("disk full")
     monkeypatch.setattr(meshio, "write", half_write)
-    with pytest.raises(MeshError, match="could not write.*disk full"):
-        hm.write(tm, path)
+    from homlimit.errors import OutputError
+
+    with pytest.raises(OutputError, match="cannot write .*keep.vtu: disk full"):  # a disk
+        hm.write(tm, path)                   # failure, not a meshing one (exit 3 either way)
     assert path.read_text() == "old"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.vtu"]
 

@@ -21,9 +21,10 @@ def test_table1_is_shipped_and_consistent_with_its_own_columns():
 def test_figure2_png(tmp_path):
     from matplotlib.image import imread
 
+    from homlimit.app.pipeline import figure2_curves
     from homlimit.app.plots import figure2
 
-    path = figure2(tmp_path / "fig2.png")
+    path = figure2(tmp_path / "fig2.png", figure2_curves())
     img = imread(path)
     assert img.shape[0] > 600 and img.shape[1] > 900
     assert img[..., :3].std() > 0.05  # not blank

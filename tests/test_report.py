@@ -68,8 +68,34 @@ def test_csv_round_trip(tmp_path):
                                                           "tanpsi": 0.77}]
     p = report.write(tmp_path / "s.csv", recs)
     rows = list(csv.DictReader(p.open()))
-    assert rows == [{"c_over_a": "0.5", "f": "0.3", "tanpsi": ""},
-                    {"c_over_a": "1.0", "f": "0.6", "tanpsi": "0.77"}]
+    assert rows == [{"c_over_a [-]": "0.5", "f [-]": "0.3", "tanpsi [-]": ""},
+                    {"c_over_a [-]": "1.0", "f [-]": "0.6", "tanpsi [-]": "0.77"}]
+    back = report.read_csv(p)                              # units dropped, numbers parsed
+    assert back[1] == {"c_over_a": 1.0, "f": 0.6, "tanpsi": 0.77}
+    assert math.isnan(back[0]["tanpsi"])                   # an empty cell: NaN
+
+
+def test_csv_headers_carry_units(tmp_path):
+    """Every column a command writes to CSV has its unit (fe_scan, table1, crack study,
+    spectra); a column without one is refused rather than written bare."""
+    from homlimit.app.studies import CRACK_COLUMNS
+    from homlimit.closed_form.paper import table1_rows
+    from homlimit.dynamics.spectra import SPECTRUM_COLUMNS
+    from homlimit.errors import ParameterError
+
+    scan = ["h_part", "h", "lam", "vg", "vnorm", "vg_body", "multiplier", "mechanism",
+            "tanpsi", "hinge_ratio", "status", "retries", "vg_method"]    # FEMechanism.record
+    fe_cols = ["lam_fe", "vnorm_fe", "vg_fe", "tanpsi_fe", "tanpsi_fe_edges", "mechanism_fe",
+               "multiplier_fe", "critical_at_fe", "hinge_ratio_fe"]
+    for col in scan + list(table1_rows()[0]) + fe_cols + CRACK_COLUMNS + SPECTRUM_COLUMNS:
+        report.csv_header(col)
+    assert report.csv_header("vg") == "vg [m/s]" and report.csv_header("lam") == "lam [-]"
+    assert report.csv_header("pga") == "pga [m/s^2]" and report.csv_header("test") == "test"
+    with pytest.raises(ParameterError, match="column = 'speed' is out of range"):
+        report.csv_header("speed")
+    # a run still writes a column someone forgot to give a unit, flagged (and logged)
+    report.write(tmp_path / "x.csv", [{"speed": 1.0, "vg": 2.0}])
+    assert (tmp_path / "x.csv").read_text().splitlines()[0] == "speed [?],vg [m/s]"
 
 
 def test_vtu_round_trip(tmp_path):

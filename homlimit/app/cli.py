@@ -10,9 +10,13 @@
 
 Every computing command takes ``--json`` (machine-readable on stdout, nothing else there),
 ``--out DIR`` (default homlimit-out/NAME/), ``-v`` (solver logs) and ``-q`` (no progress);
-progress and logs go to stderr through ``logging``. Exit codes: 0 success,
-2 bad input (ParameterError, invalid case file, usage), 3 failure of a solver or of the mesher
-(SolverError, MeshError), with a one-line reason on stderr and no traceback.
+progress, warnings and logs go to stderr through ``logging``. Each command writes one result
+set: its folder is checked before any work and replaced whole at the end (``_io.result_set``).
+Exit codes: 0 success, 2 bad input (ParameterError, invalid case file, unusable output folder,
+usage), 3 a failure of the computation or of the disk (SolverError, MeshError, ResultError,
+OutputError, out of memory), with a one-line reason on stderr and no traceback; an interrupt
+(SIGINT, SIGTERM, SIGHUP) exits 128 + the signal's number after removing what it had begun,
+leaving the previous result set as it was.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ import functools
 import json
 import logging
 import os
+import signal
 import sys
 from contextlib import contextmanager
 from pathlib import Path
@@ -28,7 +33,15 @@ from typing import Annotated
 
 import typer
 
-from ..errors import HomlimitError, MeshError, ParameterError, SolverError
+from ..errors import (
+    HomlimitError,
+    MeshError,
+    OutputError,
+    ParameterError,
+    ResultError,
+    SolverError,
+)
+from .budget import DEFAULT_MAX_TRIANGLES
 
 __all__ = ["app", "main"]
 
@@ -42,8 +55,17 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
 
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print the results as JSON on stdout "
                                                       "(nothing else there); no progress.")]
-OutOpt = Annotated[Path | None, typer.Option("--out", "-o", help="Output folder "
-                                             "\\[default: homlimit-out/NAME/].")]
+
+
+def _out(default: str):
+    """The --out option of a command whose result set goes to ``default`` without it."""
+    return Annotated[Path | None, typer.Option(
+        "--out", "-o", show_default=False,
+        help=f"Output folder, replaced whole by the new result set \\[default: {default}].")]
+
+
+_NAME = ("NAME the case name, with a hash of its inputs when --set changed them")
+OutOpt = _out(f"homlimit-out/NAME/, {_NAME}")
 VerboseOpt = Annotated[bool, typer.Option("--verbose", "-v", help="Show solver logs "
                                                                "(debug level) on stderr.")]
 QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="Only warnings and errors on "
@@ -52,7 +74,11 @@ SetOpt = Annotated[list[str] | None, typer.Option(
     "--set", "-s", help="Override a case key before validation, e.g. --set mesh.size=0.5 "
                         "--set analysis.fe=false (repeatable).")]
 CaseArg = Annotated[Path | None, typer.Argument(help="Case file (TOML); see docs/case-file.md. "
-                                                "Omitted: the embedded default case (B1).")]
+                                                "Omitted: the embedded default case (B1).",
+                                                show_default=False)]
+MaxTriOpt = Annotated[int, typer.Option(
+    help="Problem-size budget: the most triangles one FE mesh may have (estimated before "
+         "meshing; the default fits a 2-core, 24 GiB machine).")]
 
 
 _HANDLER: logging.Handler | None = None
@@ -93,15 +119,49 @@ def _fail(code: int, message: str):
     raise typer.Exit(code)
 
 
+class _Interrupted(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised like Ctrl-C so that every clean-up on the way runs."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def _raise_interrupt(signum, frame):
+    raise _Interrupted(signum)
+
+
+@contextmanager
+def _signals():
+    """SIGTERM and SIGHUP raise like SIGINT (the result set's clean-up runs); SIGXFSZ is
+    ignored, so that a write over ``ulimit -f`` fails with EFBIG (an OutputError) instead of
+    killing the process. The previous handlers are put back on exit."""
+    wanted = {"SIGTERM": _raise_interrupt, "SIGHUP": _raise_interrupt, "SIGXFSZ": signal.SIG_IGN}
+    saved = {}
+    try:
+        for name, handler in wanted.items():
+            if hasattr(signal, name):
+                saved[name] = signal.signal(getattr(signal, name), handler)
+    except ValueError:  # not the main thread: leave the signals alone
+        pass
+    try:
+        yield
+    finally:
+        for name, handler in saved.items():
+            signal.signal(getattr(signal, name), handler)
+
+
 def _guarded(fn):
-    """Map expected failures to exit codes 2 (bad input) and 3 (solver/mesher), no traceback."""
+    """Map expected failures to exit codes 2 (bad input) and 3 (computation or disk), and
+    interrupts to 128 + the signal number; one line on stderr, no traceback."""
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
         from .config import ConfigError
 
         try:
-            return fn(*args, **kwargs)
+            with _signals():
+                return fn(*args, **kwargs)
         except ConfigError as e:
             print(f"homlimit: error: {e.problems[0] if len(e.problems) == 1 else e}",
                   file=sys.stderr)
@@ -114,8 +174,20 @@ def _guarded(fn):
             _fail(EXIT_SOLVER, f"solver failed ({e.status or 'no status'}): {e}{hint}")
         except MeshError as e:
             _fail(EXIT_SOLVER, f"meshing failed: {e}")
+        except OutputError as e:
+            _fail(EXIT_SOLVER, f"{e}; the previous result set, if any, is kept")
+        except ResultError as e:
+            _fail(EXIT_SOLVER, f"no result: {e}")
         except HomlimitError as e:  # any other expected failure
             _fail(EXIT_SOLVER, str(e))
+        except MemoryError:
+            _fail(EXIT_SOLVER, "out of memory: a coarser [mesh] size, or a lower [mesh] "
+                               "max_triangles so that such cases stop before they start")
+        except KeyboardInterrupt as e:
+            signum = getattr(e, "signum", signal.SIGINT)
+            print(f"homlimit: interrupted ({signal.Signals(signum).name}): the result set "
+                  "being written was removed, the previous one is kept", file=sys.stderr)
+            raise typer.Exit(128 + signum) from None
 
     return wrapper
 
@@ -202,8 +274,8 @@ def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = Fal
 
 @app.command()
 @_guarded
-def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
-           quiet: QuietOpt = False,
+def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
+           verbose: VerboseOpt = False, quiet: QuietOpt = False,
            fe: Annotated[bool, typer.Option("--fe", help="Add the finite-element body's "
                                             "columns (slow: one scan over h per wall).")]
            = False,
@@ -215,7 +287,10 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
            facade: Annotated[str, typer.Option(help="Façade model of the FE scan: bedjoints "
                                                "or homogenised (with --fe).")] = "bedjoints",
            test: Annotated[list[str] | None, typer.Option(
-               "--test", "-t", help="Only this Table 1 test, e.g. B1 (repeatable).")] = None,
+               "--test", "-t", show_default=False,
+               help="Only this Table 1 test, e.g. B1 (repeatable) \\[default: all 12].")]
+           = None,
+           max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES,
            blocks: Annotated[bool, typer.Option("--blocks", help="Instead: the rigid-block "
                                                 "model's column (slow: one scan per wall).")]
            = False,
@@ -224,28 +299,29 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
                                                       "--blocks).")] = "through"):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
     from . import plots, report
-    from .pipeline import table1_blocks_records, table1_records
+    from .pipeline import result_folder, table1_blocks_records, table1_records
 
     out = out or Path("homlimit-out") / "table1"
     _logging(verbose, quiet, as_json)
     if blocks:
-        with _stdout_quiet(as_json) as stdout:
+        with _stdout_quiet(as_json) as stdout, result_folder(out, "table1") as staging:
             rows, ratios = table1_blocks_records(test, facade=blocks_facade)
-            files = [report.write(out / "table1_blocks.csv", rows),
-                     report.write(out / "table1_blocks_ratios.json", ratios)]
+            report.write(staging / "table1_blocks.csv", rows)
+            report.write(staging / "table1_blocks_ratios.json", ratios)
         cols = ["test", "blocks", "lam_blocks", "h_blocks", "vnorm_blocks", "lam_I",
                 "vnorm_I", "vnorm_II", "lam_dem", "vnorm_dem", "ratio_blocks_dem"]
         _show(stdout, as_json, {"rows": rows, "ratios": ratios}, rows, cols,
               "Table 1 with the rigid-block model: vnorm = vg/sqrt(gb); ratios "
               + ", ".join(f"{k} blocks {v['vnorm_blocks']:.2f} (DEM {v['vnorm_dem']:.2f})"
-                          for k, v in ratios.items()), files)
+                          for k, v in ratios.items()),
+              [out / "table1_blocks.csv", out / "table1_blocks_ratios.json"])
         return
-    with _stdout_quiet(as_json) as stdout:
+    with _stdout_quiet(as_json) as stdout, result_folder(out, "table1") as staging:
         rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test,
-                              facade=facade)
-        report.write(out / "table1.csv", rows)
-        report.write(out / "table1.json", rows)
-        plots.plot_table1(out / "table1.png", rows)
+                              facade=facade, max_triangles=max_triangles)
+        report.write(staging / "table1.csv", rows)
+        report.write(staging / "table1.json", rows)
+        plots.plot_table1(staging / "table1.png", rows)
     cols = ["test", "lam_I", "vnorm_I", "lam_II", "vnorm_II", "lam_dem", "vnorm_dem",
             "ratio_I", "ratio_II"] + (["lam_fe", "vnorm_fe", "mechanism_fe", "critical_at_fe"]
                                       if fe else [])
@@ -256,49 +332,60 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
 
 @app.command()
 @_guarded
-def figure2(as_json: JsonOpt = False, out: OutOpt = None):
-    """The paper's Figure 2: critical λ and v̄_g/√(gb) against ρ, both mechanisms, DEM points."""
-    from . import plots
+def figure2(as_json: JsonOpt = False, out: _out("homlimit-out/figure2/") = None):
+    """The paper's Figure 2: critical λ and v̄_g/√(gb) against ρ, both mechanisms, DEM points.
+
+    Writes figure2.png and figure2.json (the curves); --json prints the curves."""
+    from . import plots, report
+    from .pipeline import figure2_curves, result_folder
 
     out = out or Path("homlimit-out") / "figure2"
-    path = out / "figure2.png"
-    with _stdout_quiet(as_json) as stdout:
-        out.mkdir(parents=True, exist_ok=True)
-        plots.figure2(path)
+    with _stdout_quiet(as_json) as stdout, result_folder(out, "figure2") as staging:
+        curves = figure2_curves()
+        plots.figure2(staging / "figure2.png", curves)
+        report.write(staging / "figure2.json", curves)
+    files = {"figure2_png": str(out / "figure2.png"), "figure2_json": str(out / "figure2.json")}
     if as_json:
-        _emit_json(stdout, {"figure2_png": str(path)})
+        _emit_json(stdout, {"curves": curves, "files": files})
     else:
-        print(f"Figure 2 written to {path}")
+        print(f"Figure 2 written to {files['figure2_png']} (curves: {files['figure2_json']})")
 
 
 @app.command("crack-study")
 @_guarded
-def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
-                quiet: QuietOpt = False,
+def crack_study(as_json: JsonOpt = False, out: _out("homlimit-out/crack-study/") = None,
+                verbose: VerboseOpt = False, quiet: QuietOpt = False,
                 mesh_size: Annotated[float, typer.Option(help="FE mesh size \\[m].")] = 0.5,
                 finer: Annotated[float, typer.Option(help="A second, finer mesh size \\[m] "
                                                      "(0: none).")] = 0.25,
                 quick: Annotated[bool, typer.Option(help="A small grid (c/a 0.5, 1, 3; f 0.3, "
                                                     "0.9), one mesh.")] = False,
                 c_over_a: Annotated[list[float] | None, typer.Option(
-                    "--c-over-a", help="Block proportion c/a (repeat for several).")] = None,
+                    "--c-over-a", show_default=False,
+                    help="Block proportion c/a \\[-] (repeat for several) \\[default: 0.5, "
+                         "0.75, 1, 1.5, 2, 3].")] = None,
                 friction: Annotated[list[float] | None, typer.Option(
-                    "--friction", help="Joint friction f (repeat for several).")] = None,
+                    "--friction", show_default=False,
+                    help="Joint friction f \\[-] (repeat for several) \\[default: 0.3, 0.6, "
+                         "0.9].")] = None,
                 facade: Annotated[list[str] | None, typer.Option(
-                    help="Façade model: homogenised or bedjoints (repeat for both).")] = None):
+                    show_default=False, help="Façade model: homogenised or bedjoints (repeat "
+                                             "for both) \\[default: both].")] = None,
+                max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES):
     """The crack-angle study: the FE crack slope over a grid of c/a and f, beside √(cf/a)."""
     from . import plots, report
-    from .pipeline import crack_study_records
+    from .pipeline import crack_study_records, result_folder
 
     out = out or Path("homlimit-out") / "crack-study"
     _logging(verbose, quiet, as_json)
-    with _stdout_quiet(as_json) as stdout:
+    with _stdout_quiet(as_json) as stdout, result_folder(out, "crack-study") as staging:
         records = crack_study_records(mesh_size=mesh_size, finer=finer or None, quick=quick,
-                                      c_over_a=c_over_a, frictions=friction, facades=facade)
-        files = {"csv": report.write(out / "crack_study.csv", records),
-                 "png": plots.plot_crack_study(out / "crack_study.png", records,
-                                               title="crack-angle study: FE crack against "
-                                                     "√(cf/a), f and c/a")}
+                                      c_over_a=c_over_a, frictions=friction, facades=facade,
+                                      max_triangles=max_triangles)
+        report.write(staging / "crack_study.csv", records)
+        plots.plot_crack_study(staging / "crack_study.png", records,
+                               title="crack-angle study: FE crack against √(cf/a), f and c/a")
+    files = {"csv": out / "crack_study.csv", "png": out / "crack_study.png"}
     cols = ["facade", "mesh_size", "c_over_a", "f", "mechanism_fe", "tanpsi_fe", "dtanpsi_fe",
             "tan_alpha", "tanpsi_block", "tanpsi_fixed", "multiplier_fe", "multiplier_fan"]
     _show(stdout, as_json, {"records": records, "files": files}, records, cols,
@@ -308,24 +395,29 @@ def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOp
 
 @app.command()
 @_guarded
-def pulse(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
+def pulse(case: CaseArg = None, as_json: JsonOpt = False,
+          out: _out(f"homlimit-out/NAME/pulse/, {_NAME}") = None,
           verbose: VerboseOpt = False, quiet: QuietOpt = False, overrides: SetOpt = None):
-    """Overturning spectra: the critical pulse per mechanism against pulse period ([pulse])."""
+    """Overturning spectra: the critical pulse per mechanism against pulse period ([pulse]);
+    default folder homlimit-out/NAME/pulse/."""
     from ..closed_form.paper import dem_row
     from . import plots, report
     from .config import load_case
-    from .pipeline import output_dir, pulse_records
+    from .pipeline import announce, output_dir, pulse_records, result_folder
 
     _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout:
         config = load_case(case, overrides)
-        points, _ = pulse_records(config)
+        announce(config)
         out = out or output_dir(config) / "pulse"
-        dem = dem_row(config.case)
-        files = [report.write(out / "spectra.csv", [p.as_dict() for p in points]),
-                 plots.plot_spectra(out / "spectra.png", points,
-                                    dem_vnorm=None if dem is None else dem.vg_norm,
-                                    title=f"case {config.name}: critical pulses")]
+        with result_folder(out, "pulse", case=config.name) as staging:
+            points, _ = pulse_records(config)
+            dem = dem_row(config.case)
+            report.write(staging / "spectra.csv", [p.as_dict() for p in points])
+            plots.plot_spectra(staging / "spectra.png", points,
+                               dem_vnorm=None if dem is None else dem.vg_norm,
+                               title=f"case {config.name}: critical pulses")
+    files = [out / "spectra.csv", out / "spectra.png"]
     if as_json:
         _emit_json(stdout, {"points": [p.as_dict() for p in points], "files": files})
         return
@@ -336,15 +428,19 @@ def pulse(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
 
 @app.command()
 @_guarded
-def mesh(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
+def mesh(case: CaseArg = None, as_json: JsonOpt = False,
+         out: _out(f"homlimit-out/NAME/mesh/, {_NAME}") = None,
          overrides: SetOpt = None):
-    """Mesh the T-section of a case only; write mesh.vtu and mesh.png for inspection."""
+    """Mesh the T-section of a case only; write mesh.vtu and mesh.png for inspection
+    (default folder homlimit-out/NAME/mesh/)."""
     from .config import load_case
-    from .pipeline import mesh_case, output_dir
+    from .pipeline import announce, mesh_case, output_dir
 
+    _logging(False, False, as_json)
     with _stdout_quiet(as_json) as stdout:
         config = load_case(case, overrides)
-        info = mesh_case(config, output_dir(config, out))
+        announce(config)
+        info = mesh_case(config, out or output_dir(config) / "mesh")
     if as_json:
         _emit_json(stdout, info)
     else:

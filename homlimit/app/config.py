@@ -9,18 +9,26 @@ One section per parameter object, SI units::
     [analysis] fe facade ...       → AnalysisConfig
     [output]   dir png vtu         → OutputConfig
 
-Every problem of a case — unknown section or key, wrong type, missing required value, value out
-of range, blocks that do not fit the wall — is collected and raised at once as one
-``ConfigError`` (a ``ParameterError``), each line naming the file, section, key, value and the
-allowed range. No numerics here: nothing is computed before the whole case is valid.
-The full key reference (``docs/case-file.md``) is generated from ``SCHEMA`` by ``schema_markdown``.
+Every problem of a case — a file that is not UTF-8 TOML, unknown section or key, wrong type,
+missing required value, value out of its physically meaningful range, the cross-checks between
+keys (blocks that fit the wall, a mesh that fits the wall and the problem-size budget) — is
+collected and raised at once as one ``ConfigError`` (a ``ParameterError``), each line naming the
+file, section, key, value and the allowed range with its unit. Valid values outside the typical
+range of masonry are ``warnings`` (not errors). No numerics here beyond the budget's estimate:
+nothing is computed before the whole case is valid. ``--set`` overrides that change the inputs
+append a short hash of the resolved inputs to the case name (``B1-1a2b3c4d``), so a modified
+case never passes for the named one. The full key reference (``docs/case-file.md``) is
+generated from ``SCHEMA`` by ``schema_markdown``.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import json
 import math
 import tomllib
+import unicodedata
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -28,13 +36,20 @@ from typing import Any
 
 from ..blocks.geometry import FACADE_BONDS
 from ..dynamics.pulses import PULSE_KINDS
-from ..errors import ParameterError, check_range
+from ..errors import ParameterError
 from ..params import FACADE_DEFAULT, FACADE_MODELS, Case, Masonry, Wall
+from . import budget
 
 __all__ = ["AnalysisConfig", "BlocksConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig",
-           "OutputConfig", "PulseConfig", "SCHEMA", "default_case", "load_case", "schema_markdown"]
+           "OutputConfig", "PulseConfig", "SCHEMA", "check_mesh", "default_case", "load_case",
+           "schema_markdown"]
 
 REQUIRED = object()
+#: the closed forms search the critical slenderness over LAM_MIN_CLOSED <= λ <= λ_max
+#: (``closed_form.mechanisms._minimise``'s lam_min); a wall with H/b below it has no part to try
+LAM_MIN_CLOSED = 0.5
+MAX_CASE_BYTES = 1 << 20          # a case file is a few hundred bytes
+MAX_NAME = 100                    # characters of a case name
 
 
 class ConfigError(ParameterError):
@@ -62,6 +77,7 @@ class Key:
     choices: tuple = ()
     doc: str = ""
     item: type | None = None      # the type of a list's items (range and choices apply to each)
+    typical: tuple[float, float] | None = None   # outside: a warning (valid but implausible)
 
     @property
     def required(self) -> bool:
@@ -70,42 +86,59 @@ class Key:
     def range_text(self, name: str) -> str:
         if self.choices:
             return "one of " + ", ".join(repr(c) for c in self.choices)
-        parts = []
+        text = name
         if self.lo is not None:
-            parts.append(f"{self.lo:g} {'<' if self.lo_open else '<='} {name}")
+            text = f"{self.lo:g} {'<' if self.lo_open else '<='} {text}"
         if self.hi is not None:
-            parts.append(f"{name} {'<' if self.hi_open else '<='} {self.hi:g}")
-        return " and ".join(parts)
+            text = f"{text} {'<' if self.hi_open else '<='} {self.hi:g}"
+        return "" if text == name else text
 
 
 _POS = dict(lo=0.0, lo_open=True)
 
+
+def _len(hi: float, typical: tuple[float, float]) -> dict:
+    """A length [m] between 1 mm and ``hi`` (the physically meaningful range: nothing smaller
+    than a millimetre is built of blocks, and the bounds keep every product finite)."""
+    return dict(unit="m", lo=1e-3, hi=hi, typical=typical)
+
 #: section -> key -> Key. The single source of truth for case files and their documentation.
 SCHEMA: dict[str, dict[str, Key]] = {
     "wall": {
-        "H": Key(float, unit="m", **_POS, doc="height of façade and transversal wall"),
-        "L": Key(float, unit="m", **_POS, doc="length of the transversal wall"),
-        "s": Key(float, unit="m", **_POS, doc="thickness of the transversal wall"),
-        "b": Key(float, unit="m", **_POS, doc="thickness of the façade"),
-        "l": Key(float, unit="m", **_POS,
+        "H": Key(float, **_len(1e4, (1.0, 40.0)),
+                 doc="height of façade and transversal wall (H/b >= 0.5)"),
+        "L": Key(float, **_len(1e4, (0.5, 50.0)), doc="length of the transversal wall"),
+        "s": Key(float, **_len(1e3, (0.1, 2.0)), doc="thickness of the transversal wall"),
+        "b": Key(float, **_len(1e3, (0.1, 2.0)), doc="thickness of the façade"),
+        "l": Key(float, **_len(1e4, (0.5, 50.0)),
                  doc="length of the façade between transversal walls (ρ = l/s, eq. 11)"),
-        "gamma": Key(float, 2000.0, "kg/m³", **_POS, doc="mass density of masonry γ"),
-        "g": Key(float, 9.81, "m/s²", **_POS, doc="gravitational acceleration"),
+        "gamma": Key(float, 2000.0, "kg/m³", 1.0, 1e5, typical=(1000.0, 3000.0),
+                     doc="mass density of masonry γ"),
+        "g": Key(float, 9.81, "m/s²", 1e-2, 1e3, typical=(9.7, 9.9),
+                 doc="gravitational acceleration"),
     },
     "masonry": {
-        "a": Key(float, unit="m", **_POS, doc="block height (a <= H)"),
-        "c": Key(float, unit="m", **_POS, doc="half block length (2c <= L)"),
-        "f": Key(float, unit="", **_POS, doc="joint friction coefficient (α = √(cf/a), eq. 11)"),
+        "a": Key(float, **_len(1e3, (0.03, 1.0)), doc="block height (a <= H)"),
+        "c": Key(float, **_len(1e3, (0.03, 1.5)), doc="half block length (2c <= L)"),
+        "f": Key(float, unit="", lo=1e-3, hi=100.0, typical=(0.3, 1.0),
+                 doc="joint friction coefficient (α = √(cf/a), eq. 11)"),
     },
     "mesh": {
-        "size": Key(float, 0.25, "m", **_POS,
+        "size": Key(float, 0.25, "m", 0.0, 1e4, lo_open=True,
                     doc="element spacing of the T-section mesh along z, and in the wall far "
                         "from the junction (homlimit.fe.problems.t_section h; 4 columns across "
-                        "the façade, graded towards the junction)"),
+                        "the façade, graded towards the junction); size <= min(H, b + L)"),
+        "max_triangles": Key(int, budget.DEFAULT_MAX_TRIANGLES, "", 100, 1e8,
+                             doc="problem-size budget: the largest FE problem of the run "
+                                 "(estimated from the wall and size before meshing, "
+                                 "homlimit.app.budget) must not have more triangles; the "
+                                 "default fits a 2-core, 24 GiB machine with margin "
+                                 f"(about {budget.memory_gib(budget.DEFAULT_MAX_TRIANGLES):.1f}"
+                                 " GiB at its peak; docs/cli.md)"),
     },
     "analysis": {
         "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),
-        "tanpsi": Key(float, 0.0, "", lo=0.0,
+        "tanpsi": Key(float, 0.0, "", lo=0.0, hi=100.0,
                       doc="crack slope tan ψ of mechanism II (0: √(cf/a), eq. 16)"),
         "lam_points": Key(int, 200, "", lo=10, hi=100000,
                           doc="points of the v̄_g(λ) curves over 0 < λ <= H/b"),
@@ -184,7 +217,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
 }
 REQUIRED_SECTIONS = ("wall", "masonry")
 TOP_LEVEL = {"name": Key(str, "", doc="case name, used in titles and the output folder "
-                                      "(empty: the file's stem)")}
+                                      "(empty: the file's stem; at most 100 characters, no "
+                                      "control characters; the folder name keeps letters, "
+                                      "digits and -_.+ only)")}
 
 
 @dataclass(frozen=True)
@@ -192,6 +227,7 @@ class MeshConfig:
     """[mesh]: the T-section triangulation of ``homlimit.fe.problems.t_section``."""
 
     size: float = 0.25
+    max_triangles: int = budget.DEFAULT_MAX_TRIANGLES
 
 
 @dataclass(frozen=True)
@@ -262,10 +298,26 @@ class CaseConfig:
     pulse: PulseConfig = field(default_factory=PulseConfig)
     output: OutputConfig = field(default_factory=OutputConfig)
     source: str = "<dict>"
+    warnings: tuple[str, ...] = ()     # valid but implausible values, one line each
+    base_name: str = ""                # the case's own name when --set changed its inputs
+    changes: tuple = ()                # (section.key, value in the case, value used) of --set
 
     @property
     def name(self) -> str:
         return self.case.name
+
+    @property
+    def modified(self) -> bool:
+        """True when ``--set`` overrides changed the inputs of the named case."""
+        return bool(self.changes)
+
+    def describe_changes(self) -> str:
+        """"B1 with wall.l = 3 (not 6)" for a modified case, "" otherwise."""
+        if not self.changes:
+            return ""
+        return (f"{self.base_name} with " + ", ".join(
+            f"{k} = {_toml_value(new)} (not {_toml_value(old)})"
+            for k, old, new in self.changes))
 
     def as_dict(self) -> dict:
         """Every input, in the case-file layout (round-trips through ``load_case``)."""
@@ -283,7 +335,7 @@ def _typed(kind: type, value) -> tuple[bool, Any]:
     if isinstance(value, bool):
         return kind is bool, value
     if kind is float and isinstance(value, int | float):
-        return True, float(value)
+        return True, value if isinstance(value, int) else float(value)
     return isinstance(value, kind), value
 
 
@@ -291,13 +343,37 @@ _TYPE_NAMES = {float: "a number", int: "an integer", bool: "true or false", str:
                list: "a list"}
 
 
+def _shown(value) -> str:
+    """A value as a message shows it (repr): huge integers and long texts shortened."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10 ** 30:
+        digits = len(str(abs(value)))
+        return f"{str(value)[:8]}...({digits} digits)"
+    text = repr(value)
+    return text if len(text) <= 60 else f"{text[:50]}... ({len(text)} characters)"
+
+
+def _range_problem(where: str, name: str, key: Key, value) -> str | None:
+    """The out-of-range line of a number (its unit and the allowed range with units)."""
+    x = float(value) if abs(value) < 1e308 else (math.inf if value > 0 else -math.inf)
+    bad = not math.isfinite(x)
+    if key.lo is not None and (x <= key.lo if key.lo_open else x < key.lo):
+        bad = True
+    if key.hi is not None and (x >= key.hi if key.hi_open else x > key.hi):
+        bad = True
+    if not bad:
+        return None
+    u = f" {key.unit}" if key.unit else ""
+    return (f"{where} {name} = {_shown(value)}{u} is out of range: allowed "
+            f"{key.range_text(name)}{u}")
+
+
 def _check_key(where: str, name: str, key: Key, value, problems: list[str]):
     """Append a problem for a wrong type or an out-of-range value; return the converted value
     (a list: every item checked against the key's type, range and choices)."""
     if key.kind is list:
         if not isinstance(value, list) or not value:
-            problems.append(f"{where} {name} = {value!r} has the wrong type: expected a "
-                            f"non-empty list, each item {_TYPE_NAMES[key.item]}")
+            problems.append(f"{where} {name} = {_shown(value)} has the wrong type: expected "
+                            f"a non-empty list, each item {_TYPE_NAMES[key.item]}")
             return None
         item = dataclasses.replace(key, kind=key.item, item=None)
         n = len(problems)
@@ -305,52 +381,56 @@ def _check_key(where: str, name: str, key: Key, value, problems: list[str]):
         return out if len(problems) == n else None
     ok, value = _typed(key.kind, value)
     if not ok:
-        problems.append(f"{where} {name} = {value!r} has the wrong type: expected "
+        problems.append(f"{where} {name} = {_shown(value)} has the wrong type: expected "
                         f"{_TYPE_NAMES[key.kind]}")
         return None
     if key.choices and value not in key.choices:
-        problems.append(f"{where} {name} = {value!r} is not allowed: allowed "
+        problems.append(f"{where} {name} = {_shown(value)} is not allowed: allowed "
                         f"{key.range_text(name)}")
         return None
+    if key.kind is str and any(unicodedata.category(ch) == "Cc" for ch in value):
+        problems.append(f"{where} {name} = {_shown(value)} contains control characters (a NUL "
+                        "byte, a newline, an escape, ...): allowed printable text")
+        return None
     if key.kind in (float, int):
-        try:
-            check_range(name, value, key.lo, key.hi, lo_open=key.lo_open, hi_open=key.hi_open,
-                        unit=key.unit)
-        except ParameterError as e:
-            problems.append(f"{where} {e}")
+        bad = _range_problem(where, name, key, value)
+        if bad:
+            problems.append(bad)
             return None
-        if not math.isfinite(value):  # pragma: no cover - check_range already rejects
-            return None
+        return float(value) if key.kind is float else value
     return value
 
 
-def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
-    problems: list[str] = []
-    if not isinstance(data, dict):
-        raise ConfigError(source, [f"the case must be a table/dict, got {type(data).__name__}"])
+def _collect(data: dict, problems: list[str]) -> dict[str, dict[str, Any]]:
+    """The valid values of every section (defaults filled in); a problem for each bad one.
+    A key missing from the result was reported (or its section was)."""
     values: dict[str, dict[str, Any]] = {}
     for top, v in data.items():
         if top in SCHEMA:
             if not isinstance(v, dict):
-                problems.append(f"[{top}] must be a section (table), got {v!r}")
+                problems.append(f"[{top}] must be a section (table), got {_shown(v)}")
         elif top in TOP_LEVEL:
-            _check_key("", top, TOP_LEVEL[top], v, problems)
+            out = _check_key("", top, TOP_LEVEL[top], v, problems)
+            if isinstance(out, str) and len(out) > MAX_NAME:
+                problems.append(f"name = {out[:20]!r}... ({len(out)} characters) is out of "
+                                f"range: allowed at most {MAX_NAME} characters")
         else:
             allowed = ", ".join([f"[{s}]" for s in SCHEMA] + list(TOP_LEVEL))
             problems.append(f"unknown {'section' if isinstance(v, dict) else 'key'} "
-                            f"{top!r}: allowed {allowed}")
+                            f"{str(top)[:40]!r}: allowed {allowed}")
     for sec, keys in SCHEMA.items():
         given = data.get(sec, {})
         if not isinstance(given, dict):
             continue  # already reported above
+        vals = values.setdefault(sec, {})
         if sec in REQUIRED_SECTIONS and sec not in data:
             problems.append(f"[{sec}] section is missing: required keys "
                             + ", ".join(k for k, key in keys.items() if key.required))
             continue
-        vals = values.setdefault(sec, {})
         for name, v in given.items():
             if name not in keys:
-                problems.append(f"[{sec}] unknown key {name!r}: allowed " + ", ".join(keys))
+                problems.append(f"[{sec}] unknown key {str(name)[:40]!r}: allowed "
+                                + ", ".join(keys))
                 continue
             out = _check_key(f"[{sec}]", name, keys[name], v, problems)
             if out is not None:
@@ -359,37 +439,161 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
             if name in given:
                 continue
             if key.required:
+                u = f" {key.unit}" if key.unit else ""
                 problems.append(f"[{sec}] {name} is missing ({key.doc}, {key.unit or '-'}; "
-                                f"allowed {key.range_text(name)})")
+                                f"allowed {key.range_text(name)}{u})")
             else:
                 vals[name] = key.default
-    name = data.get("name") if isinstance(data.get("name"), str) else ""
-    name = name or default_name
-    case = None
-    if not problems:
-        try:
-            case = Case(wall=Wall(**values["wall"]), masonry=Masonry(**values["masonry"]),
-                        name=name)
-        except ParameterError as e:  # cross-key checks of params.Case (a <= H, 2c <= L)
-            problems.append(f"[wall]/[masonry] {e}")
-    if case is not None:
-        size, span = values["mesh"]["size"], min(case.wall.H, case.wall.b + case.wall.L)
-        if size > span:
-            problems.append(f"[mesh] size = {size!r} m is out of range: "
-                            f"allowed 0 < size <= min(H, b + L) = {span:g} m")
-    if case is not None and values["analysis"]["blocks"]:
-        w, m = case.wall, case.masonry
-        n = math.ceil(w.H / m.a) * (math.ceil(w.L / (2 * m.c)) + 1)
-        if n > values["blocks"]["max_blocks"]:
-            problems.append(f"[analysis] blocks = true needs about {n} blocks ((H/a)(L/2c + "
-                            f"1)): allowed up to [blocks] max_blocks = "
-                            f"{values['blocks']['max_blocks']} (larger blocks a, c, or "
-                            f"raise max_blocks)")
+    return values
+
+
+def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> list[str]:
+    """The checks between keys, each run when the keys it needs are valid (so they are
+    reported together with the field problems). ``mesh_only``: the checks of the mesh of the
+    whole wall (the ``mesh`` command), whatever [analysis] says."""
+    w, m, me, an = (v.get(k, {}) for k in ("wall", "masonry", "mesh", "analysis"))
+    has = lambda d, *ks: all(k in d for k in ks)  # noqa: E731
+    out = []
+    if not mesh_only and has(w, "H") and has(m, "a") and m["a"] > w["H"]:
+        out.append(f"[masonry] a = {m['a']!r} m is out of range: a block must not be taller "
+                   f"than the wall, allowed 0.001 <= a <= H = {w['H']:g} m")
+    if not mesh_only and has(w, "L") and has(m, "c") and 2 * m["c"] > w["L"]:
+        out.append(f"[masonry] c = {m['c']!r} m is out of range: a block must fit the "
+                   f"transversal wall, allowed 0.001 <= 2c <= L = {w['L']:g} m")
+    if not mesh_only and an.get("closed_form") is False and an.get("fe") is False:
+        out.append("[analysis] closed_form = false and fe = false: nothing to compute; allowed "
+                   "at least one of them true")
+    closed = not mesh_only and an.get("closed_form", False)
+    if closed and has(w, "H", "b") and w["H"] / w["b"] < LAM_MIN_CLOSED:
+        out.append(f"[wall] H = {w['H']!r} m, b = {w['b']!r} m: H/b = {w['H'] / w['b']:.4g} is "
+                   f"out of range: allowed H/b >= {LAM_MIN_CLOSED:g} (the closed forms search "
+                   f"the critical slenderness λ = h/b over {LAM_MIN_CLOSED:g} <= λ <= H/b; a "
+                   "façade this squat does not overturn)")
+    if closed and has(w, "L", "b") and has(m, "a", "c", "f") and has(an, "tanpsi"):
+        t = an["tanpsi"] or math.sqrt(m["c"] * m["f"] / m["a"])
+        what = ("[analysis] tanpsi" if an["tanpsi"] else "tan ψ = √(cf/a) ([masonry] a, c, f)")
+        if w["L"] / (w["b"] * t) < LAM_MIN_CLOSED:
+            out.append(f"[wall] L = {w['L']!r} m, b = {w['b']!r} m and {what} = {t:.4g}: "
+                       f"L/(b tan ψ) = {w['L'] / (w['b'] * t):.4g} is out of range: allowed "
+                       f"L/(b tan ψ) >= {LAM_MIN_CLOSED:g} (mechanism II's wedge must fit the "
+                       f"transversal wall at λ = {LAM_MIN_CLOSED:g}: λ tan ψ <= L/b)")
+    bl = v.get("blocks", {})
+    if (not mesh_only and an.get("blocks") and has(w, "H", "L") and has(m, "a", "c")
+            and has(bl, "max_blocks")):
+        n = math.ceil(w["H"] / m["a"]) * (math.ceil(w["L"] / (2 * m["c"])) + 1)
+        if n > bl["max_blocks"]:
+            out.append(f"[analysis] blocks = true needs about {n} blocks ((H/a)(L/2c + 1)): "
+                       f"out of range: allowed up to [blocks] max_blocks = {bl['max_blocks']} "
+                       "(larger blocks a, c, or raise max_blocks)")
+    pulse_fe = "FE" in (v.get("pulse", {}).get("mechanisms") or ())   # `pulse` runs the FE path
+    fe = mesh_only or an.get("fe", False) or pulse_fe
+    if not (fe and has(me, "size", "max_triangles") and has(w, "H", "b", "L")):
+        return out
+    size = me["size"]
+    span = min(w["H"], w["b"] + w["L"])
+    if size > span:
+        out.append(f"[mesh] size = {size!r} m is out of range: "
+                   f"allowed 0 < size <= min(H, b + L) = {span:g} m")
+        return out
+    # the impulse scan's parts run from one course (a) to H, each meshed at min(size, h/10)
+    parts = (m["a"],) if not mesh_only and has(m, "a") else ()
+    n = budget.fe_triangles(w["H"], w["b"], w["L"], size, parts)
+    if n > me["max_triangles"]:
+        keys = "[mesh] size" + ("" if mesh_only else " (or [analysis] fe = false)")
+        out.append(f"[mesh] size = {size!r} m gives about {n:.3g} triangles in the largest FE "
+                   f"problem (estimated from H, b, L before meshing; about "
+                   f"{budget.memory_gib(n):.3g} GiB): out of range: allowed at most "
+                   f"[mesh] max_triangles = {me['max_triangles']:,}; raise {keys} or, on a "
+                   "machine with the memory, [mesh] max_triangles")
+    return out
+
+
+def _warnings(case: Case, values: dict) -> tuple[str, ...]:
+    """Valid values outside the typical range of masonry walls (each a line)."""
+    out = []
+    for sec in ("wall", "masonry"):
+        for name, key in SCHEMA[sec].items():
+            x = values[sec][name]
+            if key.typical and not key.typical[0] <= x <= key.typical[1]:
+                u = f" {key.unit}" if key.unit else ""
+                out.append(f"[{sec}] {name} = {x:g}{u} is outside the typical range of masonry "
+                           f"walls {key.typical[0]:g} .. {key.typical[1]:g}{u} ({key.doc}): "
+                           "a valid input, check it")
+    for what, x, lo, hi in (("ρ = l/s", case.rho, 1.0, 50.0),
+                            ("H/b (slenderness of the whole façade)", case.wall.lam_max, 2.0,
+                             60.0),
+                            ("c/a (block proportion)", case.masonry.c / case.masonry.a, 0.25,
+                             5.0)):
+        if not lo <= x <= hi:
+            out.append(f"{what} = {x:.4g} is outside the typical range {lo:g} .. {hi:g}: a "
+                       "valid input, check it")
+    return tuple(out)
+
+
+def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
+    if not isinstance(data, dict):
+        raise ConfigError(source, [f"the case must be a table/dict, got {type(data).__name__}"])
+    problems: list[str] = []
+    values = _collect(data, problems)
+    problems += _cross_checks(values)
     if problems:
         raise ConfigError(source, [p.strip() for p in problems])
-    return CaseConfig(case=case, source=source, **{
+    name = data.get("name") or default_name
+    case = Case(wall=Wall(**values["wall"]), masonry=Masonry(**values["masonry"]), name=name)
+    return CaseConfig(case=case, source=source, warnings=_warnings(case, values), **{
         sec: cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in values[sec].items()})
         for sec, cls in SECTIONS.items()})
+
+
+def check_mesh(config: CaseConfig):
+    """The mesh checks of the whole wall (size within the wall, the triangle budget), whatever
+    [analysis] says: the ``mesh`` command's. Raises ConfigError."""
+    problems = _cross_checks(config.as_dict(), mesh_only=True)
+    if problems:
+        raise ConfigError(config.source, problems)
+
+
+def _read(path: Path) -> dict:
+    """The TOML table of a case file; ConfigError naming what is wrong with the file: not
+    readable, not a regular file, too large, not UTF-8 (a byte-order mark, UTF-16, binary),
+    not TOML."""
+    source = str(path)
+
+    def fail(msg: str):
+        raise ConfigError(source, [msg])
+
+    try:
+        st = path.stat()
+        if not path.is_file():
+            fail("cannot read the case file: not a regular file")
+        if st.st_size > MAX_CASE_BYTES:
+            fail(f"the case file has {st.st_size:,} bytes: allowed at most "
+                 f"{MAX_CASE_BYTES:,} (a case file is a few hundred bytes)")
+        raw = path.read_bytes()
+    except OSError as e:
+        fail(f"cannot read the case file: {e.strerror or e}")
+    if raw.startswith(b"\xef\xbb\xbf"):
+        fail("the case file starts with a UTF-8 byte-order mark (BOM), which TOML does not "
+             "allow: save it as UTF-8 without BOM (in many editors: 'UTF-8', not 'UTF-8 with "
+             "BOM')")
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        fail("the case file is UTF-16 (it starts with a UTF-16 byte-order mark): save it as "
+             "UTF-8")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = raw[:e.start].count(b"\n") + 1
+        fail(f"the case file is not UTF-8 text: byte 0x{raw[e.start]:02x} at offset {e.start} "
+             f"(line {line}) cannot be decoded; a binary file, or another encoding? Save it "
+             "as UTF-8")
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        fail(f"not valid TOML: {e}")
+    except ValueError as e:          # e.g. an integer of more than 4300 digits
+        fail(f"not valid TOML: {e}")
+    except RecursionError:
+        fail("not valid TOML: arrays or tables nested too deeply")
 
 
 def load_case(path_or_dict: str | Path | dict | None = None,
@@ -397,7 +601,9 @@ def load_case(path_or_dict: str | Path | dict | None = None,
     """Read and validate a case: a TOML path, a dict of the same shape, or None (the default).
 
     ``overrides``: "section.key=value" strings (value in TOML syntax; a bare word is a string)
-    or a {"section.key": value} dict, applied before validation (the CLI's ``--set``).
+    or a {"section.key": value} dict, applied before validation (the CLI's ``--set``). When
+    they change any input outside [output], the name gets a short hash of the resolved inputs
+    (``base_name`` and ``changes`` record what changed).
     Raises ConfigError (a ParameterError) listing every problem, before any computation.
     """
     if path_or_dict is None:
@@ -407,18 +613,44 @@ def load_case(path_or_dict: str | Path | dict | None = None,
     else:
         path = Path(path_or_dict)
         source, stem = str(path), path.stem
-        try:
-            text = path.read_text(encoding="utf-8")
-        except OSError as e:
-            raise ConfigError(source, [f"cannot read the case file: {e.strerror or e}"]) \
-                from None
-        try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as e:
-            raise ConfigError(source, [f"not valid TOML: {e}"]) from None
-    if overrides:
-        data = _override(data, overrides, source)
-    return _parse(data, source, stem)
+        data = _read(path)
+    if not overrides:
+        return _parse(data, source, stem)
+    new = _override(data, overrides, source)
+    config = _parse(new, source, stem)
+    changes = _changes(data, new)
+    if not changes:
+        return config
+    inputs = {k: v for k, v in config.as_dict().items() if k not in ("name", "output")}
+    digest = hashlib.sha256(json.dumps(inputs, sort_keys=True).encode()).hexdigest()[:8]
+    case = dataclasses.replace(config.case, name=f"{config.name}-{digest}")
+    return dataclasses.replace(config, case=case, base_name=config.name, changes=changes)
+
+
+def _changes(old: dict, new: dict) -> tuple:
+    """(section.key, old value, new value) for every key outside [output] whose value the
+    overrides changed (a key absent from ``old`` counts at its default)."""
+    out = []
+    for sec, keys in SCHEMA.items():
+        if sec == "output" or not isinstance(new.get(sec), dict):
+            continue
+        before = old.get(sec) if isinstance(old.get(sec), dict) else {}
+        for name, value in new[sec].items():
+            key = keys.get(name)
+            was = before.get(name, key.default if key and not key.required else None)
+            if not _same(was, value):
+                out.append((f"{sec}.{name}", was, value))
+    return tuple(out)
+
+
+def _same(a, b) -> bool:
+    if isinstance(a, list | tuple) and isinstance(b, list | tuple):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
+    if isinstance(a, bool) or isinstance(b, bool):
+        return a is b
+    if isinstance(a, int | float) and isinstance(b, int | float):
+        return a == b
+    return a == b and type(a) is type(b)
 
 
 def _override(data: dict, overrides, source: str) -> dict:
@@ -467,13 +699,15 @@ def schema_markdown() -> str:
     lines = []
     for sec, keys in [("(top level)", TOP_LEVEL)] + [(f"[{s}]", k) for s, k in SCHEMA.items()]:
         req = " (required section)" if sec.strip("[]") in REQUIRED_SECTIONS else ""
-        lines += [f"### {sec}{req}", "", "| key | type | default | unit | allowed | meaning |",
-                  "|---|---|---|---|---|---|"]
+        lines += [f"### {sec}{req}", "",
+                  "| key | type | default | unit | allowed | typical | meaning |",
+                  "|---|---|---|---|---|---|---|"]
         for name, key in keys.items():
             default = "**required**" if key.required else f"`{_toml_value(key.default)}`"
             kind = key.kind.__name__ + (f" of {key.item.__name__}" if key.item else "")
+            typical = f"{key.typical[0]:g} .. {key.typical[1]:g}" if key.typical else "–"
             lines.append(f"| `{name}` | {kind} | {default} | {key.unit or '–'} | "
-                         f"{key.range_text(name) or 'any'} | {key.doc} |")
+                         f"{key.range_text(name) or 'any'} | {typical} | {key.doc} |")
         lines.append("")
     return "\n".join(lines)
 

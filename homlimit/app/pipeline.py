@@ -9,18 +9,26 @@ call ``run`` below, which
 3. when ``[analysis] fe`` is on, runs the finite-element path (``mechanism.analysis``): the
    impulse scan over collapse heights, the whole wall's mechanism and crack, and its static
    lower bound on the same mesh;
-4. writes the result files (``report.write``), each whole or not at all.
+4. checks that every result is a finite number (``ResultError`` naming the mechanism and the
+   quantity otherwise);
+5. writes the result files (``report.write``) as one result set (``result_folder``): into a
+   staging folder that replaces the output folder in one rename at the end, so the folder holds
+   the previous set or the new one, never a mix. The output folder is checked (and the staging
+   folder created) before any computation.
 
-Progress goes to the ``logging`` module (the command line shows it); the other commands' work
-is here too: ``table1_records``, ``crack_study_records``, ``mesh_case``.
+Progress and warnings go to the ``logging`` module (the command line shows them); the other
+commands' work is here too: ``table1_records``, ``crack_study_records``, ``mesh_case``,
+``pulse_records``, ``figure2_curves``.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import logging
 import math
 import time
+import unicodedata
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from importlib.metadata import PackageNotFoundError, version
@@ -29,16 +37,18 @@ from typing import Any
 
 import numpy as np
 
+from .. import _io
 from ..closed_form import mechanisms as mech
 from ..closed_form.paper import DemResult, dem_row, table1, table1_rows
-from ..errors import ParameterError, check_choice, check_range
+from ..errors import ParameterError, ResultError, check_choice, check_range
 from ..mechanism.analysis import FEResult, fe_result
 from ..params import FACADE_DEFAULT, FACADE_MODELS, Case
-from . import report
-from .config import CaseConfig, load_case
+from . import budget, report
+from .config import CaseConfig, check_mesh, load_case
 
-__all__ = ["Result", "crack_study_records", "mesh_case", "output_dir", "package_version",
-           "pulse_records", "run", "table1_blocks_records", "table1_records"]
+__all__ = ["Result", "crack_study_records", "figure2_curves", "folder_name", "mesh_case",
+           "output_dir", "package_version", "pulse_records", "result_folder", "run",
+           "table1_blocks_records", "table1_records"]
 
 log = logging.getLogger(__name__)
 
@@ -102,13 +112,18 @@ class Result:
                 "vnorm": vg / math.sqrt(self.case.wall.g * self.case.wall.b)}
 
     def to_dict(self) -> dict:
-        """The JSON summary: every input, every result, the package version."""
-        c = self.case
-        return {
+        """The JSON summary: every input, every result, the package version, the warnings
+        about implausible inputs, what ``--set`` changed, and the unit of every quantity."""
+        c, cfg = self.case, self.config
+        d = {
             "homlimit_version": package_version(),
             "case": self.name,
-            "source": self.config.source,
-            "inputs": self.config.as_dict(),
+            "source": cfg.source,
+            "modified": None if not cfg.modified else {
+                "from": cfg.base_name, "changes": {k: {"case": old, "used": new}
+                                                   for k, old, new in cfg.changes}},
+            "warnings": list(cfg.warnings),
+            "inputs": cfg.as_dict(),
             "derived": {"rho": c.rho, "alpha": c.alpha, "alpha2": c.alpha ** 2, "beta": c.beta,
                         "lam_max": c.wall.lam_max, "f": c.masonry.f,
                         "c_over_a": c.masonry.c / c.masonry.a},
@@ -121,19 +136,63 @@ class Result:
             "files": {k: str(v) for k, v in self.files.items()},
             "timings_s": self.timings,
         }
+        d["units"] = report.units_table(d)
+        return d
 
     def summary(self) -> str:
         """The terminal summary (``report.summary_text``)."""
         return report.summary_text(self)
 
 
+MAX_FOLDER_NAME = 80  # bytes of a folder name made from a case name
+MAX_RECORD_BYTES = 64 << 20  # an accelerogram of a million samples is ~30 MB
+
+
+def folder_name(name: str) -> str:
+    """A case name made safe as one folder name: letters, digits and ``-_.+`` kept, anything
+    else (separators, control characters, spaces) replaced by ``_``, no leading dots (no
+    hidden folder, no ``..``), at most MAX_FOLDER_NAME bytes; when anything was changed, a
+    short hash of the original name is appended so that different names stay apart."""
+    keep = "".join(ch if (ch.isalnum() or ch in "-_.+") and unicodedata.category(ch)[0] != "C"
+                   else "_" for ch in unicodedata.normalize("NFC", name))
+    keep = keep.lstrip(".") or "case"
+    while len(keep.encode()) > MAX_FOLDER_NAME - 9:
+        keep = keep[:-1]
+    if keep != name:
+        keep += "-" + hashlib.sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+    return keep
+
+
 def output_dir(config: CaseConfig, out: str | Path | None = None) -> Path:
-    """--out, else [output] dir, else homlimit-out/<case name>/ (relative to the cwd)."""
+    """--out, else [output] dir (both taken as given), else homlimit-out/NAME/ (relative to the
+    working folder) with NAME the case name made safe (``folder_name``); a case changed by
+    ``--set`` has a hash of its inputs in its name (``config.load_case``)."""
     if out:
         return Path(out)
     if config.output.dir:
         return Path(config.output.dir)
-    return Path("homlimit-out") / config.name
+    return Path("homlimit-out") / folder_name(config.name)
+
+
+@contextmanager
+def result_folder(out: str | Path, command: str, **info):
+    """Write one command's result set into ``out`` (``_io.result_set``): checks the folder and
+    creates the staging folder now, before any work; yields the staging folder, where the
+    caller writes its files under their final names; on success the set (with its manifest:
+    version, ``command``, ``info``, files) replaces ``out`` whole, on failure or interrupt
+    ``out`` is left as it was. The reusable door for every command that writes files."""
+    with _io.result_set(out, info={"homlimit_version": package_version(), "command": command,
+                                   **info}, names=report.OUTPUT_NAMES) as staging:
+        yield staging
+
+
+def announce(config: CaseConfig):
+    """Log what a user must know before reading the results: a case changed by --set, and
+    the valid but implausible inputs (warnings, also in summary.json)."""
+    if config.modified:
+        log.info("case %s: %s", config.name, config.describe_changes())
+    for w in config.warnings:
+        log.warning("warning: %s", w)
 
 
 def _solver_options(tol: float | None = None):
@@ -177,18 +236,39 @@ def _whole_problem(config: CaseConfig):
 
 
 # ----------------------------------------------------------------------------- other commands
+def _check_budget(option: str, cases, size: float, max_triangles: int, scan: bool = True):
+    """ParameterError when the largest FE problem over ``cases`` at mesh ``size`` (with
+    ``scan``, the impulse scan's parts too, from one course a up) exceeds ``max_triangles``
+    (``budget``)."""
+    n = max(budget.fe_triangles(c.wall.H, c.wall.b, c.wall.L, size,
+                                (c.masonry.a,) if scan else ()) for c in cases)
+    if n > max_triangles:
+        raise ParameterError(
+            f"{option} = {size!r} m gives about {n:.3g} triangles in the largest FE problem "
+            f"(estimated before meshing; about {budget.memory_gib(n):.3g} GiB): out of range: "
+            f"allowed at most --max-triangles = {max_triangles:,}; raise {option} or, on a "
+            "machine with the memory, --max-triangles")
+
+
 def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
-                   tests: list[str] | None = None, facade: str = FACADE_DEFAULT) -> list[dict]:
+                   tests: list[str] | None = None, facade: str = FACADE_DEFAULT,
+                   max_triangles: int = budget.DEFAULT_MAX_TRIANGLES) -> list[dict]:
     """Table 1 reproduced (``paper.table1_rows``), optionally with the FE body's columns
     lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe,
     critical_at_fe, hinge_ratio_fe (the critical height of the FE scan, ``fe_result``, from
-    ``heights`` starting heights). ``tests``: a subset of the test names (B1 ... C6)."""
+    ``heights`` starting heights). ``tests``: a subset of the test names (B1 ... C6).
+    ``max_triangles``: the problem-size budget of the FE meshes (``budget``), checked before
+    any work."""
     check_range("mesh_size", mesh_size, 0.0, 9.0, lo_open=True, unit="m")
     check_range("heights", heights, 2, 200)
     check_choice("facade", facade, FACADE_MODELS)
+    check_range("max_triangles", max_triangles, 100, 1e8)
     cases = {t.test: t.case for t in table1()}
     for t in tests or ():
         check_choice("test", t, tuple(cases))
+    if fe:
+        _check_budget("--mesh-size", [c for t, c in cases.items() if not tests or t in tests],
+                      mesh_size, max_triangles)
     timings: dict[str, float] = {}
     with _stage(timings, "closed forms for Table 1"):
         rows = [r for r in table1_rows() if not tests or r["test"] in tests]
@@ -223,18 +303,58 @@ def table1_blocks_records(tests: list[str] | None = None, step: int = 1,
     return table1_blocks(step, facade, non_associative_check, _solver_options(), tests=tests)
 
 
-def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
-                        c_over_a=None, frictions=None, facades=None) -> list[dict]:
-    """The crack-angle study over a grid of c/a and f (``studies.crack_angle_study``): each
-    grid argument left None takes the study's default."""
-    from .studies import crack_angle_study
+def figure2_curves(rho=None) -> dict:
+    """The data of the paper's Figure 2: critical v̄_g/√(gb) and critical λ of mechanisms I
+    and II against ρ = l/s (one vectorised call per mechanism), one panel per β of Table 1
+    (0.4: b = 0.5 m, 0.8: b = 0.25 m; c = 0.2 m, H = 9 m, L = 6 m), one curve per
+    α² ∈ {0.4, 0.6, 0.8}; mechanism II limited to λ <= H/b and λ tan ψ <= L/b; Table 1's DEM
+    results as points. All numbers dimensionless.
 
-    check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
+    Returns {"rho": [...], "alpha2": [...], "panels": [{"beta", "b", "curves": [{"alpha2",
+    "lam_I", "vnorm_I", "lam_II", "vnorm_II"}], "dem": [{"test", "rho", "alpha2", "lam",
+    "vnorm"}]}]}.
+    """
+    rho = np.linspace(1.0, 20.0, 96) if rho is None else np.asarray(rho, float)
+    alpha2 = np.array([0.4, 0.6, 0.8])
+    H, L, c = 9.0, 6.0, 0.2
+    dem = table1()
+    panels = []
+    for beta in (0.4, 0.8):
+        b = c / beta
+        R, A2 = np.meshgrid(rho, alpha2)  # (3, n)
+        lam_I, v_I = mech.critical_I(R, np.sqrt(A2), beta, H / b)
+        lam_II, v_II = mech.critical_II(R, np.sqrt(A2), mech.lam_max_II(H / b, L / b,
+                                                                         np.sqrt(A2)))
+        panels.append({
+            "beta": beta, "b": b,
+            "curves": [{"alpha2": float(a2), "lam_I": lam_I[k], "vnorm_I": v_I[k],
+                        "lam_II": lam_II[k], "vnorm_II": v_II[k]}
+                       for k, a2 in enumerate(alpha2)],
+            "dem": [{"test": t.test, "rho": t.case.rho, "alpha2": t.case.alpha ** 2,
+                     "lam": t.lam_v, "vnorm": t.vg_norm}
+                    for t in dem if abs(t.case.beta - beta) < 1e-9]})
+    return {"rho": rho, "alpha2": alpha2, "panels": panels}
+
+
+def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
+                        c_over_a=None, frictions=None, facades=None,
+                        max_triangles: int = budget.DEFAULT_MAX_TRIANGLES) -> list[dict]:
+    """The crack-angle study over a grid of c/a and f (``studies.crack_angle_study``): each
+    grid argument left None takes the study's default. ``max_triangles``: the problem-size
+    budget of its meshes (``budget``), checked before any work."""
+    from .studies import STUDY_WALL, crack_angle_study
+
+    w = STUDY_WALL
+    check_range("mesh_size", mesh_size, 0.0, min(w.H, w.b + w.L), lo_open=True, unit="m")
     if finer is not None:
         check_range("finer", finer, 0.0, mesh_size, lo_open=True, hi_open=True, unit="m")
+    check_range("max_triangles", max_triangles, 100, 1e8)
     for name, values in (("c_over_a", c_over_a), ("f", frictions)):
         for v in values or ():
-            check_range(name, v, 0.0, lo_open=True)
+            check_range(name, v, 0.0, 100.0, lo_open=True)
+    finest = finer if finer is not None and not quick else mesh_size
+    _check_budget("--finer" if finest != mesh_size else "--mesh-size", [Case(w)], finest,
+                  max_triangles, scan=False)
     for fac in facades or ():
         check_choice("facade", fac, FACADE_MODELS)
     grid = {k: tuple(v) for k, v in (("c_over_a", c_over_a), ("frictions", frictions),
@@ -244,14 +364,19 @@ def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quic
 
 
 def mesh_case(config: CaseConfig, out: Path) -> dict:
-    """Mesh the case's T-section only; write mesh.vtu and mesh.png; return counts and files."""
+    """Mesh the case's T-section only; write mesh.vtu and mesh.png as one result set in
+    ``out`` (the mesh checks and the triangle budget first, ``config.check_mesh``); return
+    counts and files."""
     from ..fe.mesh import from_skfem
     from . import plots
 
-    m = from_skfem(_whole_problem(config).mesh)
-    _, tri, region, names = plots.triangle_regions(m)
-    files = {"mesh_vtu": report.write(out / "mesh.vtu", m),
-             "mesh_png": plots.plot_mesh(out / "mesh.png", m, title=f"case {config.name}")}
+    check_mesh(config)
+    with result_folder(out, "mesh", case=config.name) as staging:
+        m = from_skfem(_whole_problem(config).mesh)
+        _, tri, region, names = plots.triangle_regions(m)
+        report.write(staging / "mesh.vtu", m)
+        plots.plot_mesh(staging / "mesh.png", m, title=f"case {config.name}")
+    files = {"mesh_vtu": out / "mesh.vtu", "mesh_png": out / "mesh.png"}
     return {"case": config.name, "n_triangles": int(len(tri)), "n_nodes": int(len(m.points)),
             "regions": {n: int(np.count_nonzero(region == k)) for k, n in enumerate(names)},
             "mesh": {"size": config.mesh.size},
@@ -271,7 +396,17 @@ def pulse_records(config: CaseConfig) -> tuple[list, FEResult | None]:
     record = None
     if pc.record:
         base = Path(config.source).parent if Path(config.source).is_file() else Path.cwd()
-        record = RecordPulse.from_csv(base / pc.record)
+        path = base / pc.record
+        try:
+            if path.is_file() and path.stat().st_size > MAX_RECORD_BYTES:
+                raise ParameterError(f"[pulse] record = {pc.record!r} has "
+                                     f"{path.stat().st_size:,} bytes: allowed at most "
+                                     f"{MAX_RECORD_BYTES:,}")
+            record = RecordPulse.from_csv(path)
+        except UnicodeDecodeError as e:     # dynamics reads it as UTF-8 text
+            raise ParameterError(f"[pulse] record = {pc.record!r} is not UTF-8 text (byte "
+                                 f"0x{e.object[e.start]:02x} at offset {e.start}): allowed a "
+                                 "two-column CSV t [s], a_g [m/s^2]") from None
     fe = None
     if "FE" in pc.mechanisms:
         with _stage({}, "FE path for the FE rocker"):
@@ -331,38 +466,73 @@ def _outputs(result: Result) -> dict[str, tuple[str, object]]:
     return out
 
 
-def _write(result: Result, out: Path) -> dict[str, Path]:
-    """Write every output of ``result`` into ``out``; summary.json last, listing them all."""
+def _write(result: Result, staging: Path, out: Path) -> dict[str, Path]:
+    """Write every output of ``result`` into ``staging`` (a ``result_folder``), under the names
+    they will have in ``out``; summary.json last, listing them all. Returns key → final path."""
     files = {}
     with _stage(result.timings, "writing files"):
         for key, (name, data) in _outputs(result).items():
-            files[key] = report.write(out / name, data)
+            report.write(staging / name, data)
+            files[key] = out / name
         if result.config.output.json:
             files["summary_json"] = out / "summary.json"
             result.files = files
-            report.write(files["summary_json"], result.to_dict())
+            report.write(staging / "summary.json", result.to_dict())
     return files
 
 
-def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
-        out: str | Path | None = None, write: bool = True,
-        overrides: list[str] | dict | None = None) -> Result:
-    """Run the case: validate, closed forms, FE (if asked), write files to ``out``.
+def _finite(x) -> bool:
+    try:
+        return x is not None and math.isfinite(float(x))
+    except (TypeError, ValueError):
+        return False
 
-    ``path_or_dict``: a TOML case file, a dict of the same shape, a CaseConfig, or None for the
-    embedded default (Table 1's B1); ``overrides``: "section.key=value" strings or a
-    {"section.key": value} dict applied before validation. ``out`` defaults to [output] dir or
-    homlimit-out/<name>/.
-    Raises ConfigError/ParameterError for bad input (before any computation), SolverError
-    when a conic program does not end optimal.
-    """
-    if isinstance(path_or_dict, CaseConfig):
-        if overrides:
-            raise ParameterError("overrides = given with a CaseConfig is out of range: allowed "
-                                 "only with a path, a dict or None")
-        config = path_or_dict
-    else:
-        config = load_case(path_or_dict, overrides)
+
+def check_results(result: Result):
+    """Every result a run reports is a finite number: ResultError naming the mechanism and
+    the quantity otherwise (never a summary with ``null`` where a number belongs). Quantities
+    that do not apply (mechanism I's tan ψ, the crack of a distributed mechanism, a scan
+    height without a block, whose ``vg_method`` says why) are exempt."""
+    for name, m in result.mechanisms.items():
+        quantities = ["lam", "h", "vg", "vnorm"]
+        if name in ("I", "II"):
+            quantities += ["theta_m", "W_m"]
+        for q in quantities:
+            if not _finite(getattr(m, q)):
+                raise ResultError(f"mechanism {name}: {q} = {getattr(m, q)!r} is not a finite "
+                                  f"number for this case ({_what(q)}); nothing written")
+        body = getattr(m, "body", None)
+        for q in ("m", "x_G", "z_G", "I_O") if name in ("I", "II") else ():
+            if not _finite(getattr(body, q)):
+                raise ResultError(f"mechanism {name}: body {q} = {getattr(body, q)!r} is not "
+                                  "a finite number for this case; nothing written")
+    fe = result.fe
+    if fe is not None:
+        if not _finite(fe.whole.multiplier):
+            raise ResultError(f"mechanism FE: the whole wall's multiplier = "
+                              f"{fe.whole.multiplier!r} is not a finite number; nothing written")
+        if fe.static is not None and not _finite(fe.lower_bound):
+            raise ResultError(f"mechanism FE: the static lower bound = {fe.lower_bound!r} is "
+                              "not a finite number; nothing written")
+        if fe.critical is None:
+            raise ResultError("mechanism FE: no collapse height of the scan gave a collapse "
+                              f"velocity vg (whole wall: {fe.whole.vg_method}); nothing "
+                              "written ([analysis] fe = false skips the FE path)")
+    if result.critical() is None:
+        raise ResultError("no mechanism gave a collapse velocity vg; nothing written")
+
+
+def _what(q: str) -> str:
+    unit = report.UNITS.get(q, "")
+    return {"lam": "critical slenderness λ = h/b", "h": "height of the failing part",
+            "vg": "collapse ground velocity v̄_g", "vnorm": "v̄_g/√(gb)",
+            "theta_m": "rotation at the peak of the restoring work",
+            "W_m": "peak restoring work"}[q] + (f" [{unit}]" if unit not in ("", "-") else "")
+
+
+def compute(config: CaseConfig) -> Result:
+    """The analyses of a validated case (closed forms, FE), results checked
+    (``check_results``); writes nothing."""
     case, an = config.case, config.analysis
     result = Result(config=config, dem=dem_row(case))
     if an.closed_form:
@@ -386,9 +556,40 @@ def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
             result.blocks = analyse_blocks(case, b.facade, b.friction, b.step,
                                            b.non_associative_check, _solver_options(an.tol))
         result.mechanisms["blocks"] = result.blocks
+    check_results(result)
     if result.mechanisms:
         with _stage(result.timings, "hinge check", "the shortest pulse the hinge holds"):
             result.hinges = _hinges(case, result.mechanisms)
-    if write:
-        result.files = _write(result, output_dir(config, out))
+    return result
+
+
+def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
+        out: str | Path | None = None, write: bool = True,
+        overrides: list[str] | dict | None = None) -> Result:
+    """Run the case: validate, closed forms, FE (if asked), write files to ``out``.
+
+    ``path_or_dict``: a TOML case file, a dict of the same shape, a CaseConfig, or None for the
+    embedded default (Table 1's B1); ``overrides``: "section.key=value" strings or a
+    {"section.key": value} dict applied before validation. ``out`` defaults to [output] dir or
+    homlimit-out/NAME/ (``output_dir``); the files are one result set (``result_folder``):
+    the folder is checked before any computation and replaced whole at the end.
+    Raises ConfigError/ParameterError for bad input and an unusable output folder (before any
+    computation), SolverError when a conic program does not end optimal, ResultError when a
+    result is not a finite number, OutputError when the files cannot be written (the previous
+    set is then kept).
+    """
+    if isinstance(path_or_dict, CaseConfig):
+        if overrides:
+            raise ParameterError("overrides = given with a CaseConfig is out of range: allowed "
+                                 "only with a path, a dict or None")
+        config = path_or_dict
+    else:
+        config = load_case(path_or_dict, overrides)
+    announce(config)
+    if not write:
+        return compute(config)
+    target = output_dir(config, out)
+    with result_folder(target, "run", case=config.name) as staging:
+        result = compute(config)
+        result.files = _write(result, staging, target)
     return result

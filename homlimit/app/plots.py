@@ -17,6 +17,7 @@ __all__ = ["figure2", "plot_crack_study", "plot_mechanism", "plot_mesh", "plot_s
            "plot_stress", "plot_table1", "plot_vg_lambda", "triangle_regions"]
 
 DPI = 120
+STRESS_GAMMA = 0.4  # stress.png: colour ∝ (−σ₂)^0.4, so the wall's weak compression shows
 
 
 def _pyplot():
@@ -275,43 +276,27 @@ def plot_crack_study(path: str | Path, records: list[dict], title: str = "crack-
 # Figure 2 of the paper (figure2) is drawn by the closed-form core; it belongs below.
 
 
-def figure2(path: str | Path, rho=None) -> Path:
-    """The paper's Figure 2: critical v̄_g/√(gb) and critical λ against ρ = l/s.
-
-    One column per β of Table 1 (0.4: b = 0.5 m, 0.8: b = 0.25 m; c = 0.2 m, H = 9 m, L = 6 m),
-    one colour per α² ∈ {0.4, 0.6, 0.8}; mechanism I solid, mechanism II dashed (λ <= H/b and,
-    for II, λ tan ψ <= L/b); Table 1's DEM results as markers. All curves come from one
-    vectorised call per mechanism.
-    """
-    from ..closed_form.mechanisms import critical_I, critical_II, lam_max_II
-    from ..closed_form.paper import table1
-
+def figure2(path: str | Path, data: dict) -> Path:
+    """The paper's Figure 2 from ``pipeline.figure2_curves()``: critical v̄_g/√(gb) (top) and
+    critical λ (bottom) against ρ = l/s, one column per β, one colour per α²; mechanism I
+    solid, mechanism II dashed; Table 1's DEM results as markers."""
     plt = _pyplot()
-    rho = np.linspace(1.0, 20.0, 96) if rho is None else np.asarray(rho, float)
-    alpha2 = np.array([0.4, 0.6, 0.8])
-    betas = (0.4, 0.8)
-    H, L, c = 9.0, 6.0, 0.2
-    dem = table1()
+    rho = np.asarray(data["rho"])
     colours = ["tab:blue", "tab:orange", "tab:green"]
     fig, axes = plt.subplots(2, 2, figsize=(10, 7.5), sharex=True)
-    for j, beta in enumerate(betas):
-        b = c / beta
-        R, A2 = np.meshgrid(rho, alpha2)  # (3, n)
-        lam_I, v_I = critical_I(R, np.sqrt(A2), beta, H / b)
-        lam_II, v_II = critical_II(R, np.sqrt(A2), lam_max_II(H / b, L / b, np.sqrt(A2)))
-        for k, a2 in enumerate(alpha2):
-            col = colours[k]
-            axes[0, j].plot(rho, v_I[k], "-", color=col, label=f"I, α² = {a2:g}")
-            axes[0, j].plot(rho, v_II[k], "--", color=col, label=f"II, α² = {a2:g}")
-            axes[1, j].plot(rho, lam_I[k], "-", color=col)
-            axes[1, j].plot(rho, lam_II[k], "--", color=col)
-            pts = [t for t in dem if abs(t.case.beta - beta) < 1e-9
-                   and abs(t.case.alpha ** 2 - a2) < 1e-9]
-            axes[0, j].plot([t.case.rho for t in pts], [t.vg_norm for t in pts], "o", color=col,
-                            mec="k", label=f"DEM, α² = {a2:g}")
-            axes[1, j].plot([t.case.rho for t in pts], [t.lam_v for t in pts], "o", color=col,
+    for j, panel in enumerate(data["panels"]):
+        for col, cv in zip(colours, panel["curves"]):
+            a2 = cv["alpha2"]
+            axes[0, j].plot(rho, cv["vnorm_I"], "-", color=col, label=f"I, α² = {a2:g}")
+            axes[0, j].plot(rho, cv["vnorm_II"], "--", color=col, label=f"II, α² = {a2:g}")
+            axes[1, j].plot(rho, cv["lam_I"], "-", color=col)
+            axes[1, j].plot(rho, cv["lam_II"], "--", color=col)
+            pts = [d for d in panel["dem"] if abs(d["alpha2"] - a2) < 1e-9]
+            axes[0, j].plot([d["rho"] for d in pts], [d["vnorm"] for d in pts], "o",
+                            color=col, mec="k", label=f"DEM, α² = {a2:g}")
+            axes[1, j].plot([d["rho"] for d in pts], [d["lam"] for d in pts], "o", color=col,
                             mec="k")
-        axes[0, j].set_title(f"β = c/b = {beta:g} (b = {b:g} m)")
+        axes[0, j].set_title(f"β = c/b = {panel['beta']:g} (b = {panel['b']:g} m)")
         axes[0, j].set_ylabel("v̄_g / √(g b)  [-]")
         axes[1, j].set_ylabel("critical λ = h / b  [-]")
         axes[1, j].set_xlabel("ρ = l / s  [-]")
@@ -329,7 +314,9 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     (colour, Pa) and its direction (short lines, length ∝ |σ₂|): the compression paths.
 
     ``static`` is a ``homlimit.fe.static.StaticSolution``; at most ``n_ticks`` direction lines are
-    drawn (the most compressed triangles first); rigid bodies (no stress field) are grey.
+    drawn (the most compressed triangles first); rigid bodies (no stress field) are grey. The
+    colour scale is a power law, colour ∝ (−σ₂)^STRESS_GAMMA (said on the colour bar), so that
+    the wall's weak compression shows beside the peak at the façade's toe.
     """
     plt = _pyplot()
     m = static.mesh
@@ -341,12 +328,13 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     comp = np.where(rigid, 0.0, np.maximum(-s2, 0.0))
     # a power-law colour scale so that the wall's weak compression shows beside the façade's
     tpc = ax.tripcolor(m.p[0], m.p[1], m.t.T[~rigid], facecolors=comp[~rigid], cmap="magma_r",
-                       norm=PowerNorm(0.4, vmin=0.0, vmax=max(comp.max(), 1e-30)),
+                       norm=PowerNorm(STRESS_GAMMA, vmin=0.0, vmax=max(comp.max(), 1e-30)),
                        edgecolors="none")
     if rigid.any():
         ax.tripcolor(m.p[0], m.p[1], m.t.T[rigid], facecolors=np.zeros(rigid.sum()),
                      cmap="Greys", vmin=-1.0, vmax=3.0, edgecolors="none")
-    fig.colorbar(tpc, ax=ax, label="compression −σ₂ (most compressive principal stress) [Pa]")
+    fig.colorbar(tpc, ax=ax, label="compression −σ₂ (most compressive principal stress) [Pa]"
+                                   f"\nnon-linear colour scale: colour ∝ (−σ₂)^{STRESS_GAMMA:g}")
     c = m.p[:, m.t].mean(axis=1)
     if comp.max() > 0:
         pick = np.argsort(-comp)[:n_ticks]

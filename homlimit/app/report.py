@@ -4,12 +4,19 @@ one writer per file format.
 ``write(path, data)`` picks the writer from the file's suffix (``WRITERS``): JSON data, CSV
 records, a meshio mesh (.vtu, .xdmf, .msh) or a picture (a function that draws to a path).
 Every writer is whole-or-nothing (``homlimit._io``).
+
+Units: ``UNITS`` gives every quantity a result file carries its SI unit, once. CSV headers carry
+it as ``name [unit]`` (``vg [m/s]``, ``lam [-]``; text columns plain, ``mechanism``), the way the
+terminal tables do; ``read_csv`` reads such a file back into plain keys and numbers; the JSON
+summary gets a ``units`` table (``units_table``).
 """
 
 from __future__ import annotations
 
+import logging
 import math
-from collections.abc import Callable
+import re
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -18,11 +25,130 @@ from .._io import write_csv, write_json
 from ..errors import ParameterError
 from ..fe import mesh as fe_mesh
 
-__all__ = ["WRITERS", "format_spectra", "format_table", "mechanism_mesh", "summary_text",
-           "write"]
+__all__ = ["OUTPUT_NAMES", "UNITS", "WRITERS", "csv_header", "format_spectra", "format_table",
+           "mechanism_mesh", "read_csv", "summary_text", "units_table", "write"]
+
+_DIMENSIONLESS = (
+    "lam lam_I lam_II lam_fe lam_dem lam_v lambda_v lam_max vnorm vnorm_I vnorm_II vnorm_fe "
+    "vnorm_dem vnorm_eq7 vg_norm multiplier multiplier_fe multiplier_fan multiplier_wedge "
+    "critical_multiplier lower_bound bracket_rel_gap ratio ratio_I ratio_II rho alpha alpha2 "
+    "beta f c_over_a sqrt_cf_a tanpsi tanpsi_fe tanpsi_fe_edges tanpsi_uncertainty dtanpsi_fe "
+    "tanpsi_edges tanpsi_block tanpsi_fixed tan_alpha tan_f tan_c_over_a fan_T1 fan_T2 "
+    "explained block_share interior_share eq14_error n_triangles polarity pga_g pT n_impacts "
+    "hinge_ratio hinge_ratio_fe hinge_ratio_I hinge_ratio_II multiplier_I multiplier_II rtol "
+    "ivp_rtol lam_multiplier retries").split()
+_TEXT = ("name test mechanism mechanism_fe critical_mechanism vg_method facade pulse ivp_method "
+         "fan_admissible wedge_admissible case status critical_at critical_at_fe reason").split()
+#: the SI unit of every quantity in a result file ("-": dimensionless, "": text or a flag)
+UNITS: dict[str, str] = {
+    **dict.fromkeys(_DIMENSIONLESS, "-"), **dict.fromkeys(_TEXT, ""),
+    **dict.fromkeys("h h_part h_v h_min mesh_size hinge hinge_z fan_z0 wedge_z0 x_G z_G"
+                    .split(), "m"),
+    **dict.fromkeys("vg vg_fe vg_eq7 vg_body pgv".split(), "m/s"),
+    **dict.fromkeys("pga a_uplift".split(), "m/s^2"),
+    **dict.fromkeys("theta_m theta_m_eq14 theta_m_I theta_m_I_eq14".split(), "rad"),
+    **dict.fromkeys("psi_fe_deg psi_alpha_deg psi_f_deg psi_c_over_a_deg".split(), "deg"),
+    "W_m": "J", "m": "kg", "I_O": "kg m^2", "omega": "1/s", "p": "rad/s", "period": "s",
+    "solve_time": "s", "duration": "s",
+}
+#: every file name a homlimit command writes (result sets written before manifests existed
+#: are recognised by these, ``_io.is_result_set``)
+OUTPUT_NAMES = ("summary.json", "vg_lambda.png", "mesh.png", "mechanism.png", "stress.png",
+                "fe_scan.csv", "mechanism.vtu", "mesh.vtu", "table1.csv", "table1.json",
+                "table1.png", "figure2.png", "figure2.json", "crack_study.csv",
+                "crack_study.png", "spectra.csv", "spectra.png", "mesh.json", "blocks.vtu",
+                "blocks_contacts.vtu", "blocks_contacts.csv", "blocks_mechanism.png",
+                "blocks_whole.png", "blocks_scan.csv", "table1_blocks.csv",
+                "table1_blocks_ratios.json")
+
+
+def csv_header(key: str) -> str:
+    """The CSV header of a column: ``key [unit]`` (``key`` for text); ParameterError if the
+    quantity has no unit in ``UNITS``."""
+    if key not in UNITS:
+        raise ParameterError(f"column = {key!r} is out of range: allowed a quantity of "
+                             "report.UNITS (give it its unit there)")
+    return f"{key} [{UNITS[key]}]" if UNITS[key] else key
+
+
+def _unknown_units(keys) -> list[str]:
+    """Keys without a unit in UNITS, logged: a result file is still written (their CSV header
+    ``key [?]``, their unit null), the tests require every key to have one."""
+    missing = sorted(set(keys) - set(UNITS))
+    if missing:
+        logging.getLogger(__name__).warning("no unit registered for %s (report.UNITS)",
+                                            ", ".join(missing))
+    return missing
+
+
+def _write_csv(path: Path, records: Iterable[Mapping], columns: list[str] | None = None):
+    records = [dict(r) for r in records]
+    if columns is None:
+        columns = list(dict.fromkeys(k for r in records for k in r))
+    _unknown_units(columns)
+    head = {k: csv_header(k) if k in UNITS else f"{k} [?]" for k in columns}
+    return write_csv(path, [{head[k]: v for k, v in r.items()} for r in records],
+                     [head[k] for k in columns])
+
+
+_UNIT_SUFFIX = re.compile(r"^(.*?) \[[^\]]*\]$")
+
+
+def read_csv(path: str | Path) -> list[dict]:
+    """Read a CSV written by ``write``: plain keys (the unit suffix dropped), numbers as floats
+    (ints where integral text), empty cells as NaN, other text as is."""
+    import csv
+
+    def value(text: str):
+        if text == "":
+            return math.nan
+        for conv in (int, float):
+            try:
+                return conv(text)
+            except ValueError:
+                pass
+        return text
+
+    with open(path, newline="", encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    return [{(_UNIT_SUFFIX.match(k).group(1) if _UNIT_SUFFIX.match(k) else k): value(v)
+             for k, v in r.items()} for r in rows]
+
+
+def units_table(summary: Mapping) -> dict:
+    """The ``units`` table of summary.json: the unit of every case-file key (by section) and of
+    every result quantity the summary holds (by name; "-" dimensionless, "" text)."""
+    from .config import SCHEMA, TOP_LEVEL
+
+    def unit(key):
+        numeric = float in (key.kind, key.item) or int in (key.kind, key.item)
+        return key.unit.replace("³", "^3").replace("²", "^2") or ("-" if numeric else "")
+
+    inputs = {sec: {k: unit(key) for k, key in keys.items()} for sec, keys in SCHEMA.items()}
+    inputs["name"] = unit(TOP_LEVEL["name"])
+    found: set[str] = set()
+
+    def walk(x):
+        if isinstance(x, Mapping):
+            for k, v in x.items():
+                if isinstance(v, Mapping) or (isinstance(v, list) and v
+                                              and isinstance(v[0], Mapping)):
+                    walk(v)
+                else:
+                    found.add(k)
+        elif isinstance(x, list):
+            for v in x:
+                walk(v)
+
+    for k in ("derived", "mechanisms", "hinges", "fe", "critical", "dem_table1"):
+        walk(summary.get(k))
+    _unknown_units(found)
+    return {"inputs": inputs, "results": {k: UNITS.get(k) for k in sorted(found)},
+            "timings_s": "s"}
+
 
 WRITERS: dict[str, Callable] = {
-    ".json": write_json, ".csv": write_csv, ".png": lambda path, draw: draw(path),
+    ".json": write_json, ".csv": _write_csv, ".png": lambda path, draw: draw(path),
     **dict.fromkeys((".vtu", ".xdmf", ".msh"), lambda path, mesh: fe_mesh.write(mesh, path))}
 
 
@@ -87,6 +213,10 @@ def summary_text(result) -> str:
             f"f={c.masonry.f:g}\n"
             f"  rho=l/s={c.rho:.4g}  alpha^2=cf/a={c.alpha ** 2:.4g}  beta=c/b={c.beta:.4g}"
             f"  (eq. 11)")
+    cfg = result.config
+    if cfg.modified:
+        head += f"\n  modified by --set: {cfg.describe_changes()}"
+    head += "".join(f"\n  warning: {w}" for w in cfg.warnings)
     out = [head, "", format_table(["mechanism", "lambda=h/b", "h [m]", "vg [m/s]",
                                    "vg/sqrt(gb)"], rows)]
     statics = [f"{k} {m.multiplier:.4g} at h = {m.lam_multiplier * c.wall.b:.2f} m"
@@ -159,7 +289,18 @@ def mechanism_mesh(fe):
     label per triangle, the detected crack (the 50 % line) as a line block, the failing body
     (inside the 50 % line) as a triangle block of its own (cell fields ``body`` = 1 and its
     ``density`` [kg/m²]) and, with the static bound, its stress field (``static_*``) and each
-    triangle's share of the bracket's gap."""
+    triangle's share of the bracket's gap.
+
+    A mechanism's amplitude is arbitrary (the solver normalises the live load's power to 1,
+    which leaves velocities of order 1e-6 m/s): the velocity is divided by its largest
+    magnitude, so max |v| = 1 and ParaView's "Warp By Vector" works at scale factors of the
+    order of the wall; ``dissipation`` and ``intensity``, linear in the velocity, are divided
+    by the same number, kept as field data ``velocity_scale`` [m/s]. ``dissipation`` is zero
+    on every triangle for cohesionless masonry (eq. 15's support function vanishes on its
+    admissible cone, so an admissible mechanism dissipates nothing; the multiplier comes from
+    gravity alone). ``participation`` (1 on the block, 0 at rest) is clipped to [0, 1]: near
+    the hinge the ratio of the FE to the rigid velocity is ill-conditioned and its raw
+    centroid values stray outside (NaN: at the hinge itself)."""
     import meshio
 
     from ..fe.bracket import gap_contributions
@@ -170,7 +311,12 @@ def mechanism_mesh(fe):
     crack = full.drawing()["crack"]
     cells = [meshio.CellBlock("triangle", m.cells[0].data)]
     data = {k: [np.asarray(v[0], float)] for k, v in m.cell_data.items()}
-    data["participation"] = [np.asarray(full.measures.participation, float)]
+    vel = np.asarray(m.point_data["velocity"], float)
+    scale = float(np.max(np.linalg.norm(vel, axis=1), initial=0.0)) or 1.0
+    m.point_data["velocity"] = vel / scale
+    for k in ("dissipation", "intensity"):
+        data[k] = [data[k][0] / scale]
+    data["participation"] = [np.clip(np.asarray(full.measures.participation, float), 0, 1)]
     data["label"] = [np.asarray(full.measures.label, float)]
     pts = m.points
     if crack is not None and len(crack) > 1:
@@ -197,4 +343,5 @@ def mechanism_mesh(fe):
         gap = gap_contributions(fe.static, full.solution)  # share of λ⁺ − λ⁻ (virtual power)
         out.cell_data["bracket_gap"] = [gap] + [np.full(len(b.data), np.nan)
                                                 for b in out.cells[1:]]
+    out.field_data = {"velocity_scale": np.array([scale])}
     return out

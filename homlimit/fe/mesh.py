@@ -23,7 +23,7 @@ import meshio
 import numpy as np
 
 from .._io import atomic_path
-from ..errors import MeshError, ParameterError
+from ..errors import HomlimitError, MeshError, ParameterError
 
 __all__ = ["to_skfem", "from_skfem", "read", "write", "cached", "cache_dir", "element_areas",
            "quality", "region_tags"]
@@ -146,7 +146,7 @@ def write(m: meshio.Mesh, path: str | os.PathLike) -> Path:
         with atomic_path(path) as tmp:
             meshio.write(tmp, out, **kw)
     except Exception as exc:
-        if isinstance(exc, MeshError):
+        if isinstance(exc, HomlimitError):  # MeshError, or OutputError (disk full, EFBIG)
             raise
         raise MeshError(f"could not write mesh to {path}: {exc}") from exc
     return path

@@ -1,0 +1,80 @@
+"""The problem-size budget: how many triangles a run will mesh, known before it meshes.
+
+A run's memory is that of its largest conic program (the kinematic or the static bound of the
+whole wall, or of the largest part of the FE impulse scan), and grows linearly with its
+triangle count. ``estimate_triangles`` predicts the count of ``fe.problems.t_section`` from the
+wall and the mesh size alone, without meshing; ``fe_triangles`` takes the largest problem of a
+run; above ``[mesh] max_triangles`` the case is refused before any work (exit 2), naming the
+keys to change. Calibration and the default: ``benchmarks/bench_memory.py``.
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["DEFAULT_MAX_TRIANGLES", "KIB_PER_TRIANGLE", "MEMORY_BUDGET_GIB", "MESHERS",
+           "estimate_triangles", "fe_triangles", "memory_gib"]
+
+MESHERS = ("crossed", "gmsh")
+N_B = 4          # columns across the façade (t_section's n_b)
+GROWTH = 1.15    # growth of the crossed mesh's column widths away from the junction
+# gmsh: triangles per unit area at size h is GMSH_AREA/h² (equilateral: 4/√3 = 2.31), and a
+# band of width b on either side of the junction is refined to min(h, b/N_B), with a linear
+# transition over a further b; coefficients fitted to 46 gmsh meshes (1e2 .. 4e4 triangles):
+# the estimate lies within 0.95 .. 1.05 of the count above 5 000 triangles
+GMSH_AREA = 2.36
+GMSH_TRANSITION = 2.76
+
+# Peak memory of the conic programs per triangle: the largest measured above 5 000 triangles
+# (B1, both meshers, 4 300 .. 19 000 triangles, benchmarks/bench_memory.py): kinematic
+# 33.0 .. 37.5 KiB, static 24.4 .. 35.3 KiB; the larger sizes the default.
+KIB_PER_TRIANGLE = {"kinematic": 37.5, "static": 35.3}
+#: memory a run may take on the reference machine (2 cores, 24 GiB, shared with others)
+MEMORY_BUDGET_GIB = 8.0
+#: 150 000 triangles: 5.4 GiB at 37.5 KiB each, leaving a quarter of MEMORY_BUDGET_GIB for
+#: the fill-in of the sparse factorisation growing faster than linearly beyond the measured
+#: sizes (~n log n: +25 % from 15k to 150k) and for the scan's solutions held in memory
+DEFAULT_MAX_TRIANGLES = 150_000
+
+
+def estimate_triangles(H: float, b: float, L: float, h: float, mesher: str = "crossed"
+                       ) -> float:
+    """Triangles of ``t_section`` on a part of height H (façade thickness b, wall length L)
+    at mesh size h [m], without meshing.
+
+    crossed: 4 triangles per cell, ceil(H/h) rows; columns: N_B across the façade, the wall's
+    far spacing max(h, b/N_B) over L, plus the graded columns between the two sizes
+    (ln(max/min)/ln(GROWTH)); exact to within +0 .. +32 % above 5 000 triangles.
+    gmsh: area over h² (GMSH_AREA) plus the junction band at min(h, b/N_B).
+    Returns a float (inf when the count would not fit a float).
+    """
+    h_j = min(h, b / N_B)
+    try:
+        if mesher == "gmsh":
+            band = min(b, L)
+            fine = H * (b + band) / h_j ** 2
+            transition = H * min(b, max(L - band, 0.0)) / (h_j * h)
+            far = H * max(L - 2 * b, 0.0) / h ** 2
+            return GMSH_AREA * (fine + far) + GMSH_TRANSITION * transition
+        h_far = max(h, b / N_B)
+        graded = math.log(h_far / h_j) / math.log(GROWTH)
+        return 4.0 * math.ceil(H / h) * (N_B + L / h_far + graded)
+    except OverflowError:
+        return math.inf
+
+
+def fe_triangles(H: float, b: float, L: float, size: float, lams=(),
+                 mesher: str = "crossed") -> float:
+    """The largest problem of an FE run [triangles]: the whole wall at ``size`` and each part
+    of the impulse scan (``lams``: slenderness λ = h/b of the parts; a part of height h is
+    meshed at min(size, h/10), ``mechanism.analysis.part_problem``)."""
+    n = estimate_triangles(H, b, L, size, mesher)
+    for lam in lams:
+        hp = min(float(lam) * b, H)
+        n = max(n, estimate_triangles(hp, b, L, min(size, hp / 10), mesher))
+    return n
+
+
+def memory_gib(triangles: float) -> float:
+    """Peak memory [GiB] of the larger bound on ``triangles`` triangles (KIB_PER_TRIANGLE)."""
+    return triangles * max(KIB_PER_TRIANGLE.values()) / 2 ** 20

@@ -1,0 +1,210 @@
+"""Whole result sets (``homlimit._io.result_set``): a folder holds the previous set or the new
+one, never a mix; stale files never survive; nothing is left behind on any exit path; files get
+the umask's permissions; an unusable folder is refused before any work."""
+
+from __future__ import annotations
+
+import errno
+import json
+import os
+import stat
+from pathlib import Path
+
+import pytest
+
+from homlimit import _io
+from homlimit.errors import OutputError, ParameterError
+
+
+def _set(folder: Path, files: dict[str, str]):
+    """Write ``files`` (name → text) as one result set in ``folder``."""
+    with _io.result_set(folder, info={"command": "test"}) as staging:
+        for name, text in files.items():
+            _io.write_text(staging / name, text)
+
+
+def _contents(folder: Path) -> dict[str, str]:
+    return {str(p.relative_to(folder)): p.read_text() for p in sorted(folder.rglob("*"))
+            if p.is_file()}
+
+
+def _leftovers(parent: Path, keep: set[str]) -> list[str]:
+    """Anything in ``parent`` that is not one of ``keep`` (staging folders, temporaries)."""
+    return sorted(p.name for p in parent.iterdir() if p.name not in keep)
+
+
+@pytest.fixture
+def umask022():
+    old = os.umask(0o022)
+    yield
+    os.umask(old)
+
+
+def test_a_new_set_with_its_manifest_and_umask_modes(tmp_path, umask022):
+    out = tmp_path / "deep" / "er" / "B1"
+    _set(out, {"summary.json": "{}", "vg_lambda.png": "png"})
+    assert _io.check_result_set(out) == []
+    manifest = json.loads((out / _io.MANIFEST).read_text())
+    assert manifest == {"command": "test", "files": ["summary.json", "vg_lambda.png"]}
+    # the umask's modes (0644 files, 0755 folders), not mkstemp's 0600 / mkdtemp's 0700
+    for p in (out / "summary.json", out / "vg_lambda.png", out / _io.MANIFEST):
+        assert stat.S_IMODE(p.stat().st_mode) == 0o644, p
+    assert stat.S_IMODE(out.stat().st_mode) == 0o755
+    assert _leftovers(tmp_path / "deep" / "er", {"B1"}) == []
+
+
+def test_umask_027_is_respected(tmp_path):
+    old = os.umask(0o027)
+    try:
+        _io.write_text(tmp_path / "a.txt", "x")
+        _set(tmp_path / "s", {"b.txt": "y"})
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "a.txt").stat().st_mode) == 0o640
+    assert stat.S_IMODE((tmp_path / "s" / "b.txt").stat().st_mode) == 0o640
+    assert stat.S_IMODE((tmp_path / "s").stat().st_mode) == 0o750
+
+
+@pytest.mark.parametrize("exchange", [True, False], ids=["renameat2", "two-renames"])
+def test_a_new_set_replaces_the_old_one_whole(tmp_path, monkeypatch, exchange):
+    """A run without the FE stage leaves no mechanism.vtu of an earlier FE run behind."""
+    if not exchange:
+        monkeypatch.setattr(_io, "_exchange", lambda a, b: False)
+    out = tmp_path / "B1"
+    _set(out, {"summary.json": "old", "mechanism.vtu": "old", "fe_scan.csv": "old"})
+    _set(out, {"summary.json": "new"})
+    assert _contents(out) == {"summary.json": "new", _io.MANIFEST: (out / _io.MANIFEST)
+                              .read_text()}
+    assert _io.check_result_set(out) == []
+    assert _leftovers(tmp_path, {"B1"}) == []
+
+
+@pytest.mark.parametrize("error", [RuntimeError("solver died"), KeyboardInterrupt(),
+                                   OSError(errno.ENOSPC, "No space left on device")],
+                         ids=["error", "interrupt", "disk-full"])
+def test_a_failure_while_writing_keeps_the_previous_set(tmp_path, error):
+    out = tmp_path / "B1"
+    _set(out, {"summary.json": "old", "vg_lambda.png": "old"})
+    before = _contents(out)
+    with pytest.raises((type(error), OutputError)) as info:
+        with _io.result_set(out) as staging:
+            _io.write_text(staging / "vg_lambda.png", "new")   # half the set written ...
+            raise error                                         # ... then the failure
+    if isinstance(error, OSError):
+        assert isinstance(info.value, OSError)
+    assert _contents(out) == before
+    assert _leftovers(tmp_path, {"B1"}) == []
+
+
+def test_a_writer_that_fails_mid_file_leaves_no_temporary(tmp_path):
+    """EFBIG/ENOSPC inside one file's write: OutputError naming the file, no temporary."""
+    def draw(tmp):
+        tmp.write_bytes(b"half a picture")
+        raise OSError(errno.EFBIG, "File too large")
+
+    with pytest.raises(OutputError, match=r"cannot write .*x\.png: File too large"):
+        _io.write_figure(tmp_path / "x.png", draw)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_failure_in_a_new_folder_removes_the_folders_it_made(tmp_path):
+    with pytest.raises(RuntimeError):
+        with _io.result_set(tmp_path / "a" / "b" / "B1"):
+            raise RuntimeError("stop")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_unusable_folders_are_refused_before_any_work(tmp_path, monkeypatch):
+    ran = []
+
+    def attempt(target, names=()):
+        with pytest.raises(ParameterError) as info:
+            with _io.result_set(target, names=names):
+                ran.append(target)                 # never reached
+        return str(info.value)
+
+    (tmp_path / "file").write_text("x")
+    assert "is a file, not a folder" in attempt(tmp_path / "file")
+    assert "cannot be created: " in attempt(tmp_path / "file" / "sub")
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "thesis.tex").write_text("precious")
+    assert "holds other files" in attempt(tmp_path / "mine")
+    assert (tmp_path / "mine" / "thesis.tex").read_text() == "precious"
+    assert "NUL" in attempt(str(tmp_path / "a\x00b"))
+    assert "bytes per folder name" in attempt(tmp_path / ("x" * 300))
+    (tmp_path / "link").symlink_to(tmp_path / "mine")
+    assert "symbolic link" in attempt(tmp_path / "link")
+    monkeypatch.chdir(tmp_path / "mine")
+    assert "working folder" in attempt(".")
+    assert "working folder" in attempt(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    # a read-only folder or parent (as the permission check sees it: tests may run as root)
+    real = os.access
+    monkeypatch.setattr(os, "access", lambda p, m: False if Path(p).name == "ro" else real(p, m))
+    (tmp_path / "ro").mkdir()
+    assert "is not writable" in attempt(tmp_path / "ro")
+    assert "is not writable" in attempt(tmp_path / "ro" / "B1")
+    assert ran == []
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
+def test_a_really_read_only_parent_is_refused(tmp_path):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o555)
+    try:
+        with pytest.raises(ParameterError, match="is not writable"):
+            with _io.result_set(ro / "B1"):
+                pass
+    finally:
+        ro.chmod(0o755)
+
+
+def test_nested_sets_of_other_commands_are_carried_over(tmp_path):
+    """homlimit-out/B1/pulse/ (the pulse command's set) survives a new run's set in B1/."""
+    out = tmp_path / "B1"
+    _set(out / "pulse", {"spectra.csv": "pulse"})
+    _set(out, {"summary.json": "run 1", "mechanism.vtu": "run 1"})   # parent made by pulse
+    _set(out, {"summary.json": "run 2"})
+    assert _contents(out / "pulse")["spectra.csv"] == "pulse"
+    assert (out / "summary.json").read_text() == "run 2" and not (out / "mechanism.vtu").exists()
+    assert _io.check_result_set(out) == [] and _io.check_result_set(out / "pulse") == []
+
+
+def test_sets_written_before_manifests_are_recognised_by_their_names(tmp_path):
+    out = tmp_path / "B1"
+    out.mkdir()
+    (out / "summary.json").write_text("legacy")
+    (out / "stale.png").write_text("?")
+    with pytest.raises(ParameterError, match="holds other files"):
+        _set(out, {"summary.json": "new"})
+    (out / "stale.png").unlink()
+    with _io.result_set(out, names=("summary.json",)) as staging:
+        _io.write_text(staging / "summary.json", "new")
+    assert (out / "summary.json").read_text() == "new"
+
+
+def test_what_a_killed_run_left_is_cleaned_by_the_next(tmp_path):
+    """SIGKILL leaves a staging folder (or, between two renames, the previous set moved
+    aside): the next run removes the first and puts the second back."""
+    out = tmp_path / "B1"
+    _set(out, {"summary.json": "old"})
+    dead = 2 ** 22 + 12345                     # beyond pid_max: no such process
+    tag = _io._tag(out)
+    (tmp_path / f"{tag}-new-{dead}-abc").mkdir()
+    os.rename(out, tmp_path / f"{tag}-old-{dead}-abc")     # killed between the renames
+    with _io.result_set(out) as staging:
+        assert (out / "summary.json").read_text() == "old"  # restored before the new run
+        _io.write_text(staging / "summary.json", "new")
+    assert (out / "summary.json").read_text() == "new"
+    assert _leftovers(tmp_path, {"B1"}) == []
+
+
+def test_check_result_set_finds_a_mix(tmp_path):
+    out = tmp_path / "B1"
+    _set(out, {"summary.json": "a", "vg_lambda.png": "b"})
+    (out / "vg_lambda.png").unlink()
+    (out / "mechanism.vtu").write_text("stale")
+    assert _io.check_result_set(out) == [f"{out}: vg_lambda.png is listed but missing",
+                                         f"{out}: mechanism.vtu is not listed"]
+    assert "no readable" in _io.check_result_set(tmp_path)[0]
