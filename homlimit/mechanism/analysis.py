@@ -11,6 +11,7 @@ lowest v̄_g (eq. 7 minimised over λ = h/b).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import logging
 import math
 from dataclasses import dataclass
@@ -198,17 +199,25 @@ def analyse(case: Case, problem: Problem, options=None) -> FEMechanism:
     return FEMechanism(**common, body=body, impulse=gi, vg=vg, vg_method=how)
 
 
+def _analyse_height(case: Case, mesh_size: float, facade: str, options, lam: float
+                    ) -> FEMechanism:
+    """One height of ``h_scan``: ``analyse`` on the part above z0 = H − λ b."""
+    hp = lam * case.wall.b
+    log.info("FE analysis: part of height %.2f m (lam = %.3g)", hp, lam)
+    return analyse(case, part_problem(case, hp, facade, mesh_size), options)
+
+
 def h_scan(case: Case, lams, mesh_size: float = 0.25, facade: str = "homogenised",
-           options=None) -> list[FEMechanism]:
+           options=None, map=map) -> list[FEMechanism]:
     """``analyse`` on the part above z0 = H − λ b for every λ in ``lams``. The hinge may float
-    above the base of the analysed part: each mechanism's own h = H − z_O."""
+    above the base of the analysed part: each mechanism's own h = H − z_O.
+
+    ``map(fn, lams)``: how the heights are evaluated, results in order (default: one after
+    another here; ``app.engine.Engine.map`` makes each height a Dask task)."""
     w = case.wall
-    out = []
-    for k, lam in enumerate(lams):
-        hp = check_range("lam", lam, 0.0, w.lam_max, lo_open=True) * w.b
-        log.info("FE analysis %d/%d: part of height %.2f m", k + 1, len(lams), hp)
-        out.append(analyse(case, part_problem(case, hp, facade, mesh_size), options))
-    return out
+    lams = [check_range("lam", lam, 0.0, w.lam_max, lo_open=True) for lam in lams]
+    log.info("FE scan: %d collapse heights", len(lams))
+    return list(map(functools.partial(_analyse_height, case, mesh_size, facade, options), lams))
 
 
 @dataclass(frozen=True)
@@ -265,16 +274,18 @@ class FEResult:
 
 
 def fe_result(case: Case, lams, mesh_size: float = 0.25, facade: str = "homogenised",
-              options=None, whole: Problem | None = None, static: bool = False) -> FEResult:
+              options=None, whole: Problem | None = None, static: bool = False,
+              map=map) -> FEResult:
     """The scan over ``lams`` (the last value must be H/b: the whole wall) and, with
     ``static``, the whole wall's lower bound on the same mesh. ``whole``: the whole wall's
-    problem if already built (``t_section(case, facade=facade, h=mesh_size)``)."""
+    problem if already built (``t_section(case, facade=facade, h=mesh_size)``); ``map``: the
+    scan's heights (``h_scan``)."""
     check_choice("facade", facade, FACADE_MODELS)
     lams = np.asarray(lams, float)
     if not lams.size or not math.isclose(lams[-1], case.wall.lam_max, rel_tol=1e-12):
         raise ParameterError(f"lams = {lams.tolist()!r} is out of range: the last value must "
                              f"be H/b = {case.wall.lam_max:g} (the whole wall)")
-    scan = h_scan(case, lams[:-1], mesh_size, facade, options)
+    scan = h_scan(case, lams[:-1], mesh_size, facade, options, map=map)
     whole = whole or t_section(case, facade=facade, h=mesh_size)
     log.info("FE mechanism of the whole wall: %d triangles, P2", whole.n_triangles)
     scan.append(analyse(case, whole, options))
