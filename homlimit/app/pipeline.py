@@ -160,11 +160,13 @@ def _whole_problem(config: CaseConfig):
 
 # ----------------------------------------------------------------------------- other commands
 def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 10,
-                   tests: list[str] | None = None) -> list[dict]:
+                   tests: list[str] | None = None, fe_results=None) -> list[dict]:
     """Table 1 reproduced (``paper.table1_rows``), optionally with the FE body's columns
     lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe (the
     critical height of an FE scan over ``heights`` collapse heights, ``analysis.scan_lams``).
-    ``tests``: a subset of the test names (B1 ... C6)."""
+    ``tests``: a subset of the test names (B1 ... C6); ``fe_results(cases, lams, mesh_size,
+    options)``: the FE path of the walls, one ``FEResult`` each (default: ``fe_result`` wall
+    after wall here; ``engine.Engine.fe_results`` runs every height as a Dask task)."""
     check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
     check_range("heights", heights, 1, 200)
     cases = {t.test: t.case for t in table1()}
@@ -179,11 +181,18 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 10,
     timings: dict[str, float] = {}
     with _stage(timings, "closed forms for Table 1"):
         rows = [r for r in table1_rows() if not tests or r["test"] in tests]
-    for k, row in enumerate(rows if fe else ()):
-        case = cases[row["test"]]
-        with _stage(timings, "FE body", f"{row['test']}, wall {k + 1}/{len(rows)}"):
-            crit = fe_result(case, scan_lams(case, int(heights)), mesh_size,
-                             options=_solver_options()).critical
+    walls = [cases[row["test"]] for row in rows] if fe else []
+    lams = [scan_lams(case, int(heights)) for case in walls]
+    results = []
+    if walls:
+        with _stage(timings, "FE body", f"{len(walls)} walls"):
+            if fe_results is None:
+                results = [fe_result(case, lam, mesh_size, options=_solver_options())
+                           for case, lam in zip(walls, lams)]
+            else:
+                results = fe_results(walls, lams, mesh_size, _solver_options())
+    for row, res in zip(rows, results):
+        crit = res.critical
         if crit is None:
             raise ParameterError(f"test = {row['test']!r}: no analysed height gave a v̄_g "
                                  "(see the scan's vg_method)")
@@ -194,9 +203,10 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 10,
 
 
 def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
-                        c_over_a=None, frictions=None, facades=None) -> list[dict]:
+                        c_over_a=None, frictions=None, facades=None, map=map) -> list[dict]:
     """The crack-angle study over a grid of c/a and f (``studies.crack_angle_study``): each
-    grid argument left None takes the study's default."""
+    grid argument left None takes the study's default; ``map``: how the grid points are
+    evaluated (``crack_angle_study``)."""
     from .studies import crack_angle_study
 
     check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
@@ -210,7 +220,7 @@ def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quic
     grid = {k: tuple(v) for k, v in (("c_over_a", c_over_a), ("frictions", frictions),
                                      ("facades", facades)) if v}
     return crack_angle_study(mesh_size=mesh_size, finer=finer, quick=quick,
-                             options=_solver_options(), **grid)
+                             options=_solver_options(), map=map, **grid)
 
 
 def mesh_case(config: CaseConfig, out: Path) -> dict:
