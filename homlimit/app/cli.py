@@ -212,7 +212,8 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
            heights: Annotated[int, typer.Option(help="Collapse heights of the FE scan, "
                                                 "λ = h/b from 2 to H/b (with --fe).")] = 10,
            test: Annotated[list[str] | None, typer.Option(
-               "--test", "-t", help="Only this Table 1 test, e.g. B1 (repeatable).")] = None):
+               "--test", "-t", help="Only this Table 1 test, e.g. B1 (repeatable).")] = None,
+           workers: WorkersOpt = None, scheduler: SchedulerOpt = None):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
     from . import plots, report
     from .pipeline import table1_records
@@ -220,7 +221,13 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
     out = out or Path("homlimit-out") / "table1"
     _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout:
-        rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test)
+        if fe:  # validated first (no FE), then every height of every wall a Dask task
+            table1_records(fe=False, mesh_size=mesh_size, heights=heights, tests=test)
+            with _engine(workers, scheduler, True) as engine:
+                rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights,
+                                      tests=test, fe_results=engine.fe_results)
+        else:
+            rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test)
         report.write(out / "table1.csv", rows)
         report.write(out / "table1.json", rows)
         plots.plot_table1(out / "table1.png", rows)
@@ -263,16 +270,28 @@ def crack_study(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOp
                 friction: Annotated[list[float] | None, typer.Option(
                     "--friction", help="Joint friction f (repeat for several).")] = None,
                 facade: Annotated[list[str] | None, typer.Option(
-                    help="Façade model: homogenised or bedjoints (repeat for both).")] = None):
+                    help="Façade model: homogenised or bedjoints (repeat for both).")] = None,
+                workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
+                resume: Annotated[bool, typer.Option(
+                    "--resume/--no-resume", help="Keep the points recorded in OUT/records/ "
+                                                 "by an earlier run.")] = True):
     """The crack-angle study: the FE crack slope over a grid of c/a and f, beside √(cf/a)."""
     from . import plots, report
+    from .engine import RecordStore
     from .pipeline import crack_study_records
 
     out = out or Path("homlimit-out") / "crack-study"
     _logging(verbose, quiet, as_json)
-    with _stdout_quiet(as_json) as stdout:
-        records = crack_study_records(mesh_size=mesh_size, finer=finer or None, quick=quick,
-                                      c_over_a=c_over_a, frictions=friction, facades=facade)
+    grid = dict(mesh_size=mesh_size, finer=finer or None, quick=quick, c_over_a=c_over_a,
+                frictions=friction, facades=facade)
+    store = RecordStore(out / "records")
+    with _stdout_quiet(as_json) as stdout, _interruptible(store.folder):
+        crack_study_records(**grid, map=lambda fn, points: [])   # validate before any work
+        if not resume:
+            store.clear()
+        with _engine(workers, scheduler, not (quiet or as_json)) as engine:
+            records = crack_study_records(**grid, map=engine.stored_map(
+                store, "crack-study", "crack-study"))
         files = {"csv": report.write(out / "crack_study.csv", records),
                  "png": plots.plot_crack_study(out / "crack_study.png", records,
                                                title="crack-angle study: FE crack against "
@@ -329,6 +348,126 @@ def mesh(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
         print(f"case {config.name}: {info['n_triangles']} triangles, {info['n_nodes']} nodes; "
               + ", ".join(f"{k} {v}" for k, v in info["regions"].items()))
         print("files: " + ", ".join(info["files"].values()))
+
+# ----------------------------------------------------------------------------- sweeps (Dask)
+WorkersOpt = Annotated[int | None, typer.Option(
+    "--workers", "-w", help="Embedded Dask worker processes, one thread each \\[default: one "
+                            "per core].")]
+SchedulerOpt = Annotated[str | None, typer.Option(
+    "--scheduler", help="Address of a running Dask scheduler (e.g. tcp://127.0.0.1:8786) to "
+                        "use instead of embedded workers.")]
+
+
+@contextmanager
+def _interruptible(where: Path):
+    """Ctrl-C / SIGTERM: what is recorded stays; exit 130 / 143 with a one-line note."""
+    from .engine import Interrupted
+
+    try:
+        yield
+    except KeyboardInterrupt as e:
+        signum = e.signum if isinstance(e, Interrupted) else 2
+        print(f"homlimit: interrupted; the finished records are kept in {where}: run the same "
+              "command again to resume", file=sys.stderr)
+        raise typer.Exit(128 + signum) from None
+
+
+def _engine(workers: int | None, scheduler: str | None, quiet: bool):
+    from .engine import Engine
+
+    return Engine(workers=workers, scheduler=scheduler, progress=not quiet)
+
+
+class _SweepGroup(typer.core.TyperGroup):
+    """``homlimit sweep BASE.toml ...`` is ``homlimit sweep run BASE.toml ...``."""
+
+    def parse_args(self, ctx, args):
+        if args and args[0] not in self.commands and args[0] not in ("--help", "-h"):
+            args = ["run", *args]
+        return super().parse_args(ctx, args)
+
+
+sweep_app = typer.Typer(cls=_SweepGroup, no_args_is_help=True, help=(
+    "Parameter sweeps and building stocks on Dask: homlimit sweep BASE.toml --grid "
+    "wall.l=3,6,9 [--table cases.csv]; homlimit sweep report RESULTS."))
+app.add_typer(sweep_app, name="sweep")
+
+
+@sweep_app.command("run")
+@_guarded
+def sweep_run(
+        base: CaseArg = None, as_json: JsonOpt = False, verbose: VerboseOpt = False,
+        quiet: QuietOpt = False,
+        out: Annotated[Path | None, typer.Option("--out", "-o", help="Sweep folder "
+                                                 "\\[default: homlimit-out/NAME/sweep/].")] = None,
+        grid: Annotated[list[str] | None, typer.Option(
+            "--grid", "-g", help="A swept key and its values, e.g. --grid wall.l=3,6,9 "
+                                 "(repeatable: every combination).")] = None,
+        table: Annotated[Path | None, typer.Option(
+            "--table", help="CSV of cases: one per row, one case key per column (times the "
+                            "grid, if both).")] = None,
+        workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
+        resume: Annotated[bool, typer.Option(
+            "--resume/--no-resume", help="Keep the records of an earlier run of this sweep "
+                                         "and run only the missing cases.")] = True,
+        retry_failed: Annotated[bool, typer.Option(
+            "--retry-failed", help="Run the cases recorded as failed again.")] = False):
+    """Run a sweep: every case of a grid and/or table of overrides on BASE, on Dask.
+
+    Each case's record is written as soon as it finishes (OUT/records/); the table is
+    OUT/results.parquet and OUT/results.csv. Exit 3 if any case failed."""
+    from . import report
+    from .sweep import sweep
+
+    if not grid and table is None:
+        raise ParameterError("--grid / --table = none is out of range: allowed at least one "
+                             "--grid key=v1,v2 or a --table CSV")
+    _logging(verbose, quiet, as_json)
+    where = out or Path("homlimit-out")
+    with _stdout_quiet(as_json) as stdout, _interruptible(where):
+        res = sweep(base, grid, table, out, workers=workers, scheduler=scheduler,
+                    resume=resume, retry_failed=retry_failed, progress=not (quiet or as_json))
+    info = {"folder": res.folder, "n_cases": len(res.rows), "ok": res.n_ok,
+            "failed": res.n_failed, "resumed": res.n_resumed, "elapsed_s": res.elapsed,
+            "swept": res.swept, "files": res.files,
+            "failures": [{k: r.get(k) for k in ("case_index", "key", "error")}
+                         for r in res.failed()]}
+    if as_json:
+        _emit_json(stdout, info)
+    else:
+        cols = [c for c in ["case_index", *res.swept, "status", "critical.mechanism",
+                            "critical.vg", "critical.vnorm"]]
+        shown = res.rows[:20]
+        print(report.format_table(cols, [[r.get(c) for c in cols] for r in shown],
+                                  title=f"sweep of {len(res.rows)} cases: {res.n_ok} ok, "
+                                        f"{res.n_failed} failed, {res.n_resumed} resumed "
+                                        f"({res.elapsed:.1f} s)"
+                                        + ("; first 20 rows" if len(res.rows) > 20 else "")))
+        for f in info["failures"][:10]:
+            print(f"failed case {f['case_index']}: {f['error']}".splitlines()[0])
+        print("\nfiles: " + ", ".join(str(v) for v in res.files.values()))
+    if res.n_failed:
+        raise typer.Exit(EXIT_SOLVER)
+
+
+@sweep_app.command("report")
+@_guarded
+def sweep_report_cmd(
+        results: Annotated[Path, typer.Argument(help="A sweep folder, or its results.parquet "
+                                                     "/ results.csv.")],
+        out: Annotated[Path | None, typer.Option("--out", "-o", help="Folder of the "
+                                                 "plots \\[default: RESULTS/report/].")] = None,
+        as_json: JsonOpt = False):
+    """Draw a sweep's standard plots: vg/sqrt(gb) against each swept key, the critical
+    mechanism map, measured against predicted tan psi, the histogram of vg."""
+    from .sweep_report import report
+
+    with _stdout_quiet(as_json) as stdout:
+        files = report(results, out)
+    if as_json:
+        _emit_json(stdout, {"files": files})
+    else:
+        print("files: " + ", ".join(str(v) for v in files.values()))
 
 
 def main():
