@@ -284,3 +284,20 @@ def test_interrupted_sweep_resumes_to_the_same_table(interrupt_cases, sig):
     info = json.loads(r.stdout)
     assert info["resumed"] == len(recs) and info["ok"] == 6
     assert _table(out) == _table(d / "whole")
+
+
+def test_stock_example_is_200_valid_facades_as_drawn():
+    """examples/stock/stock.csv is what make_stock.py draws, and every façade is a valid case
+    of the stock's base (so the FE mesh fits every scan)."""
+    import importlib.util
+
+    stock = ROOT / "examples" / "stock"
+    spec = importlib.util.spec_from_file_location("make_stock", stock / "make_stock.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert read_table(stock / "stock.csv") == mod.draw()
+    cases, _, _ = plan_sweep(stock / "case.toml", table=stock / "stock.csv")
+    assert len(cases) == 200 and all(c.config is not None for c in cases)
+    assert len({c.key for c in cases}) == 200
+    H = [c.config.case.wall.H for c in cases]
+    assert 6.0 <= min(H) and max(H) <= 20.0
