@@ -221,8 +221,9 @@ def table1(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = F
     out = out or Path("homlimit-out") / "table1"
     _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout:
-        if fe:  # validated first (no FE), then every height of every wall a Dask task
-            table1_records(fe=False, mesh_size=mesh_size, heights=heights, tests=test)
+        if fe:  # validated before any work, then every height of every wall a Dask task
+            table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test,
+                           fe_results=lambda *args: [])
             with _engine(workers, scheduler, True) as engine:
                 rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights,
                                       tests=test, fe_results=engine.fe_results)
@@ -359,7 +360,7 @@ SchedulerOpt = Annotated[str | None, typer.Option(
 
 
 @contextmanager
-def _interruptible(where: Path):
+def _interruptible(where):
     """Ctrl-C / SIGTERM: what is recorded stays; exit 130 / 143 with a one-line note."""
     from .engine import Interrupted
 
@@ -423,7 +424,7 @@ def sweep_run(
         raise ParameterError("--grid / --table = none is out of range: allowed at least one "
                              "--grid key=v1,v2 or a --table CSV")
     _logging(verbose, quiet, as_json)
-    where = out or Path("homlimit-out")
+    where = out or "the sweep folder"
     with _stdout_quiet(as_json) as stdout, _interruptible(where):
         res = sweep(base, grid, table, out, workers=workers, scheduler=scheduler,
                     resume=resume, retry_failed=retry_failed, progress=not (quiet or as_json))
