@@ -17,6 +17,7 @@ is here too: ``table1_records``, ``crack_study_records``, ``mesh_case``.
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import time
@@ -42,6 +43,7 @@ __all__ = ["Result", "crack_study_records", "mesh_case", "output_dir", "package_
 log = logging.getLogger(__name__)
 
 
+@functools.cache  # importlib.metadata reads the install's files: ~5 ms a call
 def package_version() -> str:
     """The installed package's version (``importlib.metadata``)."""
     try:
