@@ -61,8 +61,9 @@ def record_key(kind: str, inputs, version: str | None = None) -> str:
         from .pipeline import package_version
 
         version = package_version()
-    text = json.dumps({"kind": kind, "inputs": to_jsonable(inputs), "homlimit_version": version},
-                      sort_keys=True, separators=(",", ":"), ensure_ascii=True)
+    text = json.dumps({"kind": kind, "inputs": inputs, "homlimit_version": version},
+                      sort_keys=True, separators=(",", ":"), ensure_ascii=True,
+                      default=to_jsonable)    # numpy values, paths
     return hashlib.sha256(text.encode("ascii")).hexdigest()[:20]
 
 
