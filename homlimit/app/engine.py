@@ -27,7 +27,7 @@ import threading
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
-from .._io import to_jsonable, write_json
+from .._io import to_jsonable, write_json, write_text
 from ..errors import ParameterError, check_range
 
 __all__ = ["BLAS_ENV", "Engine", "Interrupted", "RecordStore", "cpu_count", "record_key"]
@@ -91,8 +91,14 @@ class RecordStore:
                     out[key] = rec
         return out
 
-    def put(self, key: str, record: dict) -> Path:
-        return write_json(self.folder / f"{key}.json", record)
+    def put(self, key: str, record: dict, exact: bool = False) -> Path:
+        """Write one record; ``exact``: NaN kept as NaN (Python's JSON reads it back), so a
+        record read back equals the one computed; otherwise null, as summary.json has it."""
+        path = self.folder / f"{key}.json"
+        if not exact:
+            return write_json(path, record)
+        return write_text(path, json.dumps(record, indent=1, ensure_ascii=False,
+                                           default=to_jsonable) + "\n")
 
     def put_batch(self, records: dict[str, dict]) -> Path:
         """Write a batch of records as one file (its name: the key of its keys)."""
@@ -247,7 +253,7 @@ class Engine:
                          len(items) - len(todo), len(items), store.folder)
             new = self.run(fn, [items[k] for k in todo], total=len(items),
                            already=(len(items) - len(todo), 0), description=description,
-                           on_result=lambda j, rec: store.put(keys[todo[j]], rec))
+                           on_result=lambda j, rec: store.put(keys[todo[j]], rec, exact=True))
             out = [stored.get(key) for key in keys]
             for j, k in enumerate(todo):
                 out[k] = new[j]
