@@ -24,6 +24,7 @@ describes the sweep. ``sweep_report.report`` draws the standard plots.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import dataclasses
 import itertools
@@ -385,15 +386,10 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
     batched = [c for c in todo if c.closed_form_only]
     single = [c for c in todo if not c.closed_form_only]
     if todo:
-        own = engine is None
-        eng = Engine(workers, scheduler, progress) if own else engine
-        try:
-            if own:
-                eng.__enter__()
-            _evaluate(eng, store, records, batched, single, len(valid), n_resumed)
-        finally:
-            if own:
-                eng.__exit__(None, None, None)
+        n_failed = sum(1 for k in valid if records.get(k, {}).get("status", "ok") != "ok")
+        with Engine(workers, scheduler, progress) if engine is None \
+                else contextlib.nullcontext(engine) as eng:
+            _evaluate(eng, store, records, batched, single, len(valid), (n_resumed, n_failed))
     rows = _rows(cases, records)
     files = write_table(folder, rows, swept)
     files.update({"sweep_json": folder / "sweep.json", "records": store.folder})
@@ -403,14 +399,13 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
 
 
 def _evaluate(eng: Engine, store: RecordStore, records: dict, batched: list[SweepCase],
-              single: list[SweepCase], total: int, n_resumed: int):
+              single: list[SweepCase], total: int, already: tuple[int, int]):
     """Run the missing cases on ``eng``: closed-form batches and one task per other case;
     every record is stored the moment it arrives (a batch as one file)."""
     chunks = _chunks(batched, eng.n_workers if eng.client is not None else 1)
     items = [("batch", [c.config for c in ch]) for ch in chunks] + \
             [("case", c.config) for c in single]
     owners = [ch for ch in chunks] + [[c] for c in single]
-    n_failed = sum(1 for r in records.values() if r.get("status") != "ok")
 
     def save(k, res):
         if items[k][0] == "batch":
@@ -422,16 +417,17 @@ def _evaluate(eng: Engine, store: RecordStore, records: dict, batched: list[Swee
         records.update(got)
 
     def lost(item, exc):  # a task that raised (worker lost): not stored, so a rerun retries
-        cfgs = item[1] if item[0] == "batch" else [item[1]]
-        return [_failed(c, exc, time.perf_counter()) for c in cfgs] if item[0] == "batch" \
-            else _failed(item[1], exc, time.perf_counter())
+        kind, payload = item
+        recs = [_failed(c, exc, time.perf_counter())
+                for c in (payload if kind == "batch" else [payload])]
+        return recs if kind == "batch" else recs[0]
 
     def weight(res):
         recs = res if isinstance(res, list) else [res]
         return len(recs), sum(1 for r in recs if r.get("status") != "ok")
 
     results = eng.run(_evaluate_item, items, on_result=save, failed=lost, weight=weight,
-                      total=total, already=(n_resumed, n_failed), description="sweep")
+                      total=total, already=already, description="sweep")
     for k, res in enumerate(results):   # lost tasks: failed in the table, not in the store
         for c, rec in zip(owners[k], res if isinstance(res, list) else [res]):
             records.setdefault(c.key, rec)
