@@ -309,3 +309,42 @@ def test_stock_example_is_200_valid_facades_as_drawn():
     assert len({c.key for c in cases}) == 200
     H = [c.config.case.wall.H for c in cases]
     assert 6.0 <= min(H) and max(H) <= 20.0
+
+
+def test_cli_bad_sweep_input_exits_2_before_any_work(tmp_path):
+    from typer.testing import CliRunner
+
+    from homlimit.app.cli import app
+
+    r = CliRunner().invoke(app, ["sweep", str(C4), "--grid", "wall.hh=3", "--out",
+                                 str(tmp_path)])
+    assert r.exit_code == 2 and "grid key = 'wall.hh' is out of range" in r.stderr
+    r = CliRunner().invoke(app, ["sweep", str(C4), "--out", str(tmp_path)])
+    assert r.exit_code == 2 and "at least one --grid" in r.stderr
+    r = CliRunner().invoke(app, ["sweep", str(C4), "--grid", "masonry.c=4", "--out",
+                                 str(tmp_path)])
+    assert r.exit_code == 2 and "2c <= L" in r.stderr         # no valid case at all
+    assert not (tmp_path / "records").exists()
+
+
+@pytest.mark.slow
+def test_report_draws_the_standard_plots(tmp_path):
+    """The plots of a closed-form sweep's table (made here without Dask) and of a table with
+    FE columns: one file per standard plot."""
+    from test_report import assert_png
+
+    from homlimit.app.sweep import _rows, write_table
+    from homlimit.app.sweep_report import report
+
+    cases, _, _ = plan_sweep(C4, {"wall.l": [2.5, 5.0], "masonry.f": [0.4, 0.8]})
+    recs = batch_closed_form([c.config for c in cases])
+    rows = _rows(cases, {c.key: r for c, r in zip(cases, recs)})
+    write_table(tmp_path, rows, ["inputs.wall.l", "inputs.masonry.f"])
+    files = report(tmp_path)
+    assert sorted(files) == ["critical_map_png", "vg_histogram_png", "vnorm_swept_png"]
+    for f in files.values():
+        assert_png(f)
+    for r in rows:  # as if the FE had run: the crack plot appears
+        r.update({"fe.tanpsi": 0.6, "fe.sqrt_cf_a": 0.63, "mechanisms.FE.vnorm": 0.5})
+    write_table(tmp_path, rows, ["inputs.wall.l", "inputs.masonry.f"])
+    assert "tanpsi_png" in report(tmp_path, tmp_path / "r2")
