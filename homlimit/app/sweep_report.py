@@ -75,8 +75,12 @@ def report(results: str | Path, out: str | Path | None = None) -> dict[str, Path
              or any(r.get(f"mechanisms.{m}.vnorm") is not None for r in ok)]
     crit = [r.get("critical.mechanism") or "none" for r in ok]
     if num:
-        fig, axes = plt.subplots(1, len(num), figsize=(4.5 * len(num), 4), squeeze=False)
-        for ax, key in zip(axes[0], num):
+        ncol = min(4, len(num))
+        nrow = -(-len(num) // ncol)
+        fig, axes = plt.subplots(nrow, ncol, figsize=(4.5 * ncol, 3.8 * nrow), squeeze=False)
+        for ax in axes.flat[len(num):]:
+            ax.set_visible(False)
+        for ax, key in zip(axes.flat, num):
             x = _col(ok, key)
             for m in mechs:
                 ax.plot(x, _col(ok, f"mechanisms.{m}.vnorm"), "o", ms=3, alpha=0.5,
