@@ -9,7 +9,8 @@
    vectorised batches, records and table written (target < 10 s).
 
 Run on a quiet machine (the speed-up needs both cores free): ``python benchmarks/bench_sweep.py
-[--quick]`` (--quick: 4 walls, 4 heights, 0.5 m mesh, 2 000 closed-form cases).
+[--quick] [--only table1|closed-form]`` (--quick: 4 walls, 4 heights, 0.5 m mesh, 2 000
+closed-form cases).
 """
 
 from __future__ import annotations
@@ -70,6 +71,7 @@ def _stock_table(n: int, path: Path):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--only", choices=("table1", "closed-form"), help="one part only")
     args = ap.parse_args()
     kw = (dict(mesh_size=0.5, heights=4, tests=["B1", "B4", "C1", "C4"]) if args.quick
           else dict(mesh_size=0.25, heights=10))
@@ -77,6 +79,13 @@ def main():
     print(f"machine: {os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f} "
           "(the speed-up needs a quiet machine)")
 
+    if args.only != "closed-form":
+        _bench_table1(kw)
+    if args.only != "table1":
+        _bench_closed_form(n_cf)
+
+
+def _bench_table1(kw: dict):
     t1, rows1, s1 = _table1(1, kw)
     t2, rows2, s2 = _table1(2, kw)
     same = rows1 == rows2
@@ -93,6 +102,9 @@ def main():
     print(f"  1 worker: overhead {over1 * 1e3:.0f} ms per task = "
           f"{100 * over1 / (busy1 / n1):.2f} % of its run time")
 
+
+
+def _bench_closed_form(n_cf: int):
     from homlimit.app.engine import Engine
     from homlimit.app.sweep import sweep
 
