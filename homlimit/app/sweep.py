@@ -1,7 +1,7 @@
 """Parameter sweeps and building stocks: many cases, each evaluated as ``run`` evaluates one.
 
 A sweep is a base case (a case file or dict; ``config.load_case``) and a list of overrides
-(any case-file key, e.g. ``masonry.a``, ``wall.rho``... see docs/case-file.md): a grid
+(any case-file key, e.g. ``masonry.a``, ``wall.l`` for ρ = l/s; docs/case-file.md): a grid
 (``{"wall.l": [3, 6, 9], "masonry.a": [0.15, 0.3]}``, every combination), a table (a CSV of
 one case per row, one column per key), or a table times a grid. Every case
 
