@@ -2,7 +2,9 @@
 
 For every wall, the FE impulse scan (``mechanism.analysis.fe_result``: failing parts from one
 course a to H, refined around the minimum) at the default settings (bed-joint façade, mesh
-0.25 m, scan step a) and with both the mesh size and the scan step halved (0.125 m, a/2):
+0.25 m, parts meshed at min(0.25 m, h/10), scan step a) and with the element size and the
+scan step halved (0.125 m and h/20, a/2; the h/10 rule governs short parts, so it is halved
+too):
 critical λ, h, v̄_g/√(gb), mechanism kind, where the minimum lies, the hinge's impulse ratio
 |P_x/P_z|, retries of the solver ladder, and the relative change of v̄_g between the two.
 
@@ -23,6 +25,8 @@ p = argparse.ArgumentParser()
 p.add_argument("--tests", nargs="*")
 p.add_argument("--facade", default="bedjoints")
 p.add_argument("--json")
+p.add_argument("--settings", nargs="*", default=["default", "halved"],
+               choices=["default", "halved", "quartered"])
 args = p.parse_args()
 
 rows = []
@@ -34,15 +38,19 @@ for t in table1():
         continue
     a = t.case.masonry.a
     ref = None
-    for label, size, step in (("default", 0.25, a), ("halved", 0.125, a / 2)):
+    for label, size, step, div in (("default", 0.25, a, 10), ("halved", 0.125, a / 2, 20),
+                                   ("quartered", 0.0625, a / 4, 40)):
+        if label not in args.settings:
+            continue
         t0 = time.perf_counter()
-        res = fe_result(t.case, size, args.facade, step=step)
+        res = fe_result(t.case, size, args.facade, step=step, divisions=div)
         dt = time.perf_counter() - t0
         c = res.critical
         change = "" if ref is None else f"{c.vnorm / ref - 1:+.2%}"
         ref = ref or c.vnorm
         retries = sum(m.record()["retries"] for m in res.scan)
         rows.append({"test": t.test, "setting": label, "mesh_size": size, "step": step,
+                     "divisions": div,
                      "lam": c.lam, "h": c.h, "vnorm": c.vnorm, "kind": c.kind,
                      "critical_at": res.critical_at, "hinge_ratio": c.hinge_ratio,
                      "heights": len(res.scan), "retries": retries, "time_s": dt,

@@ -291,6 +291,7 @@ def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
                help="Only this Table 1 test, e.g. B1 (repeatable) \\[default: all 12].")]
            = None,
            max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES,
+           workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
            blocks: Annotated[bool, typer.Option("--blocks", help="Instead: the rigid-block "
                                                 "model's column (slow: one scan per wall).")]
            = False,
@@ -316,9 +317,15 @@ def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
                           for k, v in ratios.items()),
               [out / "table1_blocks.csv", out / "table1_blocks_ratios.json"])
         return
+    kw = dict(fe=fe, mesh_size=mesh_size, heights=heights, tests=test, facade=facade,
+              max_triangles=max_triangles)
     with _stdout_quiet(as_json) as stdout, result_folder(out, "table1") as staging:
-        rows = table1_records(fe=fe, mesh_size=mesh_size, heights=heights, tests=test,
-                              facade=facade, max_triangles=max_triangles)
+        if fe:  # validated before any work, then every height of every wall a Dask task
+            table1_records(**kw, fe_results=lambda *args: [])
+            with _engine(workers, scheduler, not (quiet or as_json)) as engine:
+                rows = table1_records(**kw, fe_results=engine.fe_results)
+        else:
+            rows = table1_records(**kw)
         report.write(staging / "table1.csv", rows)
         report.write(staging / "table1.json", rows)
         plots.plot_table1(staging / "table1.png", rows)
@@ -371,17 +378,29 @@ def crack_study(as_json: JsonOpt = False, out: _out("homlimit-out/crack-study/")
                 facade: Annotated[list[str] | None, typer.Option(
                     show_default=False, help="Façade model: homogenised or bedjoints (repeat "
                                              "for both) \\[default: both].")] = None,
-                max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES):
+                max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES,
+                workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
+                resume: Annotated[bool, typer.Option(
+                    "--resume/--no-resume", help="Keep the points recorded in OUT/records/ "
+                                                 "by an earlier run.")] = True):
     """The crack-angle study: the FE crack slope over a grid of c/a and f, beside √(cf/a)."""
     from . import plots, report
+    from .engine import RecordStore
     from .pipeline import crack_study_records, result_folder
 
     out = out or Path("homlimit-out") / "crack-study"
     _logging(verbose, quiet, as_json)
-    with _stdout_quiet(as_json) as stdout, result_folder(out, "crack-study") as staging:
-        records = crack_study_records(mesh_size=mesh_size, finer=finer or None, quick=quick,
-                                      c_over_a=c_over_a, frictions=friction, facades=facade,
-                                      max_triangles=max_triangles)
+    grid = dict(mesh_size=mesh_size, finer=finer or None, quick=quick, c_over_a=c_over_a,
+                frictions=friction, facades=facade, max_triangles=max_triangles)
+    store = RecordStore(out / "records")   # a nested set: kept when the set is replaced
+    with _stdout_quiet(as_json) as stdout, _interruptible(store.folder), \
+            result_folder(out, "crack-study") as staging:
+        crack_study_records(**grid, map=lambda fn, points: [])   # validate before any work
+        if not resume:
+            store.clear()
+        with _engine(workers, scheduler, not (quiet or as_json)) as engine:
+            records = crack_study_records(**grid, map=engine.stored_map(
+                store, "crack-study", "crack-study"))
         report.write(staging / "crack_study.csv", records)
         plots.plot_crack_study(staging / "crack_study.png", records,
                                title="crack-angle study: FE crack against √(cf/a), f and c/a")
@@ -447,6 +466,126 @@ def mesh(case: CaseArg = None, as_json: JsonOpt = False,
         print(f"case {config.name}: {info['n_triangles']} triangles, {info['n_nodes']} nodes; "
               + ", ".join(f"{k} {v}" for k, v in info["regions"].items()))
         print("files: " + ", ".join(info["files"].values()))
+
+# ----------------------------------------------------------------------------- sweeps (Dask)
+WorkersOpt = Annotated[int | None, typer.Option(
+    "--workers", "-w", help="Embedded Dask worker processes, one thread each \\[default: one "
+                            "per core].")]
+SchedulerOpt = Annotated[str | None, typer.Option(
+    "--scheduler", help="Address of a running Dask scheduler (e.g. tcp://127.0.0.1:8786) to "
+                        "use instead of embedded workers.")]
+
+
+@contextmanager
+def _interruptible(where):
+    """Ctrl-C / SIGTERM: what is recorded stays; exit 130 / 143 with a one-line note."""
+    from .engine import Interrupted
+
+    try:
+        yield
+    except KeyboardInterrupt as e:
+        signum = e.signum if isinstance(e, Interrupted) else 2
+        print(f"homlimit: interrupted; the finished records are kept in {where}: run the same "
+              "command again to resume", file=sys.stderr)
+        raise typer.Exit(128 + signum) from None
+
+
+def _engine(workers: int | None, scheduler: str | None, quiet: bool):
+    from .engine import Engine
+
+    return Engine(workers=workers, scheduler=scheduler, progress=not quiet)
+
+
+class _SweepGroup(typer.core.TyperGroup):
+    """``homlimit sweep BASE.toml ...`` is ``homlimit sweep run BASE.toml ...``."""
+
+    def parse_args(self, ctx, args):
+        if args and args[0] not in self.commands and args[0] not in ("--help", "-h"):
+            args = ["run", *args]
+        return super().parse_args(ctx, args)
+
+
+sweep_app = typer.Typer(cls=_SweepGroup, no_args_is_help=True, help=(
+    "Parameter sweeps and building stocks on Dask: homlimit sweep BASE.toml --grid "
+    "wall.l=3,6,9 [--table cases.csv]; homlimit sweep report RESULTS."))
+app.add_typer(sweep_app, name="sweep")
+
+
+@sweep_app.command("run")
+@_guarded
+def sweep_run(
+        base: CaseArg = None, as_json: JsonOpt = False, verbose: VerboseOpt = False,
+        quiet: QuietOpt = False,
+        out: Annotated[Path | None, typer.Option("--out", "-o", help="Sweep folder "
+                                                 "\\[default: homlimit-out/NAME/sweep/].")] = None,
+        grid: Annotated[list[str] | None, typer.Option(
+            "--grid", "-g", help="A swept key and its values, e.g. --grid wall.l=3,6,9 "
+                                 "(repeatable: every combination).")] = None,
+        table: Annotated[Path | None, typer.Option(
+            "--table", help="CSV of cases: one per row, one case key per column (times the "
+                            "grid, if both).")] = None,
+        workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
+        resume: Annotated[bool, typer.Option(
+            "--resume/--no-resume", help="Keep the records of an earlier run of this sweep "
+                                         "and run only the missing cases.")] = True,
+        retry_failed: Annotated[bool, typer.Option(
+            "--retry-failed", help="Run the cases recorded as failed again.")] = False):
+    """Run a sweep: every case of a grid and/or table of overrides on BASE, on Dask.
+
+    Each case's record is written as soon as it finishes (OUT/records/); the table is
+    OUT/results.parquet and OUT/results.csv. Exit 3 if any case failed."""
+    from . import report
+    from .sweep import sweep
+
+    if not grid and table is None:
+        raise ParameterError("--grid / --table = none is out of range: allowed at least one "
+                             "--grid key=v1,v2 or a --table CSV")
+    _logging(verbose, quiet, as_json)
+    where = out or "the sweep folder"
+    with _stdout_quiet(as_json) as stdout, _interruptible(where):
+        res = sweep(base, grid, table, out, workers=workers, scheduler=scheduler,
+                    resume=resume, retry_failed=retry_failed, progress=not (quiet or as_json))
+    info = {"folder": res.folder, "n_cases": len(res.rows), "ok": res.n_ok,
+            "failed": res.n_failed, "resumed": res.n_resumed, "elapsed_s": res.elapsed,
+            "swept": res.swept, "files": res.files,
+            "failures": [{k: r.get(k) for k in ("case_index", "key", "error")}
+                         for r in res.failed()]}
+    if as_json:
+        _emit_json(stdout, info)
+    else:
+        cols = [c for c in ["case_index", *res.swept, "status", "critical.mechanism",
+                            "critical.vg", "critical.vnorm"]]
+        shown = res.rows[:20]
+        print(report.format_table(cols, [[r.get(c) for c in cols] for r in shown],
+                                  title=f"sweep of {len(res.rows)} cases: {res.n_ok} ok, "
+                                        f"{res.n_failed} failed, {res.n_resumed} resumed "
+                                        f"({res.elapsed:.1f} s)"
+                                        + ("; first 20 rows" if len(res.rows) > 20 else "")))
+        for f in info["failures"][:10]:
+            print(f"failed case {f['case_index']}: {f['error']}".splitlines()[0])
+        print("\nfiles: " + ", ".join(str(v) for v in res.files.values()))
+    if res.n_failed:
+        raise typer.Exit(EXIT_SOLVER)
+
+
+@sweep_app.command("report")
+@_guarded
+def sweep_report_cmd(
+        results: Annotated[Path, typer.Argument(help="A sweep folder, or its results.parquet "
+                                                     "/ results.csv.")],
+        out: Annotated[Path | None, typer.Option("--out", "-o", help="Folder of the "
+                                                 "plots \\[default: RESULTS/report/].")] = None,
+        as_json: JsonOpt = False):
+    """Draw a sweep's standard plots: vg/sqrt(gb) against each swept key, the critical
+    mechanism map, measured against predicted tan psi, the histogram of vg."""
+    from .sweep_report import report
+
+    with _stdout_quiet(as_json) as stdout:
+        files = report(results, out)
+    if as_json:
+        _emit_json(stdout, {"files": files})
+    else:
+        print("files: " + ", ".join(str(v) for v in files.values()))
 
 
 def main():

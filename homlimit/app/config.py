@@ -161,6 +161,11 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "blocks": Key(bool, False, doc="the rigid-block model of the running bond "
                                        "(``homlimit.blocks``, [blocks]): the block size "
                                        "enters; files blocks*.vtu/png/csv"),
+        "hinge_check": Key(bool, True, doc="the hinge's impulse ratio |P_x/P_z| against f "
+                                           "and the shortest rectangular pulse it holds, "
+                                           "per mechanism (summary 'hinges'; about 0.07 s "
+                                           "per mechanism: off for large closed-form "
+                                           "sweeps)"),
     },
     "blocks": {
         "facade": Key(str, "through", choices=FACADE_BONDS,
@@ -243,6 +248,7 @@ class AnalysisConfig:
     static: bool = True
     tol: float = 0.0
     blocks: bool = False
+    hinge_check: bool = True
 
 
 @dataclass(frozen=True)

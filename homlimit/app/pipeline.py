@@ -24,6 +24,7 @@ commands' work is here too: ``table1_records``, ``crack_study_records``, ``mesh_
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import logging
 import math
@@ -53,6 +54,7 @@ __all__ = ["Result", "crack_study_records", "figure2_curves", "folder_name", "me
 log = logging.getLogger(__name__)
 
 
+@functools.cache  # importlib.metadata reads the install's files: ~5 ms a call
 def package_version() -> str:
     """The installed package's version (``importlib.metadata``)."""
     try:
@@ -252,13 +254,16 @@ def _check_budget(option: str, cases, size: float, max_triangles: int, scan: boo
 
 def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
                    tests: list[str] | None = None, facade: str = FACADE_DEFAULT,
-                   max_triangles: int = budget.DEFAULT_MAX_TRIANGLES) -> list[dict]:
+                   max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, fe_results=None
+                   ) -> list[dict]:
     """Table 1 reproduced (``paper.table1_rows``), optionally with the FE body's columns
     lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe,
     critical_at_fe, hinge_ratio_fe (the critical height of the FE scan, ``fe_result``, from
     ``heights`` starting heights). ``tests``: a subset of the test names (B1 ... C6).
     ``max_triangles``: the problem-size budget of the FE meshes (``budget``), checked before
-    any work."""
+    any work. ``fe_results(cases, mesh_size, facade, heights, options)``: the FE path of the
+    walls, one ``FEResult`` each (default: ``fe_result`` wall after wall here;
+    ``engine.Engine.fe_results`` runs every height as a Dask task)."""
     check_range("mesh_size", mesh_size, 0.0, 9.0, lo_open=True, unit="m")
     check_range("heights", heights, 2, 200)
     check_choice("facade", facade, FACADE_MODELS)
@@ -272,10 +277,16 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
     timings: dict[str, float] = {}
     with _stage(timings, "closed forms for Table 1"):
         rows = [r for r in table1_rows() if not tests or r["test"] in tests]
-    for k, row in enumerate(rows if fe else ()):
-        case = cases[row["test"]]
-        with _stage(timings, "FE body", f"{row['test']}, wall {k + 1}/{len(rows)}"):
-            res = fe_result(case, mesh_size, facade, _solver_options(), heights=heights)
+    walls = [cases[row["test"]] for row in rows] if fe else []
+    results = []
+    if walls:
+        with _stage(timings, "FE body", f"{len(walls)} walls"):
+            if fe_results is None:
+                results = [fe_result(case, mesh_size, facade, _solver_options(),
+                                     heights=heights) for case in walls]
+            else:
+                results = fe_results(walls, mesh_size, facade, heights, _solver_options())
+    for row, res in zip(rows, results):
         crit = res.critical
         if crit is None:
             raise ParameterError(f"test = {row['test']!r}: no analysed height gave a v̄_g "
@@ -338,10 +349,12 @@ def figure2_curves(rho=None) -> dict:
 
 def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
                         c_over_a=None, frictions=None, facades=None,
-                        max_triangles: int = budget.DEFAULT_MAX_TRIANGLES) -> list[dict]:
+                        max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, map=map
+                        ) -> list[dict]:
     """The crack-angle study over a grid of c/a and f (``studies.crack_angle_study``): each
     grid argument left None takes the study's default. ``max_triangles``: the problem-size
-    budget of its meshes (``budget``), checked before any work."""
+    budget of its meshes (``budget``), checked before any work; ``map``: how the grid points
+    are evaluated (``crack_angle_study``)."""
     from .studies import STUDY_WALL, crack_angle_study
 
     w = STUDY_WALL
@@ -360,7 +373,7 @@ def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quic
     grid = {k: tuple(v) for k, v in (("c_over_a", c_over_a), ("frictions", frictions),
                                      ("facades", facades)) if v}
     return crack_angle_study(mesh_size=mesh_size, finer=finer, quick=quick,
-                             options=_solver_options(), **grid)
+                             options=_solver_options(), map=map, **grid)
 
 
 def mesh_case(config: CaseConfig, out: Path) -> dict:
@@ -557,7 +570,7 @@ def compute(config: CaseConfig) -> Result:
                                            b.non_associative_check, _solver_options(an.tol))
         result.mechanisms["blocks"] = result.blocks
     check_results(result)
-    if result.mechanisms:
+    if result.mechanisms and an.hinge_check:
         with _stage(result.timings, "hinge check", "the shortest pulse the hinge holds"):
             result.hinges = _hinges(case, result.mechanisms)
     return result

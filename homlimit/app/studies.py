@@ -10,6 +10,7 @@ The wall is Table 1's B2 (H = 9 m, L = 6 m, b = 0.5 m, ρ = 12) with a = 0.2 m a
 from __future__ import annotations
 
 import dataclasses
+import functools
 import logging
 import math
 import time
@@ -23,7 +24,8 @@ from ..fe.solver import SolverOptions
 from ..mechanism.analysis import analyse
 from ..params import FACADE_MODELS, Case, Masonry, Wall
 
-__all__ = ["crack_angle_study", "C_OVER_A", "FRICTIONS", "STUDY_WALL", "CRACK_COLUMNS"]
+__all__ = ["crack_angle_study", "crack_point", "C_OVER_A", "FRICTIONS", "STUDY_WALL",
+           "CRACK_COLUMNS"]
 
 log = logging.getLogger(__name__)
 
@@ -48,12 +50,14 @@ def _deg(t: float) -> float:
 
 def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
                       c_over_a=C_OVER_A, frictions=FRICTIONS, facades=FACADE_MODELS,
-                      wall: Wall = STUDY_WALL, options=None) -> list[dict]:
+                      wall: Wall = STUDY_WALL, options=None, map=map) -> list[dict]:
     """Crack-angle records, one per (c/a, f, façade, mesh size); keys ``CRACK_COLUMNS``.
 
     mesh_size: the default mesh (``problems.t_section``'s h) [m]; finer: a second, finer mesh
     (None: skip); quick: c/a ∈ {0.5, 1, 3}, f ∈ {0.3, 0.9} and the default mesh only;
-    options: ``SolverOptions`` of the kinematic solves.
+    options: ``SolverOptions`` of the kinematic solves; map(fn, points): how the grid points
+    are evaluated, records in order (default: one after another here; ``app.engine.Engine``'s
+    ``stored_map`` makes each point a Dask task whose record is kept).
     """
     mesh_size = check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
     sizes = [mesh_size]
@@ -62,45 +66,47 @@ def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick:
                                  unit="m"))
     if quick:
         c_over_a, frictions = (0.5, 1.0, 3.0), (0.3, 0.9)
-    grid = [(ca, f, fac, h) for ca in c_over_a for f in frictions for fac in facades
-            for h in sizes]
+    grid = [(check_range("c_over_a", ca, 0.0, lo_open=True), f, fac, h)
+            for ca in c_over_a for f in frictions for fac in facades for h in sizes]
+    fn = functools.partial(crack_point, wall=wall, options=options or SolverOptions())
+    return list(map(fn, grid))
+
+
+def crack_point(point: tuple, wall: Wall = STUDY_WALL, options=None) -> dict:
+    """The crack-angle record of one grid point (c/a, f, façade, mesh size) [-, -, -, m]."""
+    ca, f, fac, h = point
     options = options or SolverOptions()
-    recs = []
-    for k, (ca, f, fac, h) in enumerate(grid):
-        ca = check_range("c_over_a", ca, 0.0, lo_open=True)
-        case = Case(dataclasses.replace(wall), Masonry(a=_A, c=ca * _A, f=f),
-                    name=f"c/a={ca:g},f={f:g}")
-        t0 = time.perf_counter()
-        problem = t_section(case, facade=fac, h=h)
-        try:                  # the solver's own ladder retries a stall (fe.solver)
-            fe = analyse(case, problem, options)
-        except SolverError as exc:
-            recs.append({"c_over_a": ca, "f": f, "facade": fac, "mesh_size": h,
-                         "mechanism_fe": f"solver failed: {exc.status}"})
-            continue
-        opt = optimise_fan(case, facade=fac)
-        wed = optimise_wedge(case)
-        alpha = case.alpha
-        e1, e2 = fe.tanpsi_edges
-        mm = fe.measures
-        r = {"c_over_a": ca, "f": f, "facade": fac, "mesh_size": h,
-             "n_triangles": fe.n_triangles, "mechanism_fe": fe.kind,
-             "hinge_z": fe.O[1], "tanpsi_fe": fe.tanpsi,
-             "dtanpsi_fe": fe.tanpsi_uncertainty, "tanpsi_block": e1, "tanpsi_fixed": e2,
-             "tan_alpha": alpha, "tan_f": f, "tan_c_over_a": ca,
-             "psi_fe_deg": _deg(fe.tanpsi), "psi_alpha_deg": _deg(alpha),
-             "psi_f_deg": _deg(f), "psi_c_over_a_deg": _deg(ca),
-             "multiplier_fe": fe.multiplier, "multiplier_fan": opt.lam,
-             "fan_z0": opt.z0, "fan_T1": opt.T1, "fan_T2": opt.T2,
-             "fan_admissible": opt.admissible, "multiplier_wedge": wed.lam,
-             "wedge_z0": wed.z0, "wedge_admissible": wed.admissible,
-             "explained": mm.explained, "block_share": mm.block_share,
-             "interior_share": mm.interior_share, "vnorm_fe": fe.vnorm,
-             "solve_time": time.perf_counter() - t0}
-        recs.append(r)
-        log.info("crack study %d/%d: c/a=%g f=%g %s h=%g %s z_O=%.2f T1=%.3f T_mid=%.3f "
-                 "T2=%.3f (±%.3f) | √(cf/a)=%.3f | λ_FE=%.4f λ_fan=%.4f λ_wedge=%.4f %.1fs",
-                 k + 1, len(grid), ca, f, fac, h, r["mechanism_fe"], r["hinge_z"], e1,
-                 r["tanpsi_fe"], e2, r["dtanpsi_fe"], alpha, r["multiplier_fe"], opt.lam,
-                 wed.lam, r["solve_time"])
-    return recs
+    case = Case(dataclasses.replace(wall), Masonry(a=_A, c=ca * _A, f=f),
+                name=f"c/a={ca:g},f={f:g}")
+    t0 = time.perf_counter()
+    problem = t_section(case, facade=fac, h=h)
+    try:                      # the solver's own ladder retries a stall (fe.solver)
+        fe = analyse(case, problem, options)
+    except SolverError as exc:
+        return {"c_over_a": ca, "f": f, "facade": fac, "mesh_size": h,
+                "mechanism_fe": f"solver failed: {exc.status}"}
+    opt = optimise_fan(case, facade=fac)
+    wed = optimise_wedge(case)
+    alpha = case.alpha
+    e1, e2 = fe.tanpsi_edges
+    mm = fe.measures
+    r = {"c_over_a": ca, "f": f, "facade": fac, "mesh_size": h,
+         "n_triangles": fe.n_triangles, "mechanism_fe": fe.kind,
+         "hinge_z": fe.O[1], "tanpsi_fe": fe.tanpsi,
+         "dtanpsi_fe": fe.tanpsi_uncertainty, "tanpsi_block": e1, "tanpsi_fixed": e2,
+         "tan_alpha": alpha, "tan_f": f, "tan_c_over_a": ca,
+         "psi_fe_deg": _deg(fe.tanpsi), "psi_alpha_deg": _deg(alpha),
+         "psi_f_deg": _deg(f), "psi_c_over_a_deg": _deg(ca),
+         "multiplier_fe": fe.multiplier, "multiplier_fan": opt.lam,
+         "fan_z0": opt.z0, "fan_T1": opt.T1, "fan_T2": opt.T2,
+         "fan_admissible": opt.admissible, "multiplier_wedge": wed.lam,
+         "wedge_z0": wed.z0, "wedge_admissible": wed.admissible,
+         "explained": mm.explained, "block_share": mm.block_share,
+         "interior_share": mm.interior_share, "vnorm_fe": fe.vnorm,
+         "solve_time": time.perf_counter() - t0}
+    log.info("crack study: c/a=%g f=%g %s h=%g %s z_O=%.2f T1=%.3f T_mid=%.3f "
+             "T2=%.3f (±%.3f) | √(cf/a)=%.3f | λ_FE=%.4f λ_fan=%.4f λ_wedge=%.4f %.1fs",
+             ca, f, fac, h, r["mechanism_fe"], r["hinge_z"], e1,
+             r["tanpsi_fe"], e2, r["dtanpsi_fe"], alpha, r["multiplier_fe"], opt.lam,
+             wed.lam, r["solve_time"])
+    return r

@@ -295,14 +295,16 @@ class MechanismResult:
         return d
 
 
-def mechanism_I(case: Case, lam: float | None = None) -> MechanismResult:
-    """Mechanism I (detachment of the façade) at its critical λ, or at a given λ <= H/b."""
+def mechanism_I(case: Case, lam: float | None = None,
+                theta_m: float | None = None) -> MechanismResult:
+    """Mechanism I (detachment of the façade) at its critical λ, or at a given λ <= H/b;
+    ``theta_m``: θ_m at that λ if already known (``theta_m_I`` on arrays, for many walls)."""
     w, rho, alpha, beta = case.wall, case.rho, case.alpha, case.beta
     lam_max = w.H / w.b
     if lam is None:
         lam, _ = critical_I(rho, alpha, beta, lam_max)
     lam = check_range("lam", lam, 0.0, lam_max, lo_open=True)
-    th = float(theta_m_I(lam, rho, alpha, beta))
+    th = float(theta_m_I(lam, rho, alpha, beta) if theta_m is None else theta_m)
     v = float(vnorm_I(lam, rho, alpha, beta, th))
     h = lam * w.b
     m = w.gamma * h * w.b * w.l

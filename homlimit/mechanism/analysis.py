@@ -20,6 +20,7 @@ whether the minimum is interior or sits at a bound (one course, or the whole wal
 from __future__ import annotations
 
 import dataclasses
+import functools
 import logging
 import math
 from dataclasses import dataclass
@@ -172,12 +173,13 @@ class FEMechanism:
                 "crack_edges": [lines[lv].polyline for lv in (0.1, 0.9) if lv in lines]}
 
 
-def part_problem(case: Case, h_part: float, facade: str, mesh_size: float) -> Problem:
+def part_problem(case: Case, h_part: float, facade: str, mesh_size: float,
+                 divisions: int = 10) -> Problem:
     """The T-section of the top part of height ``h_part`` (``problems.t_section`` with its base
-    at z0 = H − h_part), element size min(mesh_size, h_part/10) so that short parts stay
+    at z0 = H − h_part), element size min(mesh_size, h_part/divisions) so that short parts stay
     resolved."""
     prob = t_section(case, z0=max(0.0, case.wall.H - h_part), facade=facade,
-                     h=min(mesh_size, h_part / 10))
+                     h=min(mesh_size, h_part / divisions))
     return dataclasses.replace(prob, meta={**prob.meta, "h_part": h_part})
 
 
@@ -213,17 +215,31 @@ def analyse(case: Case, problem: Problem, options=None) -> FEMechanism:
         "at finite rotation, the rest linearised, W at its peak"))
 
 
+def _analyse_height(case: Case, mesh_size: float, facade: str, options, divisions: int,
+                    h_part: float) -> FEMechanism:
+    """One height of the scan: ``analyse`` on the top part of height ``h_part`` (the whole
+    wall, meshed at ``mesh_size``, when h_part >= H). A module function, so that an executor
+    can run it as a task (``h_scan``'s ``map``)."""
+    if h_part >= case.wall.H:
+        log.info("FE mechanism of the whole wall")
+        return analyse(case, t_section(case, facade=facade, h=mesh_size), options)
+    log.info("FE analysis: part of height %.3f m", h_part)
+    return analyse(case, part_problem(case, h_part, facade, mesh_size, divisions), options)
+
+
 def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
-           options=None) -> list[FEMechanism]:
-    """``analyse`` on the top part of height h_part for every h_part in ``h_parts`` [m]. The
-    hinge may float above the base of the analysed part: each mechanism's own h = H − z_O."""
+           options=None, map=map, divisions: int = 10) -> list[FEMechanism]:
+    """``analyse`` on the top part of height h_part for every h_part in ``h_parts`` [m] (the
+    whole wall for h_part = H). The hinge may float above the base of the analysed part: each
+    mechanism's own h = H − z_O. ``map(fn, h_parts)``: how the heights are evaluated, results
+    in order (default: one after another here; ``app.engine.Engine.map`` makes each height a
+    Dask task); ``divisions``: elements per part height (``part_problem``)."""
     w = case.wall
-    out = []
-    for k, hp in enumerate(h_parts):
-        hp = check_range("h_part", hp, 0.0, w.H, lo_open=True, unit="m")
-        log.info("FE analysis %d/%d: part of height %.3f m", k + 1, len(h_parts), hp)
-        out.append(analyse(case, part_problem(case, hp, facade, mesh_size), options))
-    return out
+    h_parts = [check_range("h_part", hp, 0.0, w.H, lo_open=True, unit="m") for hp in h_parts]
+    divisions = int(check_range("divisions", divisions, 1, 1000))
+    log.info("FE scan: %d collapse heights", len(h_parts))
+    return list(map(functools.partial(_analyse_height, case, mesh_size, facade, options,
+                                      divisions), h_parts))
 
 
 @dataclass(frozen=True)
@@ -295,26 +311,30 @@ class FEResult:
 
 def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT, options=None,
               whole: Problem | None = None, static: bool = False, heights: int = 6,
-              step: float | None = None, rtol: float = 0.005) -> FEResult:
+              step: float | None = None, rtol: float = 0.005, map=map,
+              divisions: int = 10) -> FEResult:
     """The FE impulse scan over a <= h_part <= H (module docstring): ``heights`` starting
     heights, refined around the minimum down to ``step`` [m] (default a) or ``rtol``; with
     ``static``, the whole wall's lower bound on its mesh. ``whole``: the whole wall's problem if
-    already built (``t_section(case, facade=facade, h=mesh_size)``)."""
+    already built (``t_section(case, facade=facade, h=mesh_size)``). ``map``: how each round
+    of heights is evaluated (``h_scan``; the whole wall too when ``whole`` is not given);
+    ``divisions``: elements per part height (``part_problem``)."""
     check_choice("facade", facade, FACADE_MODELS)
     w, a = case.wall, case.masonry.a
     heights = int(check_range("heights", heights, 2, 200))
     step = a if step is None else check_range("step", step, 0.0, w.H, lo_open=True, unit="m")
     rtol = check_range("rtol", rtol, 0.0, 0.5, lo_open=True)
-    whole = whole or t_section(case, facade=facade, h=mesh_size)
+    if static and whole is None:
+        whole = t_section(case, facade=facade, h=mesh_size)
     done: dict[float, FEMechanism] = {}
 
     def run(hs):
-        for hp in sorted(set(hs) - set(done)):
-            if hp >= w.H:
-                log.info("FE mechanism of the whole wall: %d triangles, P2", whole.n_triangles)
-                done[hp] = analyse(case, whole, options)
-            else:
-                done.update(zip([hp], h_scan(case, [hp], mesh_size, facade, options)))
+        new = sorted(set(hs) - set(done))
+        if whole is not None and w.H in new:
+            log.info("FE mechanism of the whole wall: %d triangles, P2", whole.n_triangles)
+            done[w.H] = analyse(case, whole, options)
+            new.remove(w.H)
+        done.update(zip(new, h_scan(case, new, mesh_size, facade, options, map, divisions)))
 
     run(list(np.geomspace(a, w.H, heights)[:-1]) + [w.H])
     while True:                          # bisect the gaps beside the minimum

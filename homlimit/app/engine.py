@@ -1,0 +1,316 @@
+"""The sweep engine: Dask as the executor, one record per finished task, nothing lost on a stop.
+
+``Engine`` owns a ``dask.distributed.Client``: by default on an embedded ``LocalCluster`` (one
+single-threaded worker process per core, BLAS threads pinned to one per worker), or on an
+existing scheduler (``scheduler="tcp://host:8786"``: ``dask scheduler`` + ``dask worker``, or
+dask-jobqueue on a batch cluster) with no other change. It offers
+
+- ``map(fn, items)``: an ordered, blocking map (``mechanism.analysis.h_scan``'s ``map`` hook:
+  each height of a scan becomes a task);
+- ``run(fn, items, keys, store)``: every item a task; each result is written to the
+  ``RecordStore`` as soon as it arrives (atomically, keyed by a hash of its resolved inputs and
+  the package version), items already in the store are not run again, and a live progress bar
+  shows done / failed / remaining and the ETA.
+
+SIGTERM is turned into the same ``Interrupted`` as Ctrl-C: the client and the cluster are shut
+down, and the records written so far stay complete (``_io.atomic_path``); a rerun resumes.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import os
+import signal
+import threading
+from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
+
+from .._io import MANIFEST, to_jsonable, write_json, write_text
+from ..errors import ParameterError, check_range
+
+__all__ = ["BLAS_ENV", "Engine", "Interrupted", "RecordStore", "cpu_count", "record_key"]
+
+log = logging.getLogger(__name__)
+
+#: environment of every embedded worker process: one BLAS/OpenMP thread (one task per core)
+BLAS_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
+class Interrupted(KeyboardInterrupt):
+    """A sweep stopped by SIGINT (Ctrl-C) or SIGTERM; ``signum`` names the signal."""
+
+    def __init__(self, signum: int = signal.SIGINT):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def cpu_count() -> int:
+    """Cores this process may run on (the default number of embedded workers)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+def record_key(kind: str, inputs, version: str | None = None) -> str:
+    """The key of a record: SHA-256 (20 hex digits) of the task kind, its resolved inputs and
+    the package version, as canonical JSON (sorted keys). Same inputs, same key."""
+    if version is None:
+        from .pipeline import package_version
+
+        version = package_version()
+    text = json.dumps({"kind": kind, "inputs": inputs, "homlimit_version": version},
+                      sort_keys=True, separators=(",", ":"), ensure_ascii=True,
+                      default=to_jsonable)    # numpy values, paths
+    return hashlib.sha256(text.encode("ascii")).hexdigest()[:20]
+
+
+class RecordStore:
+    """A folder of records: ``<key>.json`` per task, or ``batch-<key>.json`` holding
+    ``{"records": {key: record}}`` for a vectorised batch. Every file is written whole or not
+    at all, so whatever a stop leaves here is complete; hidden temporary files are ignored.
+    The folder carries a result-set manifest (``_io.MANIFEST``, command "records"), so that a
+    result set around it (``_io.result_set``) accepts it and carries it over when it is
+    replaced: the records of an interrupted study stay for its resume."""
+
+    def __init__(self, folder: str | Path):
+        self.folder = Path(folder)
+
+    def _mark(self):
+        if not (self.folder / MANIFEST).is_file():
+            write_json(self.folder / MANIFEST, {"command": "records", "files": []})
+
+    def _files(self):
+        if not self.folder.is_dir():
+            return []
+        return sorted(p for p in self.folder.glob("*.json") if not p.name.startswith("."))
+
+    def load(self) -> dict[str, dict]:
+        """Every stored record, key → record."""
+        out = {}
+        for p in self._files():
+            data = json.loads(p.read_text(encoding="utf-8"))
+            recs = data["records"] if p.name.startswith("batch-") else {p.stem: data}
+            for key, rec in recs.items():   # a success recorded later wins over a failure
+                if out.get(key, {}).get("status", "failed") != "ok":
+                    out[key] = rec
+        return out
+
+    def put(self, key: str, record: dict, exact: bool = False) -> Path:
+        """Write one record; ``exact``: NaN kept as NaN (Python's JSON reads it back), so a
+        record read back equals the one computed; otherwise null, as summary.json has it."""
+        self._mark()
+        path = self.folder / f"{key}.json"
+        if not exact:
+            return write_json(path, record)
+        return write_text(path, json.dumps(record, indent=1, ensure_ascii=False,
+                                           default=to_jsonable) + "\n")
+
+    def put_batch(self, records: dict[str, dict]) -> Path:
+        """Write a batch of records as one file (its name: the key of its keys)."""
+        self._mark()
+        name = record_key("batch", sorted(records), version="")
+        return write_json(self.folder / f"batch-{name}.json", {"records": records})
+
+    def clear(self):
+        """Remove every record (a sweep run with resume off starts from nothing)."""
+        for p in self._files():
+            p.unlink()
+
+
+def _progress(total: int, description: str, enabled: bool):
+    """A rich progress bar on stderr: done, failed, remaining, elapsed time and ETA."""
+    from rich import progress as rp
+    from rich.console import Console
+
+    prog = rp.Progress(rp.TextColumn("[bold]{task.description}"), rp.BarColumn(),
+                       rp.MofNCompleteColumn(),
+                       rp.TextColumn("done, {task.fields[failed]} failed, "
+                                     "{task.fields[remaining]} remaining"),
+                       rp.TimeElapsedColumn(), rp.TextColumn("ETA"), rp.TimeRemainingColumn(),
+                       console=Console(stderr=True), disable=not enabled, transient=False)
+    task = prog.add_task(description, total=total, failed=0, remaining=total)
+    return prog, task
+
+
+class Engine:
+    """A Dask client for the duration of a ``with`` block (see the module docstring).
+
+    workers: embedded worker processes (default: one per core; ignored with ``scheduler``);
+    scheduler: address of an existing Dask scheduler; progress: show the progress bar.
+    """
+
+    def __init__(self, workers: int | None = None, scheduler: str | None = None,
+                 progress: bool = True):
+        if workers is not None:
+            workers = int(check_range("workers", workers, 1, 1024))
+        if scheduler is not None and not str(scheduler).strip():
+            raise ParameterError("scheduler = '' is out of range: allowed an address such as "
+                                 "tcp://127.0.0.1:8786")
+        self.workers = workers or cpu_count()
+        self.scheduler = scheduler
+        self.progress = progress
+        self.client = None
+        self._cluster = None
+        self._old_term = None
+
+    # ------------------------------------------------------------------ lifetime
+    def __enter__(self) -> Engine:
+        from distributed import Client, LocalCluster
+
+        if threading.current_thread() is threading.main_thread():
+            self._old_term = signal.signal(signal.SIGTERM, _sigterm)
+        try:
+            if self.scheduler:
+                log.info("connecting to the Dask scheduler at %s", self.scheduler)
+                self.client = Client(self.scheduler, timeout="30s")
+            else:
+                log.info("starting %d local Dask workers (one thread each)", self.workers)
+                self._cluster = LocalCluster(
+                    n_workers=self.workers, threads_per_worker=1, processes=True,
+                    host="127.0.0.1", dashboard_address=None, env=dict(BLAS_ENV),
+                    silence_logs=logging.ERROR)
+                self.client = Client(self._cluster)
+        except BaseException:
+            self.__exit__(None, None, None)
+            raise
+        return self
+
+    def __exit__(self, *exc):
+        try:
+            if self.client is not None:
+                self.client.close()
+            if self._cluster is not None:
+                self._cluster.close()
+        finally:
+            self.client = self._cluster = None
+            if self._old_term is not None:
+                signal.signal(signal.SIGTERM, self._old_term)
+                self._old_term = None
+        return False
+
+    @property
+    def n_workers(self) -> int:
+        """Workers connected now."""
+        return len(self.client.scheduler_info()["workers"])
+
+    # ------------------------------------------------------------------ work
+    def submit(self, fn: Callable, *args, **kwargs):
+        """One task (a ``distributed.Future``); never cached (``pure=False``)."""
+        return self.client.submit(fn, *args, pure=False, **kwargs)
+
+    def map(self, fn: Callable, items: Iterable) -> list:
+        """``[fn(x) for x in items]``, each call a task; blocks; the first error is raised."""
+        futures = [self.submit(fn, x) for x in items]
+        return self.client.gather(futures)
+
+    def run(self, fn: Callable, items: Sequence, *, on_result: Callable | None = None,
+            failed: Callable | None = None, weight: Callable | None = None,
+            total: int | None = None, already: tuple[int, int] = (0, 0),
+            description: str = "tasks") -> list:
+        """``[fn(x) for x in items]``, every call a task, results in item order.
+
+        on_result(k, result): called in this process as soon as task k finishes (to store its
+        record); failed(item, exc): the result of a task that raised (a lost worker, say;
+        None: the error is raised). Progress counts ``weight(result)`` = (cases, failed
+        cases) per result (default: 1 case, failed if the result is a dict with status
+        "failed") out of ``total``, ``already`` = (done, failed) counted before.
+        """
+        from distributed import as_completed
+
+        weight = weight or _weight
+        n = len(items)
+        total = n if total is None else total
+        done, n_failed = already
+        results: list = [None] * n
+        prog, bar = _progress(total, description, self.progress)
+        with prog:
+            prog.update(bar, completed=done, failed=n_failed, remaining=total - done)
+            futures = {self.submit(fn, x): k for k, x in enumerate(items)}
+            for fut in as_completed(futures):
+                k = futures[fut]
+                if fut.status == "finished":
+                    res = fut.result()
+                    if on_result is not None:
+                        on_result(k, res)
+                elif failed is None:
+                    raise fut.exception()
+                else:
+                    res = failed(items[k], fut.exception())
+                results[k] = res
+                m, f = weight(res)
+                done, n_failed = done + m, n_failed + f
+                prog.update(bar, completed=done, failed=n_failed, remaining=total - done)
+        return results
+
+    def stored_map(self, store: RecordStore, kind: str, description: str = "tasks"):
+        """A map hook ``map(fn, items)`` whose results (JSON-able records) are stored as they
+        arrive and read back instead of rerun: the key of a call is ``record_key(kind, ...)``
+        of ``fn``'s name and bound arguments and the item."""
+
+        def map_(fn: Callable, items: Iterable) -> list:
+            items = list(items)
+            keys = [record_key(kind, {"fn": _name(fn), "args": _plain(getattr(fn, "args", ())),
+                                      "kwargs": _plain(getattr(fn, "keywords", {})),
+                                      "item": _plain(x)}) for x in items]
+            stored = store.load()
+            todo = [k for k, key in enumerate(keys) if key not in stored]
+            if len(todo) < len(items):
+                log.info("%s: %d of %d already done (records in %s)", description,
+                         len(items) - len(todo), len(items), store.folder)
+            new = self.run(fn, [items[k] for k in todo], total=len(items),
+                           already=(len(items) - len(todo), 0), description=description,
+                           on_result=lambda j, rec: store.put(keys[todo[j]], rec, exact=True))
+            out = [stored.get(key) for key in keys]
+            for j, k in enumerate(todo):
+                out[k] = new[j]
+            return out
+
+        return map_
+
+    def fe_results(self, cases: Sequence, mesh_size: float, facade: str, heights: int,
+                   options=None) -> list:
+        """The FE path of several walls with every collapse height a task: each wall's scan
+        (``analysis.fe_result``: its starting heights, whole wall included, then each round
+        of the refinement around the minimum) through its ``map`` hook, all walls at once (a
+        client thread per wall only waits). Returns one ``mechanism.analysis.FEResult`` per
+        wall, as ``fe_result(case, mesh_size, facade, options, heights=heights)`` would."""
+        from concurrent.futures import ThreadPoolExecutor
+
+        from ..mechanism.analysis import fe_result
+
+        def one(case):
+            return fe_result(case, mesh_size, facade, options, heights=heights, map=self.map)
+
+        if not cases:
+            return []
+        with ThreadPoolExecutor(len(cases)) as pool:
+            return list(pool.map(one, cases))
+
+
+def _weight(result) -> tuple[int, int]:
+    return 1, int(isinstance(result, dict) and result.get("status") == "failed")
+
+
+def _name(fn) -> str:
+    fn = getattr(fn, "func", fn)
+    return f"{getattr(fn, '__module__', '')}.{getattr(fn, '__qualname__', repr(fn))}"
+
+
+def _plain(obj):
+    """JSON-able data from containers of numbers, strings and dataclasses."""
+    import dataclasses
+
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return {f.name: _plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+    if isinstance(obj, dict):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    return to_jsonable(obj)
+
+
+def _sigterm(signum, frame):
+    raise Interrupted(signum)

@@ -1,0 +1,444 @@
+"""Parameter sweeps and building stocks: many cases, each evaluated as ``run`` evaluates one.
+
+A sweep is a base case (a case file or dict; ``config.load_case``) and a list of overrides
+(any case-file key, e.g. ``masonry.a``, ``wall.l`` for ρ = l/s; docs/case-file.md): a grid
+(``{"wall.l": [3, 6, 9], "masonry.a": [0.15, 0.3]}``, every combination), a table (a CSV of
+one case per row, one column per key), or a table times a grid. Every case
+
+- is validated first (an invalid case is recorded as failed, with its error, and not run);
+- gets a key: a hash of its resolved inputs (every case-file value except ``name`` and
+  ``[output]``) and the package version (``engine.record_key``);
+- is evaluated on the Dask ``engine``: a case with the FE analysis is one task, ``run(config,
+  write=False)``; closed-form-only cases (``analysis.fe = false``) go in vectorised batches
+  (their critical λ for thousands of walls at once, ``closed_form.mechanisms.critical_I/II``;
+  then ``mechanism_I/II`` at that λ, as ``run`` does), a few tasks in all;
+- leaves its record (``Result.to_dict()``, the summary.json layout, plus ``status`` and, for
+  a failed case, ``error``) in ``OUT/records/`` as soon as it finishes, atomically; a rerun
+  with ``resume`` skips every case already recorded.
+
+At the end the records become one table, one row per case in sweep order, columns named by
+their path in summary.json (``inputs.masonry.a``, ``mechanisms.I.vg``, ``critical.vnorm``,
+``fe.multiplier``...), as ``results.parquet`` (pyarrow) and ``results.csv``; ``sweep.json``
+describes the sweep. ``sweep_report.report`` draws the standard plots.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import dataclasses
+import itertools
+import logging
+import math
+import time
+import tomllib
+import traceback
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .._io import atomic_path, check_output_folder, write_json
+from ..errors import ParameterError
+from .config import SCHEMA, TOP_LEVEL, CaseConfig, ConfigError, _default_data, load_case
+from .engine import Engine, RecordStore, record_key
+
+__all__ = ["SweepCase", "SweepResult", "batch_closed_form", "flatten", "parse_grid",
+           "plan_sweep", "read_table", "run_case", "sweep", "write_table"]
+
+log = logging.getLogger(__name__)
+
+#: the files a sweep folder holds beside its records/ and report/ (nested sets)
+SWEEP_NAMES = ("sweep.json", "results.parquet", "results.csv")
+
+#: closed-form cases per vectorised task at most
+BATCH = 2500
+#: columns that come first in the table, before the swept inputs and the rest
+META = ["case_index", "key", "status", "error", "case"]
+
+
+@dataclass(frozen=True)
+class SweepCase:
+    """One case of a sweep: its position, overrides, key, and validated config (None: the
+    case is invalid, ``error`` says why)."""
+
+    index: int
+    overrides: dict
+    key: str
+    config: CaseConfig | None = None
+    error: str | None = None
+
+    @property
+    def closed_form_only(self) -> bool:
+        """Evaluated in a vectorised batch: closed forms on, FE off."""
+        an = self.config.analysis if self.config else None
+        return bool(an and an.closed_form and not an.fe)
+
+
+@dataclass
+class SweepResult:
+    """What ``sweep`` produced: the table rows (sweep order), counts and files."""
+
+    folder: Path
+    rows: list[dict]
+    swept: list[str]
+    n_ok: int
+    n_failed: int
+    n_resumed: int
+    elapsed: float
+    files: dict[str, Path] = field(default_factory=dict)
+
+    def failed(self) -> list[dict]:
+        return [r for r in self.rows if r["status"] != "ok"]
+
+
+# ----------------------------------------------------------------------------- the cases
+def _value(text: str):
+    """A grid or table value in TOML syntax (3, 0.15, true, "x"); a bare word is a string."""
+    text = text.strip()
+    for number in (int, float):   # the common case, 20x faster than the TOML parser
+        try:
+            return number(text)
+        except ValueError:
+            pass
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def _check_key(key: str, where: str) -> str:
+    sec, dot, name = key.partition(".")
+    if (not dot and key in TOP_LEVEL) or (dot and name in SCHEMA.get(sec, {})):
+        return key
+    raise ParameterError(f"{where} key = {key!r} is out of range: allowed name or "
+                         "section.key of a case file, e.g. wall.l, masonry.a, mesh.size "
+                         "(docs/case-file.md)")
+
+
+def parse_grid(specs) -> dict[str, list]:
+    """A grid from ``["wall.l=3,6,9", "masonry.a=0.15,0.3"]`` (the CLI's ``--grid``) or a
+    dict {key: values}; values in TOML syntax. Every key is checked against the schema."""
+    if isinstance(specs, dict):
+        items = [(k, list(v) if isinstance(v, list | tuple) else [v]) for k, v in specs.items()]
+    else:
+        items = []
+        for spec in specs or ():
+            key, sep, values = str(spec).partition("=")
+            if not sep or not values.strip():
+                raise ParameterError(f"--grid {spec!r} is out of range: allowed "
+                                     "section.key=v1,v2,... e.g. wall.l=3,6,9")
+            items.append((key.strip(), [_value(v) for v in values.split(",")]))
+    grid = {}
+    for key, values in items:
+        grid[_check_key(key, "grid")] = values
+    return grid
+
+
+def read_table(path: str | Path) -> list[dict]:
+    """The cases of a CSV table: a header of case keys (``wall.H``, ``masonry.a``, ``name``,
+    ...), one case per row, values in TOML syntax; an empty cell leaves the base's value."""
+    path = Path(path)
+    try:
+        lines = [ln for ln in path.read_text(encoding="utf-8").splitlines()
+                 if ln.strip() and not ln.lstrip().startswith("#")]
+    except OSError as e:
+        raise ParameterError(f"table = {str(path)!r} cannot be read: {e.strerror or e}") \
+            from None
+    reader = csv.DictReader(lines)
+    for key in reader.fieldnames or []:
+        _check_key(key.strip(), f"table {path.name}:")
+    rows = [{k.strip(): (v if k.strip() == "name" else _value(v)) for k, v in r.items()
+             if v is not None and v.strip() != ""} for r in reader]
+    if not rows:
+        raise ParameterError(f"table = {str(path)!r} is out of range: allowed a CSV with a "
+                             "header and at least one case")
+    return rows
+
+
+def _base(base) -> tuple[dict, str]:
+    """The base case as a dict (its name filled in, as ``load_case`` names a file's case) and
+    its source; the base alone need not be complete (a table may give the walls)."""
+    if base is None:
+        return _default_data(), "<default: B1>"
+    if isinstance(base, dict):
+        return dict(base), "<dict>"
+    path = Path(base)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as e:
+        raise ConfigError(str(path), [f"cannot read the case file: {e.strerror or e}"]) \
+            from None
+    except tomllib.TOMLDecodeError as e:
+        raise ConfigError(str(path), [f"not valid TOML: {e}"]) from None
+    data.setdefault("name", path.stem)
+    return data, str(path)
+
+
+def _inputs(config: CaseConfig) -> dict:
+    """What a record's key is made of: every resolved input except the name and [output]."""
+    d = config.as_dict()
+    return {k: v for k, v in d.items() if k not in ("name", "output")}
+
+
+def plan_sweep(base=None, grid=None, table=None) -> tuple[list[SweepCase], dict, str]:
+    """The cases of a sweep (table rows × grid points, in that order), each validated and
+    keyed. Returns (cases, base data, source). Raises ParameterError for a malformed grid or
+    table, and the first case's ConfigError when no case at all is valid."""
+    data, source = _base(base)
+    grid = parse_grid(grid) if grid else {}
+    rows = table if isinstance(table, list) else (read_table(table) if table else [{}])
+    points = [dict(zip(grid, vals)) for vals in itertools.product(*grid.values())]
+    cases, first_error = [], None
+    for k, ov in enumerate({**row, **pt} for row in rows for pt in points):
+        try:
+            config = dataclasses.replace(load_case(data, ov), source=source)
+        except ConfigError as e:
+            first_error = first_error or e
+            cases.append(SweepCase(k, ov, record_key("invalid", {"base": data, "set": ov}),
+                                   error=str(e)))
+            continue
+        cases.append(SweepCase(k, ov, record_key("case", _inputs(config)), config))
+    if all(c.config is None for c in cases):
+        raise first_error
+    return cases, data, source
+
+
+# ----------------------------------------------------------------------------- the tasks
+def _failed(config: CaseConfig | None, exc: BaseException, t0: float) -> dict:
+    from .pipeline import package_version
+
+    return {"homlimit_version": package_version(),
+            "case": None if config is None else config.name,
+            "source": None if config is None else config.source,
+            "inputs": None if config is None else config.as_dict(),
+            "status": "failed", "error": f"{type(exc).__name__}: {exc}",
+            "traceback": "".join(traceback.format_exception(exc)),
+            "timings_s": {"total": time.perf_counter() - t0}}
+
+
+def run_case(config: CaseConfig) -> dict:
+    """One case's record: ``run(config, write=False).to_dict()`` and status "ok", or the
+    error of a case that failed (status "failed", error, traceback). Runs on a worker."""
+    from .pipeline import run
+
+    t0 = time.perf_counter()
+    try:
+        rec = run(config, write=False).to_dict()
+    except Exception as exc:  # a failed case never stops the sweep: it is recorded
+        return _failed(config, exc, t0)
+    rec.pop("files", None)
+    return {**rec, "status": "ok"}
+
+
+def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
+    """Records of closed-form-only cases, as ``run_case`` gives them: the critical λ of
+    mechanisms I and II of every case at once (``critical_I``, ``critical_II`` on arrays, the
+    same arithmetic element by element as one case) and mechanism I's θ_m there, then
+    ``mechanism_I/II`` at that λ and ``Result.to_dict()`` per case. ``timings_s`` holds each
+    case's share of the batch."""
+    from ..closed_form import mechanisms as mech
+    from ..closed_form.paper import dem_row
+    from .pipeline import Result, _hinges
+
+    t0 = time.perf_counter()
+    cases = [c.case for c in configs]
+    col = lambda fn: np.array([fn(c) for c in cases], float)  # noqa: E731
+    rho, alpha, beta = col(lambda c: c.rho), col(lambda c: c.alpha), col(lambda c: c.beta)
+    H_b, L_b = col(lambda c: c.wall.H / c.wall.b), col(lambda c: c.wall.L / c.wall.b)
+    tanpsi = np.array([cf.analysis.tanpsi or c.alpha for cf, c in zip(configs, cases)])
+    lam_I, _ = mech.critical_I(rho, alpha, beta, H_b)
+    theta_I = mech.theta_m_I(lam_I, rho, alpha, beta)
+    lam_II, _ = mech.critical_II(rho, tanpsi, mech.lam_max_II(H_b, L_b, tanpsi))
+    out = []
+    for k, config in enumerate(configs):
+        t1 = time.perf_counter()
+        try:
+            res = Result(config=config, dem=dem_row(config.case), mechanisms={
+                "I": mech.mechanism_I(config.case, lam=float(lam_I[k]),
+                                      theta_m=float(theta_I[k])),
+                "II": mech.mechanism_II(config.case, tanpsi=config.analysis.tanpsi or None,
+                                        lam=float(lam_II[k]))})
+            if config.analysis.hinge_check:         # as compute(): one case at a time
+                res.hinges = _hinges(config.case, res.mechanisms)
+            rec = {**res.to_dict(), "status": "ok"}
+            rec.pop("files", None)
+        except Exception as exc:  # recorded, as run_case records it
+            rec = _failed(config, exc, t1)
+        out.append(rec)
+    share = (time.perf_counter() - t0) / max(len(configs), 1)
+    for rec in out:
+        if rec["status"] == "ok":
+            rec["timings_s"] = {"closed-form mechanisms I and II (batch share)": share}
+    return out
+
+
+# ----------------------------------------------------------------------------- the table
+def flatten(record: dict, prefix: str = "") -> dict:
+    """A record as one table row: nested keys joined with "." (their summary.json paths),
+    lists of numbers as ``path.0``, ``path.1``...; lists of records (the FE scan, kept in the
+    JSON record) and the traceback are left out."""
+    row = {}
+    for k, v in record.items():
+        path = f"{prefix}{k}"
+        if k == "traceback":
+            continue
+        if isinstance(v, dict):
+            row.update(flatten(v, path + "."))
+        elif isinstance(v, list | tuple):
+            if all(not isinstance(x, dict | list | tuple) for x in v):
+                row.update({f"{path}.{j}": x for j, x in enumerate(v)})
+        else:
+            row[path] = v
+    return row
+
+
+def _rows(cases: list[SweepCase], records: dict[str, dict]) -> list[dict]:
+    rows = []
+    for c in cases:
+        rec = records.get(c.key)
+        if rec is None:  # invalid, or a task lost with its worker
+            rec = {"status": "failed", "error": c.error or "no record (the task was lost)"}
+        row = {"case_index": c.index, "key": c.key, "status": rec.get("status"),
+               "error": rec.get("error")}
+        flat = flatten({k: v for k, v in rec.items() if k not in ("status", "error")})
+        if c.config is not None:  # a case's own name and source (records are shared by key)
+            flat.update({"case": c.config.name, "source": c.config.source})
+        rows.append({**row, **flat})
+    return rows
+
+
+def _column(values: list):
+    """One table column for pyarrow: NaN as null (as a stored JSON record has it); a column
+    that mixes kinds (numbers and text) as text."""
+    import pyarrow as pa
+
+    values = [None if isinstance(v, float) and v != v else v for v in values]
+    try:
+        return pa.array(values)
+    except (pa.ArrowInvalid, pa.ArrowTypeError):
+        return pa.array([None if v is None else str(v) for v in values])
+
+
+def write_table(folder: Path, rows: list[dict], swept: list[str]) -> dict[str, Path]:
+    """results.parquet and results.csv: one row per case, META, the swept inputs, the rest."""
+    import pyarrow as pa
+    import pyarrow.csv as pcsv
+    import pyarrow.parquet as pq
+
+    cols = list(dict.fromkeys(META + swept + [k for r in rows for k in r]))
+    table = pa.table({c: _column([r.get(c) for r in rows]) for c in cols})
+    files = {"parquet": folder / "results.parquet", "csv": folder / "results.csv"}
+    with atomic_path(files["parquet"]) as tmp:
+        pq.write_table(table, tmp)
+    with atomic_path(files["csv"]) as tmp:
+        pcsv.write_csv(table, tmp)
+    return files
+
+
+# ----------------------------------------------------------------------------- the sweep
+def _chunks(items: list, n: int) -> list[list]:
+    """``items`` in about equal consecutive chunks, at least ``n`` of them and each at most
+    BATCH long."""
+    if not items:
+        return []
+    k = max(n, math.ceil(len(items) / BATCH))
+    size = math.ceil(len(items) / k)
+    return [items[j:j + size] for j in range(0, len(items), size)]
+
+
+def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
+          workers: int | None = None, scheduler: str | None = None, resume: bool = True,
+          retry_failed: bool = False, progress: bool = True,
+          engine: Engine | None = None) -> SweepResult:
+    """Run a sweep (see the module docstring) and write its records and table to ``out``
+    (default homlimit-out/<base name>/sweep/).
+
+    base: a case file, a dict or None (the embedded B1); grid: ``parse_grid`` input; table: a
+    CSV path or a list of override dicts; workers / scheduler: the Dask engine (an embedded
+    LocalCluster of ``workers`` processes, or an existing scheduler's address), or ``engine``
+    already open; resume: keep the records of an earlier run and run only the missing cases
+    (off: start from nothing); retry_failed: run recorded failures again.
+    """
+    t0 = time.perf_counter()
+    cases, data, source = plan_sweep(base, grid, table)
+    from .pipeline import folder_name, package_version
+
+    name = str(data.get("name") or "sweep")
+    folder = Path(out) if out else Path("homlimit-out") / folder_name(name) / "sweep"
+    check_output_folder(folder, SWEEP_NAMES)   # a new folder or a sweep's, before any work
+    store = RecordStore(folder / "records")
+    if not resume:
+        store.clear()
+    grid_d = parse_grid(grid) if grid else {}
+    swept = list(dict.fromkeys(
+        [f"inputs.{k}" if "." in k else "case" for k in grid_d]
+        + [f"inputs.{k}" if "." in k else "case" for c in cases for k in c.overrides]))
+    write_json(folder / "sweep.json", {
+        "homlimit_version": package_version(), "base": source, "base_case": data,
+        "grid": grid_d, "table": None if table is None or isinstance(table, list)
+        else str(table), "swept": swept, "n_cases": len(cases),
+        "cases": [{"index": c.index, "key": c.key, "overrides": c.overrides,
+                   "valid": c.config is not None} for c in cases]})
+    records = store.load()
+    if retry_failed:
+        records = {k: r for k, r in records.items() if r.get("status") == "ok"}
+    valid = {c.key: c for c in cases if c.config is not None}   # one task per distinct key
+    todo = [c for k, c in valid.items() if k not in records]
+    n_resumed = len(valid) - len(todo)
+    if n_resumed:
+        log.info("resuming: %d of %d distinct cases already recorded in %s", n_resumed,
+                 len(valid), store.folder)
+    batched = [c for c in todo if c.closed_form_only]
+    single = [c for c in todo if not c.closed_form_only]
+    if todo:
+        n_failed = sum(1 for k in valid if records.get(k, {}).get("status", "ok") != "ok")
+        with Engine(workers, scheduler, progress) if engine is None \
+                else contextlib.nullcontext(engine) as eng:
+            _evaluate(eng, store, records, batched, single, len(valid), (n_resumed, n_failed))
+    rows = _rows(cases, records)
+    files = write_table(folder, rows, swept)
+    files.update({"sweep_json": folder / "sweep.json", "records": store.folder})
+    n_failed = sum(1 for r in rows if r["status"] != "ok")
+    return SweepResult(folder, rows, swept, len(rows) - n_failed, n_failed, n_resumed,
+                       time.perf_counter() - t0, files)
+
+
+def _evaluate(eng: Engine, store: RecordStore, records: dict, batched: list[SweepCase],
+              single: list[SweepCase], total: int, already: tuple[int, int]):
+    """Run the missing cases on ``eng``: closed-form batches and one task per other case;
+    every record is stored the moment it arrives (a batch as one file)."""
+    chunks = _chunks(batched, eng.n_workers if eng.client is not None else 1)
+    items = [("batch", [c.config for c in ch]) for ch in chunks] + \
+            [("case", c.config) for c in single]
+    owners = [ch for ch in chunks] + [[c] for c in single]
+
+    def save(k, res):
+        if items[k][0] == "batch":
+            got = dict(zip((c.key for c in owners[k]), res))
+            store.put_batch(got)
+        else:
+            got = {owners[k][0].key: res}
+            store.put(owners[k][0].key, res)
+        records.update(got)
+
+    def lost(item, exc):  # a task that raised (worker lost): not stored, so a rerun retries
+        kind, payload = item
+        recs = [_failed(c, exc, time.perf_counter())
+                for c in (payload if kind == "batch" else [payload])]
+        return recs if kind == "batch" else recs[0]
+
+    def weight(res):
+        recs = res if isinstance(res, list) else [res]
+        return len(recs), sum(1 for r in recs if r.get("status") != "ok")
+
+    results = eng.run(_evaluate_item, items, on_result=save, failed=lost, weight=weight,
+                      total=total, already=already, description="sweep")
+    for k, res in enumerate(results):   # lost tasks: failed in the table, not in the store
+        for c, rec in zip(owners[k], res if isinstance(res, list) else [res]):
+            records.setdefault(c.key, rec)
+
+
+def _evaluate_item(item):
+    kind, payload = item
+    return batch_closed_form(payload) if kind == "batch" else run_case(payload)
