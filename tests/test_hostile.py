@@ -373,7 +373,7 @@ def test_version_and_help_show_defaults_and_units():
     res = invoke("--version")
     assert res.exit_code == 0 and res.stdout.strip() == f"homlimit {homlimit.__version__}"
     def helptext(cmd):
-        out = CliRunner().invoke(app, [cmd, "--help"]).stdout
+        out = CliRunner().invoke(app, [cmd, "--help"], env={"COLUMNS": "160"}).stdout
         return " ".join(out.replace("│", " ").split())     # rich's box drawn away
 
     for cmd, folder in (("run", "NAME/"), ("demo", "NAME/"), ("table1", "table1/"),

@@ -250,7 +250,7 @@ def interrupt_cases(tmp_path_factory):
     """Six tiny FE cases (under 1 s each on one worker) and their uninterrupted table."""
     d = tmp_path_factory.mktemp("interrupt")
     rows = ["mesh.size,analysis.heights,analysis.static,masonry.f"] + \
-        [f"0.8,1,false,{f:.2f}" for f in (0.45, 0.5, 0.55, 0.6, 0.65, 0.7)]
+        [f"0.8,2,false,{f:.2f}" for f in (0.45, 0.5, 0.55, 0.6, 0.65, 0.7)]
     (d / "cases.csv").write_text("\n".join(rows) + "\n")
     r = subprocess.run(_sweep_cmd(d / "whole"), capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
