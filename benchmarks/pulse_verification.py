@@ -53,6 +53,18 @@ def fe_like_body(case, h=2.3):
     return RigidBody.from_triangles(pts, tri, dens, O=(0.0, z0))
 
 
+def fe_rocker(case):
+    """The rocker of the critical FE mechanism of the default FE scan (bed-joint façade, mesh
+    0.25 m), as ``homlimit pulse`` and the hinge check build it: its one-DOF shape."""
+    from homlimit.dynamics import case_rockers
+    from homlimit.mechanism.analysis import fe_result
+
+    crit = fe_result(case).critical
+    print(f"FE mechanism of {case.name}: {crit.kind}, h = {crit.h:.3f} m, v̄_g = {crit.vg:.4f} "
+          f"m/s ({crit.vg_method})\n")
+    return case_rockers(case, (), fe_body=crit)["FE"]
+
+
 def short_pulse():
     fe = fe_like_body(B1)
     q_m = math.atan2(fe.x_G, fe.z_G)
@@ -65,7 +77,8 @@ def short_pulse():
                ("I (exact gravity)", MechanismIRocker(B1, gravity="exact"), None, None),
                ("II", RigidRocker(mechanism_II(B1).body), mechanism_II(B1).vg, None),
                ("FE-like body", RigidRocker(fe), collapse_velocity(fe), None),
-               ("one-DOF shape", GeneralisedRocker.from_impulse(gi), gi.vg, None)]
+               ("one-DOF shape", GeneralisedRocker.from_impulse(gi), gi.vg, None),
+               ("FE mechanism of B1", fe_rocker(B1), None, None)]
     P_DT = np.array([0.0025, 0.005, 0.01, 0.02, 0.04])
     print("## Short-pulse limit (B1; rtol 1e-10 on pga)\n")
     print("| rocker | p [rad/s] | v̄_g eq. 7 [m/s] | " + " | ".join(
