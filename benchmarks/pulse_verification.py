@@ -71,7 +71,7 @@ def short_pulse():
     W_b = fe.m * G * (fe.r_G - fe.z_G)
     L = 0.12 * W_b / q_m
     M, Pi, W_m = 1.08 * fe.I_O, 1.05 * fe.m * fe.z_G, W_b + q_m * L
-    gi = GeneralisedImpulse(M, Pi, W_m, q_m, math.sqrt(2 * W_m * M) / Pi, fe, 0.08,
+    gi = GeneralisedImpulse(M, Pi, W_m, q_m, math.sqrt(2 * W_m * M) / Pi, fe, L, 0.08,
                             q_m * L / W_m)
     rockers = [("I (eq. 10)", MechanismIRocker(B1), mechanism_I(B1).vg, 0.0),
                ("I (exact gravity)", MechanismIRocker(B1, gravity="exact"), None, None),
