@@ -249,7 +249,9 @@ def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
     tanpsi = np.array([cf.analysis.tanpsi or c.alpha for cf, c in zip(configs, cases)])
     lam_I, _ = mech.critical_I(rho, alpha, beta, H_b)
     theta_I = mech.theta_m_I(lam_I, rho, alpha, beta)
-    lam_II, _ = mech.critical_II(rho, tanpsi, mech.lam_max_II(H_b, L_b, tanpsi))
+    lam_max_II = mech.lam_max_II(H_b, L_b, tanpsi)
+    lam_II, _ = mech.critical_II(rho, tanpsi, lam_max_II)
+    static_II = mech.static_critical_II(rho, tanpsi, lam_max_II)
     out = []
     for k, config in enumerate(configs):
         t1 = time.perf_counter()
@@ -258,7 +260,8 @@ def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
                 "I": mech.mechanism_I(config.case, lam=float(lam_I[k]),
                                       theta_m=float(theta_I[k])),
                 "II": mech.mechanism_II(config.case, tanpsi=config.analysis.tanpsi or None,
-                                        lam=float(lam_II[k]))})
+                                        lam=float(lam_II[k]),
+                                        static=(static_II[0][k], static_II[1][k]))})
             if config.analysis.hinge_check:         # as compute(): one case at a time
                 res.hinges = _hinges(config.case, res.mechanisms)
             rec = {**res.to_dict(), "status": "ok"}
