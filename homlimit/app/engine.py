@@ -109,10 +109,13 @@ class RecordStore:
                                            default=to_jsonable) + "\n")
 
     def put_batch(self, records: dict[str, dict]) -> Path:
-        """Write a batch of records as one file (its name: the key of its keys)."""
+        """Write a batch of records as one file (its name: the key of its keys), as compact
+        JSON (NaN as null, as ``write_json``): a batch holds thousands of records, and the
+        indented form takes 3x as long to write."""
         self._mark()
         name = record_key("batch", sorted(records), version="")
-        return write_json(self.folder / f"batch-{name}.json", {"records": records})
+        text = json.dumps(to_jsonable({"records": records}), ensure_ascii=False)
+        return write_text(self.folder / f"batch-{name}.json", text + "\n")
 
     def clear(self):
         """Remove every record (a sweep run with resume off starts from nothing)."""
