@@ -136,11 +136,13 @@ def units_table(summary: Mapping) -> dict:
     inputs = {sec: dict(u) if isinstance(u, dict) else u for sec, u in _input_units().items()}
     found: set[str] = set()
 
+    def mapping(v):
+        return type(v) is dict or isinstance(v, Mapping)
+
     def walk(x):
-        if isinstance(x, Mapping):
+        if mapping(x):
             for k, v in x.items():
-                if isinstance(v, Mapping) or (isinstance(v, list) and v
-                                              and isinstance(v[0], Mapping)):
+                if mapping(v) or (isinstance(v, list) and v and mapping(v[0])):
                     walk(v)
                 else:
                     found.add(k)

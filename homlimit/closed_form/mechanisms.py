@@ -52,7 +52,11 @@ __all__ = [
 
 
 def _bcast(*xs):
-    return np.broadcast_arrays(*[np.asarray(x, dtype=float) for x in xs])
+    arrs = [np.asarray(x, dtype=float) for x in xs]
+    shape = arrs[0].shape
+    if all(a.shape == shape for a in arrs):   # one wall's scalars: nothing to broadcast
+        return arrs
+    return np.broadcast_arrays(*arrs)
 
 
 # --------------------------------------------------------------------------- mechanism I
