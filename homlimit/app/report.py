@@ -142,7 +142,10 @@ def units_table(summary: Mapping) -> dict:
     def walk(x):
         if mapping(x):
             for k, v in x.items():
-                if mapping(v) or (isinstance(v, list) and v and mapping(v[0])):
+                kind = type(v)
+                if kind is float or kind is int or kind is str or v is None or kind is bool:
+                    found.add(k)       # the plain values first: most of a summary
+                elif mapping(v) or (isinstance(v, list) and v and mapping(v[0])):
                     walk(v)
                 else:
                     found.add(k)

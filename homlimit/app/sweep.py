@@ -337,7 +337,10 @@ def write_table(folder: Path, rows: list[dict], swept: list[str]) -> dict[str, P
     import pyarrow.csv as pcsv
     import pyarrow.parquet as pq
 
-    cols = list(dict.fromkeys(META + swept + [k for r in rows for k in r]))
+    seen: dict = {}
+    for r in rows:          # every row's keys in first-seen order (dict.update keeps it)
+        seen.update(r)
+    cols = list(dict.fromkeys(META + swept + list(seen)))
     table = pa.table({c: _column([r.get(c) for r in rows]) for c in cols})
     files = {"parquet": folder / "results.parquet", "csv": folder / "results.csv"}
     with atomic_path(files["parquet"]) as tmp:
