@@ -78,6 +78,13 @@ def write_text(path: str | Path, text: str) -> Path:
 
 def to_jsonable(obj):
     """Plain JSON data from nested containers of numbers, numpy values, paths."""
+    kind = type(obj)   # the plain types first (a record is mostly dicts and floats)
+    if kind is float:
+        return obj if math.isfinite(obj) else None
+    if kind is str or kind is int or kind is bool or obj is None:
+        return obj
+    if kind is dict:
+        return {str(k): to_jsonable(v) for k, v in obj.items()}
     if isinstance(obj, Mapping):
         return {str(k): to_jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):

@@ -13,6 +13,7 @@ summary gets a ``units`` table (``units_table``).
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import re
@@ -115,9 +116,9 @@ def read_csv(path: str | Path) -> list[dict]:
              for k, v in r.items()} for r in rows]
 
 
-def units_table(summary: Mapping) -> dict:
-    """The ``units`` table of summary.json: the unit of every case-file key (by section) and of
-    every result quantity the summary holds (by name; "-" dimensionless, "" text)."""
+@functools.cache
+def _input_units() -> dict:
+    """The unit of every case-file key, by section (the schema's, fixed)."""
     from .config import SCHEMA, TOP_LEVEL
 
     def unit(key):
@@ -126,13 +127,25 @@ def units_table(summary: Mapping) -> dict:
 
     inputs = {sec: {k: unit(key) for k, key in keys.items()} for sec, keys in SCHEMA.items()}
     inputs["name"] = unit(TOP_LEVEL["name"])
+    return inputs
+
+
+def units_table(summary: Mapping) -> dict:
+    """The ``units`` table of summary.json: the unit of every case-file key (by section) and of
+    every result quantity the summary holds (by name; "-" dimensionless, "" text)."""
+    inputs = {sec: dict(u) if isinstance(u, dict) else u for sec, u in _input_units().items()}
     found: set[str] = set()
 
+    def mapping(v):
+        return type(v) is dict or isinstance(v, Mapping)
+
     def walk(x):
-        if isinstance(x, Mapping):
+        if mapping(x):
             for k, v in x.items():
-                if isinstance(v, Mapping) or (isinstance(v, list) and v
-                                              and isinstance(v[0], Mapping)):
+                kind = type(v)
+                if kind is float or kind is int or kind is str or v is None or kind is bool:
+                    found.add(k)       # the plain values first: most of a summary
+                elif mapping(v) or (isinstance(v, list) and v and mapping(v[0])):
                     walk(v)
                 else:
                     found.add(k)

@@ -28,6 +28,7 @@ import contextlib
 import csv
 import dataclasses
 import itertools
+import json
 import logging
 import math
 import time
@@ -41,7 +42,7 @@ import numpy as np
 from .._io import atomic_path, check_output_folder, write_json
 from ..errors import ParameterError
 from .config import SCHEMA, TOP_LEVEL, CaseConfig, ConfigError, _default_data, load_case
-from .engine import Engine, RecordStore, record_key
+from .engine import Engine, RecordStore, batch_json, record_key
 
 __all__ = ["SweepCase", "SweepResult", "batch_closed_form", "flatten", "parse_grid",
            "plan_sweep", "read_table", "run_case", "sweep", "write_table"]
@@ -249,7 +250,9 @@ def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
     tanpsi = np.array([cf.analysis.tanpsi or c.alpha for cf, c in zip(configs, cases)])
     lam_I, _ = mech.critical_I(rho, alpha, beta, H_b)
     theta_I = mech.theta_m_I(lam_I, rho, alpha, beta)
-    lam_II, _ = mech.critical_II(rho, tanpsi, mech.lam_max_II(H_b, L_b, tanpsi))
+    lam_max_II = mech.lam_max_II(H_b, L_b, tanpsi)
+    lam_II, _ = mech.critical_II(rho, tanpsi, lam_max_II)
+    static_II = mech.static_critical_II(rho, tanpsi, lam_max_II)
     out = []
     for k, config in enumerate(configs):
         t1 = time.perf_counter()
@@ -258,7 +261,8 @@ def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
                 "I": mech.mechanism_I(config.case, lam=float(lam_I[k]),
                                       theta_m=float(theta_I[k])),
                 "II": mech.mechanism_II(config.case, tanpsi=config.analysis.tanpsi or None,
-                                        lam=float(lam_II[k]))})
+                                        lam=float(lam_II[k]),
+                                        static=(static_II[0][k], static_II[1][k]))})
             if config.analysis.hinge_check:         # as compute(): one case at a time
                 res.hinges = _hinges(config.case, res.mechanisms)
             rec = {**res.to_dict(), "status": "ok"}
@@ -278,19 +282,26 @@ def flatten(record: dict, prefix: str = "") -> dict:
     """A record as one table row: nested keys joined with "." (their summary.json paths),
     lists of numbers as ``path.0``, ``path.1``...; lists of records (the FE scan, kept in the
     JSON record) and the traceback are left out."""
-    row = {}
+    row: dict = {}
+    _flatten_into(row, record, prefix)
+    return row
+
+
+def _flatten_into(row: dict, record: dict, prefix: str):
     for k, v in record.items():
-        path = f"{prefix}{k}"
         if k == "traceback":
             continue
-        if isinstance(v, dict):
-            row.update(flatten(v, path + "."))
+        path = f"{prefix}{k}"
+        kind = type(v)
+        if kind is float or kind is str or kind is int or v is None or kind is bool:
+            row[path] = v          # the plain values first: most of a record
+        elif isinstance(v, dict):
+            _flatten_into(row, v, path + ".")
         elif isinstance(v, list | tuple):
             if all(not isinstance(x, dict | list | tuple) for x in v):
                 row.update({f"{path}.{j}": x for j, x in enumerate(v)})
         else:
             row[path] = v
-    return row
 
 
 def _rows(cases: list[SweepCase], records: dict[str, dict]) -> list[dict]:
@@ -326,7 +337,10 @@ def write_table(folder: Path, rows: list[dict], swept: list[str]) -> dict[str, P
     import pyarrow.csv as pcsv
     import pyarrow.parquet as pq
 
-    cols = list(dict.fromkeys(META + swept + [k for r in rows for k in r]))
+    seen: dict = {}
+    for r in rows:          # every row's keys in first-seen order (dict.update keeps it)
+        seen.update(r)
+    cols = list(dict.fromkeys(META + swept + list(seen)))
     table = pa.table({c: _column([r.get(c) for r in rows]) for c in cols})
     files = {"parquet": folder / "results.parquet", "csv": folder / "results.csv"}
     with atomic_path(files["parquet"]) as tmp:
@@ -407,38 +421,56 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
 def _evaluate(eng: Engine, store: RecordStore, records: dict, batched: list[SweepCase],
               single: list[SweepCase], total: int, already: tuple[int, int]):
     """Run the missing cases on ``eng``: closed-form batches and one task per other case;
-    every record is stored the moment it arrives (a batch as one file)."""
+    every record is stored the moment it arrives (a batch as one file, its text made on the
+    worker)."""
     chunks = _chunks(batched, eng.n_workers if eng.client is not None else 1)
-    items = [("batch", [c.config for c in ch]) for ch in chunks] + \
+    items = [("batch", ([c.config for c in ch], [c.key for c in ch])) for ch in chunks] + \
             [("case", c.config) for c in single]
     owners = [ch for ch in chunks] + [[c] for c in single]
 
     def save(k, res):
-        if items[k][0] == "batch":
-            got = dict(zip((c.key for c in owners[k]), res))
-            store.put_batch(got)
+        if isinstance(res, _BatchText):
+            store.put_batch_json(res.keys, res.text)
+            records.update(json.loads(res.text)["records"])
         else:
-            got = {owners[k][0].key: res}
             store.put(owners[k][0].key, res)
-        records.update(got)
+            records[owners[k][0].key] = res
 
     def lost(item, exc):  # a task that raised (worker lost): not stored, so a rerun retries
         kind, payload = item
         recs = [_failed(c, exc, time.perf_counter())
-                for c in (payload if kind == "batch" else [payload])]
+                for c in (payload[0] if kind == "batch" else [payload])]
         return recs if kind == "batch" else recs[0]
 
     def weight(res):
+        if isinstance(res, _BatchText):
+            return len(res.keys), res.n_failed
         recs = res if isinstance(res, list) else [res]
         return len(recs), sum(1 for r in recs if r.get("status") != "ok")
 
     results = eng.run(_evaluate_item, items, on_result=save, failed=lost, weight=weight,
                       total=total, already=already, description="sweep")
     for k, res in enumerate(results):   # lost tasks: failed in the table, not in the store
-        for c, rec in zip(owners[k], res if isinstance(res, list) else [res]):
-            records.setdefault(c.key, rec)
+        if not isinstance(res, _BatchText):
+            for c, rec in zip(owners[k], res if isinstance(res, list) else [res]):
+                records.setdefault(c.key, rec)
+
+
+@dataclass(frozen=True)
+class _BatchText:
+    """A batch's records as the text of its record file (``engine.batch_json``), made on the
+    worker: the client writes it as it is and parses it back at C speed."""
+
+    keys: list[str]
+    text: str
+    n_failed: int
 
 
 def _evaluate_item(item):
     kind, payload = item
-    return batch_closed_form(payload) if kind == "batch" else run_case(payload)
+    if kind == "case":
+        return run_case(payload)
+    configs, keys = payload
+    recs = batch_closed_form(configs)
+    return _BatchText(keys, batch_json(dict(zip(keys, recs))),
+                      sum(1 for r in recs if r["status"] != "ok"))

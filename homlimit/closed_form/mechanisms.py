@@ -52,7 +52,11 @@ __all__ = [
 
 
 def _bcast(*xs):
-    return np.broadcast_arrays(*[np.asarray(x, dtype=float) for x in xs])
+    arrs = [np.asarray(x, dtype=float) for x in xs]
+    shape = arrs[0].shape
+    if all(a.shape == shape for a in arrs):   # one wall's scalars: nothing to broadcast
+        return arrs
+    return np.broadcast_arrays(*arrs)
 
 
 # --------------------------------------------------------------------------- mechanism I
@@ -73,29 +77,64 @@ def work_I(theta, lam, rho, alpha, beta):
     return (gravity + friction) / 24.0
 
 
+def _quartic_I(lam, rho, a2, beta):
+    """Coefficients p3, p1, p0 of θ_m's quartic θ⁴ + p3 θ³ + p1 θ + p0 = 0 (corrected eq. 13)."""
+    return -1.0 / lam, -a2 * beta ** 2 / (3 * rho * lam), a2 * beta ** 3 / (6 * rho * lam ** 2)
+
+
+def _largest_root_I(p3, p1, p0, max_iter=100):
+    """Largest real root of θ⁴ + p3 θ³ + p1 θ + p0 (p3, p1 < 0 < p0), NaN if there is none.
+
+    q' = 4θ³ + 3p3θ² + p1 is negative on (0, −p3/2] and increasing after, so q falls then rises
+    on θ > 0: it has no positive root or two, and on [largest root, ∞) it is convex and
+    increasing. Newton from a point above every root therefore decreases monotonically onto
+    the largest one; θ0 = −p3 + min(|p1|/p3², ∛|p1|) is such a point (there θ0²(θ0 + p3) >=
+    −p1, so q >= p0 > 0). An element stops when its step no longer decreases θ: converged, or
+    NaN if q' <= 0 there (it went past q's minimum: no root). Each element follows its own
+    iteration, so an array gives every element the bits it gets alone. An element still
+    moving after ``max_iter`` steps (a near-double root) takes the largest real eigenvalue of
+    its companion matrix.
+    """
+    x = -p3 + np.minimum(-p1 / p3 ** 2, np.cbrt(-p1))
+    idx = np.arange(x.size)
+    for _ in range(max_iter):
+        xi, a3, a1, a0 = x[idx], p3[idx], p1[idx], p0[idx]
+        q = ((xi + a3) * xi * xi + a1) * xi + a0
+        dq = (4 * xi + 3 * a3) * xi * xi + a1
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xn = xi - q / dq
+        moving = (dq > 0) & (xn < xi)
+        x[idx[~moving]] = np.where(dq[~moving] > 0, xi[~moving], np.nan)
+        x[idx[moving]] = xn[moving]
+        idx = idx[moving]
+        if idx.size == 0:
+            return x
+    comp = np.zeros((idx.size, 4, 4))
+    comp[:, 0, :] = -np.stack([p3[idx], np.zeros(idx.size), p1[idx], p0[idx]], axis=1)
+    comp[:, 1, 0] = comp[:, 2, 1] = comp[:, 3, 2] = 1.0
+    roots = np.linalg.eigvals(comp)
+    real = np.abs(roots.imag) <= 1e-9 * np.maximum(1.0, np.abs(roots.real))
+    x[idx] = np.max(np.where(real, roots.real, -np.inf), axis=1)
+    x[idx] = np.where(x[idx] > 0, x[idx], np.nan)
+    return x
+
+
 def theta_m_I(lam, rho, alpha, beta):
     """Exact maximiser θ_m of W(θ) for mechanism I (corrected eq. 13, both branches).
 
-    Candidates: the real roots θ >= β/λ of θ⁴ − θ³/λ − α²β²θ/(3ρλ) + α²β³/(6ρλ²) = 0, the
-    stationary point of the left branch (θ < β/λ) and the branch point θ = β/λ; the one of
-    largest W wins. Vectorised: the quartics' roots come from batched companion matrices.
+    On the right branch (θ >= β/λ) W'(θ) has the sign of −q(θ), q = θ⁴ − θ³/λ − α²β²θ/(3ρλ)
+    + α²β³/(6ρλ²): W rises where q < 0, so its local maxima there are the largest real root
+    of q (``_largest_root_I``, Newton) if it is >= β/λ, and the branch point θ = β/λ. With the
+    stationary point of the left branch (θ < β/λ) these are the candidates; the one of largest
+    W wins.
     """
     lam, rho, alpha, beta = _bcast(lam, rho, alpha, beta)
     shape = lam.shape
     lam, rho, alpha, beta = (x.ravel() for x in (lam, rho, alpha, beta))
     a2 = alpha ** 2
-    # quartic θ⁴ + p3 θ³ + p2 θ² + p1 θ + p0 = 0, companion matrix eigenvalues
-    p3 = -1.0 / lam
-    p2 = np.zeros_like(lam)
-    p1 = -a2 * beta ** 2 / (3 * rho * lam)
-    p0 = a2 * beta ** 3 / (6 * rho * lam ** 2)
-    comp = np.zeros((lam.size, 4, 4))
-    comp[:, 0, :] = -np.stack([p3, p2, p1, p0], axis=1)
-    comp[:, 1, 0] = comp[:, 2, 1] = comp[:, 3, 2] = 1.0
-    roots = np.linalg.eigvals(comp)
-    real = np.abs(roots.imag) <= 1e-9 * np.maximum(1.0, np.abs(roots.real))
     theta_c = beta / lam
-    r = np.where(real & (roots.real >= theta_c[:, None]), roots.real, np.nan)
+    r = _largest_root_I(*_quartic_I(lam, rho, a2, beta))
+    r = np.where(r >= theta_c, r, np.nan)
     # left branch: 24w = 12ρλθ − 6ρλ²θ² + α²λ³θ(4β − λθ)/β, stationary where derivative vanishes
     left = (12 * rho * lam + 4 * a2 * lam ** 3) / (12 * rho * lam ** 2 + 2 * a2 * lam ** 4 / beta)
     left = np.where(left < theta_c, left, np.nan)
@@ -200,7 +239,8 @@ def static_critical_II(rho, tanpsi, lam_max):
 def _minimise(fun, lam_max, lam_min=0.5, n_grid=160, n_golden=45):
     """Vectorised minimisation of fun(λ) over [lam_min, lam_max] for arrays of problems.
 
-    A log-spaced grid locates the best cell, then golden-section search refines it. Returns
+    A log-spaced grid locates the best cell, then golden-section search refines it (one new
+    evaluation per step: the other interior point is the previous step's). Returns
     (λ*, fun(λ*)). If the minimum sits on lam_max the constraint λ <= H/b is active.
     """
     lam_max = np.asarray(lam_max, float)
@@ -214,18 +254,24 @@ def _minimise(fun, lam_max, lam_min=0.5, n_grid=160, n_golden=45):
     lo = grid[idx, np.maximum(k - 1, 0)]
     hi = grid[idx, np.minimum(k + 1, n_grid - 1)]
     gr = (math.sqrt(5) - 1) / 2
-    for _ in range(n_golden):
-        x1 = hi - gr * (hi - lo)
-        x2 = lo + gr * (hi - lo)
-        f1 = fun(x1, slice(None))
-        f2 = fun(x2, slice(None))
-        left = f1 < f2
-        hi = np.where(left, x2, hi)
-        lo = np.where(left, lo, x1)
+    x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
+    f1, f2 = fun(x1, slice(None)), fun(x2, slice(None))
+    for _ in range(n_golden - 1):
+        left = f1 < f2          # the minimum is in [lo, x2]: x1 becomes the new x2
+        hi, lo = np.where(left, x2, hi), np.where(left, lo, x1)
+        x_new = np.where(left, hi - gr * (hi - lo), lo + gr * (hi - lo))
+        f_new = fun(x_new, slice(None))
+        x1, x2 = np.where(left, x_new, x2), np.where(left, x1, x_new)
+        f1, f2 = np.where(left, f_new, f2), np.where(left, f1, f_new)
+    left = f1 < f2
+    hi, lo = np.where(left, x2, hi), np.where(left, lo, x1)
     lam = 0.5 * (lo + hi)
-    # keep the grid's end points if they beat the interior refinement
-    lam = np.where(vals[idx, k] < fun(lam, slice(None)), grid[idx, k], lam)
-    return lam.reshape(shape), fun(lam, slice(None)).reshape(shape)
+    f_lam = fun(lam, slice(None))
+    # keep the grid's point if it beats the interior refinement (the minimum on an end point)
+    grid_wins = vals[idx, k] < f_lam
+    lam = np.where(grid_wins, grid[idx, k], lam)
+    f_lam = np.where(grid_wins, vals[idx, k], f_lam)
+    return lam.reshape(shape), f_lam.reshape(shape)
 
 
 def critical_I(rho, alpha, beta, lam_max):
@@ -316,9 +362,11 @@ def mechanism_I(case: Case, lam: float | None = None,
                            lam_max=lam_max, multiplier=a_g, lam_multiplier=lam_a)
 
 
-def mechanism_II(case: Case, tanpsi: float | None = None,
-                 lam: float | None = None) -> MechanismResult:
-    """Mechanism II (diagonal crack, tan ψ default √(cf/a), eq. 16) at its critical λ."""
+def mechanism_II(case: Case, tanpsi: float | None = None, lam: float | None = None,
+                 static: tuple[float, float] | None = None) -> MechanismResult:
+    """Mechanism II (diagonal crack, tan ψ default √(cf/a), eq. 16) at its critical λ;
+    ``static``: (λ, a/g) of ``static_critical_II`` if already known (on arrays, for many
+    walls)."""
     w, rho = case.wall, case.rho
     t = case.alpha if tanpsi is None else check_range("tanpsi", tanpsi, 0.0)
     lam_max = float(lam_max_II(w.H / w.b, w.L / w.b, t))
@@ -335,6 +383,7 @@ def mechanism_II(case: Case, tanpsi: float | None = None,
     body = RigidBody(m=m, x_G=xg * b, z_G=zg * b, I_O=m * i * b ** 2)
     theta_m = math.atan2(xg, zg)  # G over the vertical through O (eq. 18)
     W_m = m * w.g * (body.r_G - body.z_G)
-    lam_a, a_g = (float(x) for x in static_critical_II(rho, t, lam_max))
+    lam_a, a_g = (float(x) for x in (static_critical_II(rho, t, lam_max) if static is None
+                                     else static))
     return MechanismResult("II", lam, h, v, v * math.sqrt(w.g * b), theta_m, W_m, body,
                            tanpsi=t, lam_max=lam_max, multiplier=a_g, lam_multiplier=lam_a)
