@@ -31,7 +31,10 @@ ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "examples" / "c4-closed-form" / "case.toml"
 
 DRIVER = r'''
-import os, sys, time
+import os, signal, sys, time
+# a child of a background job (nohup, CI runners) inherits SIGINT ignored; Ctrl-C at a
+# terminal reaches Python's default handler, which is what is tested here
+signal.signal(signal.SIGINT, signal.default_int_handler)
 from contextlib import contextmanager
 from pathlib import Path
 from homlimit import _io

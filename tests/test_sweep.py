@@ -240,6 +240,12 @@ def test_sweep_on_a_running_dask_scheduler(tmp_path, dask_cluster):
 
 
 # ----------------------------------------------------------------------------- interruption
+def _default_sigint():
+    """A child of a background job (nohup, CI runners) inherits SIGINT ignored; Ctrl-C at a
+    terminal reaches Python's default handler, which is what is tested here."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _sweep_cmd(out: Path) -> list:
     return [BIN / "homlimit", "sweep", "--table", out.parent / "cases.csv", "--workers", "1",
             "--out", out, "-q"]
@@ -270,6 +276,7 @@ def test_interrupted_sweep_resumes_to_the_same_table(interrupt_cases, sig):
     d = interrupt_cases
     out = d / f"stopped-{sig.name}"
     p = subprocess.Popen(_sweep_cmd(out), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         preexec_fn=_default_sigint,
                          text=True)
     records = out / "records"
     t0 = time.monotonic()
