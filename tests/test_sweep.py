@@ -255,10 +255,10 @@ def _sweep_cmd(out: Path) -> list:
 
 @pytest.fixture(scope="module")
 def interrupt_cases(tmp_path_factory):
-    """Four tiny FE cases (about 4 s each on one worker) and their uninterrupted table."""
+    """Three tiny FE cases (about 4 s each on one worker) and their uninterrupted table."""
     d = tmp_path_factory.mktemp("interrupt")
     rows = ["mesh.size,masonry.a,analysis.heights,analysis.static,masonry.f"] + \
-        [f"0.8,1.0,2,false,{f:.2f}" for f in (0.45, 0.55, 0.65, 0.75)]
+        [f"0.8,1.0,2,false,{f:.2f}" for f in (0.45, 0.6, 0.75)]
     (d / "cases.csv").write_text("\n".join(rows) + "\n")
     r = subprocess.run(_sweep_cmd(d / "whole"), capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
@@ -295,13 +295,13 @@ def test_interrupted_sweep_resumes_to_the_same_table(interrupt_cases, sig):
     kept = [f for f in records.iterdir() if f.name != MANIFEST]
     assert all(not f.name.startswith(".") for f in kept)        # no partial file left
     recs = [json.loads(f.read_text()) for f in kept]             # each one complete
-    assert 1 <= len(recs) < 4 and all(r["status"] == "ok" for r in recs)
+    assert 1 <= len(recs) < 3 and all(r["status"] == "ok" for r in recs)
     assert not (out / "results.parquet").exists()
     r = subprocess.run(_sweep_cmd(out) + ["--json"], capture_output=True, text=True,
                        timeout=600)
     assert r.returncode == 0, r.stderr
     info = json.loads(r.stdout)
-    assert info["resumed"] == len(recs) and info["ok"] == 4
+    assert info["resumed"] == len(recs) and info["ok"] == 3
     assert _table(out) == _table(d / "whole")
 
 
