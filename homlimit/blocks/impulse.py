@@ -41,7 +41,7 @@ import numpy as np
 from ..errors import ParameterError, check_range
 from ..impulse import RigidBody
 from .geometry import Assembly
-from .limit import BlockLimitResult
+from .limit import BlockLimitResult, check_result
 
 __all__ = ["BlockImpulse", "failing_body", "block_impulse"]
 
@@ -154,12 +154,7 @@ def failing_body(assembly: Assembly, result: BlockLimitResult, level: float = 0.
 def block_impulse(assembly: Assembly, result: BlockLimitResult, g: float | None = None
                   ) -> BlockImpulse:
     """v̄_g of the discrete mechanism ``result`` of ``assembly`` (module docstring)."""
-    if not isinstance(assembly, Assembly) or not isinstance(result, BlockLimitResult):
-        raise ParameterError("assembly, result are out of range: allowed a "
-                             "homlimit.blocks.Assembly and its BlockLimitResult")
-    if result.velocity.shape[0] != assembly.n_blocks:
-        raise ParameterError(f"result has {result.velocity.shape[0]} blocks and assembly "
-                             f"{assembly.n_blocks}: allowed the result of this assembly")
+    check_result(assembly, result)
     g = check_range("g", assembly.meta.get("g", 9.81) if g is None else g, 0.0, lo_open=True,
                     unit="m/s^2")
     body_mask, O, omega = failing_body(assembly, result)  # noqa: E741 (the paper's O)

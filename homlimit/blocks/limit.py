@@ -55,7 +55,8 @@ from ..fe.solver import SolverOptions
 from .geometry import FACADE, TOOTHING, Assembly, block_speed, vertex_velocity
 
 __all__ = ["contact_operator", "loads", "BlockLimitResult", "RigidFit", "solve_blocks",
-           "equilibrium_residual", "clarabel_settings", "FRICTION_MODELS", "FAER_ABOVE"]
+           "equilibrium_residual", "clarabel_settings", "check_result", "FRICTION_MODELS",
+           "FAER_ABOVE"]
 
 FRICTION_MODELS = ("associative", "non-associative")
 # Above FAER_ABOVE unknowns Clarabel's faer factorisation on one thread beats qdldl on the
@@ -190,6 +191,16 @@ class BlockLimitResult:
     def speed(self, assembly: Assembly) -> np.ndarray:
         """Per block, the speed of its fastest vertex [m/s]."""
         return block_speed(assembly, self.velocity)
+
+
+def check_result(assembly: Assembly, result: BlockLimitResult):
+    """ParameterError unless ``result`` is a BlockLimitResult of ``assembly``."""
+    if not isinstance(assembly, Assembly) or not isinstance(result, BlockLimitResult):
+        raise ParameterError("assembly, result are out of range: allowed a "
+                             "homlimit.blocks.Assembly and its BlockLimitResult")
+    if result.velocity.shape[0] != assembly.n_blocks:
+        raise ParameterError(f"result has {result.velocity.shape[0]} blocks and assembly "
+                             f"{assembly.n_blocks}: allowed the result of this assembly")
 
 
 def clarabel_settings(options: SolverOptions, n_unknowns: int) -> dict:

@@ -12,22 +12,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ParameterError
 from ..fe.mesh import write
 from .geometry import KIND_NAMES, Assembly
-from .limit import STATE_NAMES, BlockLimitResult
+from .limit import STATE_NAMES, BlockLimitResult, check_result
 
 __all__ = ["blocks_mesh", "contacts_mesh", "write_blocks_vtu", "write_contacts_vtu",
            "contact_records", "write_contacts_csv", "plot_blocks_mechanism"]
-
-
-def _check(assembly, result):
-    if not isinstance(assembly, Assembly) or not isinstance(result, BlockLimitResult):
-        raise ParameterError("assembly, result are out of range: allowed a "
-                             "homlimit.blocks.Assembly and its BlockLimitResult")
-    if result.velocity.shape[0] != assembly.n_blocks:
-        raise ParameterError(f"result has {result.velocity.shape[0]} blocks and assembly "
-                             f"{assembly.n_blocks}: allowed the result of this assembly")
 
 
 def blocks_mesh(assembly: Assembly, result: BlockLimitResult, body_mask=None):
@@ -39,7 +29,7 @@ def blocks_mesh(assembly: Assembly, result: BlockLimitResult, body_mask=None):
     "course", "mass" [kg]."""
     import meshio
 
-    _check(assembly, result)
+    check_result(assembly, result)
     vv = result.vertex_velocity(assembly)
     counts = np.diff(assembly.offsets)
     speed = result.speed(assembly)
@@ -71,7 +61,7 @@ def contacts_mesh(assembly: Assembly, result: BlockLimitResult):
     1 open, 2 sliding), "block_a", "block_b"."""
     import meshio
 
-    _check(assembly, result)
+    check_result(assembly, result)
     jt = assembly.interfaces
     act = np.flatnonzero(result.active)
     p = jt.p[act].reshape(-1, 2)
@@ -103,7 +93,7 @@ def contact_records(assembly: Assembly, result: BlockLimitResult) -> list[dict]:
     """One record per end point of every active interface: interface, end, block_a, block_b,
     x, z [m], n_x, n_z, N, T [N per slab; force of a on b = N n + T t], opening, slip [m/s],
     state ("closed", "open", "sliding")."""
-    _check(assembly, result)
+    check_result(assembly, result)
     jt = assembly.interfaces
     act = np.flatnonzero(result.active)
     k = np.repeat(act, 2)
@@ -142,7 +132,7 @@ def plot_blocks_mechanism(path, assembly: Assembly, result: BlockLimitResult, bo
 
     from .._io import write_figure
 
-    _check(assembly, result)
+    check_result(assembly, result)
     vv = result.vertex_velocity(assembly)
     vmax = float(np.hypot(vv[:, 0], vv[:, 1]).max()) or 1.0
     bb = assembly.bounds()
