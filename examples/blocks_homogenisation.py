@@ -46,13 +46,9 @@ def richardson(recs: list[dict]) -> float:
 
 
 def plot(path: Path, recs: list[dict], fe: dict) -> Path:
-    import matplotlib
+    from homlimit.app.plots import pyplot, save_png
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from homlimit.app.report import write_figure
-
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(10.5, 4.8))
     for facade, marker in (("through", "o"), ("running-bond", "s")):
         sel = [r for r in recs if r["facade"] == facade]
@@ -77,10 +73,7 @@ def plot(path: Path, recs: list[dict], fe: dict) -> Path:
     ax.set_title("B1 in rigid blocks: the homogenisation limit (a, c)/k")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
-    try:
-        return write_figure(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
-    finally:
-        plt.close(fig)
+    return save_png(fig, path)
 
 
 def main(argv=None):

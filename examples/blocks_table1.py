@@ -26,13 +26,9 @@ from homlimit.blocks.studies import table1_blocks
 
 
 def plot(path: Path, rows: list[dict]) -> Path:
-    import matplotlib
+    from homlimit.app.plots import pyplot, save_png
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from homlimit.app.report import write_figure
-
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.6))
     x = range(len(rows))
     labels = [r["test"] for r in rows]
@@ -60,10 +56,7 @@ def plot(path: Path, rows: list[dict]) -> Path:
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=3)
     ax.set_title("height of the failing part")
     fig.tight_layout()
-    try:
-        return write_figure(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
-    finally:
-        plt.close(fig)
+    return save_png(fig, path)
 
 
 def main(argv=None):

@@ -14,13 +14,14 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["figure2", "plot_crack_study", "plot_mechanism", "plot_mesh", "plot_spectra",
-           "plot_stress", "plot_table1", "plot_vg_lambda", "triangle_regions"]
+           "plot_stress", "plot_table1", "plot_vg_lambda", "pyplot", "save_png",
+           "triangle_regions"]
 
 DPI = 120
 STRESS_GAMMA = 0.4  # stress.png: colour ∝ (−σ₂)^0.4, so the wall's weak compression shows
 
 
-def _pyplot():
+def pyplot():
     import matplotlib
 
     matplotlib.use("Agg")
@@ -29,10 +30,10 @@ def _pyplot():
     return plt
 
 
-def _save(fig, path: str | Path) -> Path:
+def save_png(fig, path: str | Path) -> Path:
     from .._io import write_figure
 
-    plt = _pyplot()
+    plt = pyplot()
     try:
         return write_figure(path, lambda tmp: fig.savefig(tmp, dpi=DPI, format="png"))
     finally:
@@ -71,7 +72,7 @@ def _boundary_lines(mesh) -> dict[str, np.ndarray]:
 
 def plot_mesh(path: str | Path, mesh, title: str = "") -> Path:
     """The triangulation coloured by region, with the named boundary parts drawn over it."""
-    plt = _pyplot()
+    plt = pyplot()
     from matplotlib.collections import LineCollection
 
     pts, tri, region, names = triangle_regions(mesh)
@@ -94,7 +95,7 @@ def plot_mesh(path: str | Path, mesh, title: str = "") -> Path:
     ax.set_ylabel("z [m]")
     ax.set_title(f"{title}: mesh, {len(tri)} triangles, {len(pts)} nodes".lstrip(": "))
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def plot_vg_lambda(path: str | Path, curves: dict, mechanisms: dict, *, fe=None, dem=None,
@@ -106,7 +107,7 @@ def plot_vg_lambda(path: str | Path, curves: dict, mechanisms: dict, *, fe=None,
     heights (``fe``: a ``mechanism.analysis.FEResult``) and the paper's DEM value (``dem``: a
     ``paper.DemResult``) when given.
     """
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 5.5))
     ax.plot(curves["lam_I"], curves["vg_I"], color="C0", label="mechanism I (detachment)")
     ax.plot(curves["lam_II"], curves["vg_II"], color="C1",
@@ -139,7 +140,7 @@ def plot_vg_lambda(path: str | Path, curves: dict, mechanisms: dict, *, fe=None,
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper right")
     ax.set_title(f"{title}: collapse ground velocity against slenderness".lstrip(": "))
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
@@ -149,7 +150,7 @@ def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
     ``data``: points (n, 2), triangles (m, 3), velocity (n, 2) at the points; optional
     ``crack`` (k, 2) polyline, ``crack_edges`` list of polylines, ``hinge`` (x, z).
     """
-    plt = _pyplot()
+    plt = pyplot()
     pts = np.asarray(data["points"])[:, :2]
     tri = np.asarray(data["triangles"])
     v = np.asarray(data["velocity"])[:, :2]
@@ -192,7 +193,7 @@ def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
     ax.set_xlabel("x [m] (from the façade's outer face into the building)")
     ax.set_ylabel("z [m]")
     ax.set_title(f"{title}: collapse mechanism".lstrip(": "))
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def _identity_axes(ax, top: float, label: str, xlabel: str, ylabel: str, fontsize: int):
@@ -217,7 +218,7 @@ def plot_crack_study(path: str | Path, records: list[dict], title: str = "crack-
     hinge + fan optimum. Colour: joint friction f; marker: façade model. Records need
     c_over_a, f and tanpsi_fe; mechanisms without a crack (NaN) are left out.
     """
-    plt = _pyplot()
+    plt = pyplot()
 
     def finite(r, k):
         x = r.get(k)
@@ -270,7 +271,7 @@ def plot_crack_study(path: str | Path, records: list[dict], title: str = "crack-
     sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
     fig.colorbar(sm, ax=list(axes.ravel()), label="joint friction f [-]", shrink=0.9)
     fig.suptitle(title)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 # Figure 2 of the paper (figure2) is drawn by the closed-form core; it belongs below.
@@ -280,7 +281,7 @@ def figure2(path: str | Path, data: dict) -> Path:
     """The paper's Figure 2 from ``pipeline.figure2_curves()``: critical v̄_g/√(gb) (top) and
     critical λ (bottom) against ρ = l/s, one column per β, one colour per α²; mechanism I
     solid, mechanism II dashed; Table 1's DEM results as markers."""
-    plt = _pyplot()
+    plt = pyplot()
     rho = np.asarray(data["rho"])
     colours = ["tab:blue", "tab:orange", "tab:green"]
     fig, axes = plt.subplots(2, 2, figsize=(10, 7.5), sharex=True)
@@ -306,7 +307,7 @@ def figure2(path: str | Path, data: dict) -> Path:
     fig.suptitle("Figure 2: collapse ground velocity and slenderness of the overturning part "
                  "(lines: mechanisms I solid, II dashed; dots: DEM, Table 1)", fontsize=10)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) -> Path:
@@ -318,7 +319,7 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     colour scale is a power law, colour ∝ (−σ₂)^STRESS_GAMMA (said on the colour bar), so that
     the wall's weak compression shows beside the peak at the façade's toe.
     """
-    plt = _pyplot()
+    plt = pyplot()
     m = static.mesh
     _, s2, theta = static.principal()
     fig, ax = plt.subplots(figsize=(7.0, 6.0))
@@ -350,13 +351,13 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     ax.set_xlabel("x [m]")
     ax.set_ylabel("z [m]")
     ax.set_title(title or f"lower-bound stress field, λ⁻ = {static.multiplier:.4g}")
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def plot_table1(path: str | Path, rows: list[dict]) -> Path:
     """Table 1 side by side: v̄_g/√(gb) and critical λ of mechanisms I, II, the FE body (when
     the rows carry ``vnorm_fe``) and the DEM, one group of markers per test."""
-    plt = _pyplot()
+    plt = pyplot()
     tests = [r["test"] for r in rows]
     x = np.arange(len(rows))
     series = [("I", "o", "tab:blue", "mechanism I (closed form)"),
@@ -382,7 +383,7 @@ def plot_table1(path: str | Path, rows: list[dict]) -> Path:
     axes[0].legend(fontsize=8)
     axes[0].set_title("Table 1: collapse ground velocity and slenderness, closed forms, FE and DEM")
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def plot_spectra(path: str | Path, points, *, dem_vnorm: float | None = None,
@@ -393,7 +394,7 @@ def plot_spectra(path: str | Path, points, *, dem_vnorm: float | None = None,
     ``points``: ``dynamics.SpectrumPoint`` records."""
     from ..errors import ParameterError
 
-    plt = _pyplot()
+    plt = pyplot()
     if not points:
         raise ParameterError("points = [] is out of range: nothing to plot")
     kinds = list(dict.fromkeys(p.pulse for p in points))
@@ -435,4 +436,4 @@ def plot_spectra(path: str | Path, points, *, dem_vnorm: float | None = None,
     if title:
         fig.suptitle(title)
 
-    return _save(fig, path)
+    return save_png(fig, path)

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterError
-from .plots import _pyplot, _save
+from .plots import pyplot, save_png
 
 __all__ = ["load_results", "report"]
 
@@ -77,7 +77,7 @@ def report(results: str | Path, out: str | Path | None = None) -> dict[str, Path
 
 def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
     """The report's figures, drawn into ``staging``."""
-    plt = _pyplot()
+    plt = pyplot()
     files = {}
     num = [k for k in swept if _numeric(ok, k)]
     mechs = [m for m in ("I", "II", "FE") if f"mechanisms.{m}.vnorm" in ok[0]
@@ -101,7 +101,7 @@ def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
         axes[0][0].legend()
         fig.suptitle(f"sweep of {len(ok)} cases: v̄_g/√(gb) against each swept key")
         fig.tight_layout()
-        files["vnorm_swept_png"] = _save(fig, staging / "vnorm_swept.png")
+        files["vnorm_swept_png"] = save_png(fig, staging / "vnorm_swept.png")
     if num:
         fig, ax = plt.subplots(figsize=(6, 4.5))
         x = _col(ok, num[0])
@@ -113,7 +113,7 @@ def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
         ax.set_ylabel(num[1] if len(num) > 1 else "")
         ax.legend(title="governing")
         ax.set_title("critical mechanism map")
-        files["critical_map_png"] = _save(fig, staging / "critical_map.png")
+        files["critical_map_png"] = save_png(fig, staging / "critical_map.png")
     if any(r.get("fe.tanpsi") is not None for r in ok):
         fig, ax = plt.subplots(figsize=(5, 5))
         pred, meas = _col(ok, "fe.sqrt_cf_a"), _col(ok, "fe.tanpsi")
@@ -124,7 +124,7 @@ def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
         ax.set_ylabel("measured tan ψ (FE, 50 % line)")
         ax.legend()
         ax.set_title("FE crack slope against eq. 16")
-        files["tanpsi_png"] = _save(fig, staging / "tanpsi.png")
+        files["tanpsi_png"] = save_png(fig, staging / "tanpsi.png")
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4), gridspec_kw={"width_ratios": [2, 1]})
     vg = _col(ok, "critical.vg")
     a1.hist(vg[np.isfinite(vg)], bins=min(30, max(5, len(ok) // 5)), color="tab:grey")
@@ -137,5 +137,5 @@ def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
     a2.set_ylabel("share of cases governed [%]")
     a2.set_title("governing mechanism")
     fig.tight_layout()
-    files["vg_histogram_png"] = _save(fig, staging / "vg_histogram.png")
+    files["vg_histogram_png"] = save_png(fig, staging / "vg_histogram.png")
     return files
