@@ -44,6 +44,8 @@ __all__ = [
     "MechanismResult",
     "mechanism_I",
     "mechanism_II",
+    "mechanisms_I",
+    "mechanisms_II",
     "multiplier_I",
     "multiplier_II",
     "static_critical_I",
@@ -341,49 +343,97 @@ class MechanismResult:
         return d
 
 
+def _column(cases, get) -> np.ndarray:
+    return np.array([get(c) for c in cases], float)
+
+
+def _walls(cases):
+    """The wall fields H, b, l, s, L, γ, g and ρ, α, β of ``cases`` as arrays."""
+    ws = [c.wall for c in cases]
+    cols = {k: _column(ws, lambda w, k=k: getattr(w, k)) for k in "H b l s L gamma g".split()}
+    cols.update(rho=cols["l"] / cols["s"], alpha=_column(cases, lambda c: c.alpha),
+                beta=_column(cases, lambda c: c.beta))
+    return cols
+
+
+def mechanisms_I(cases, lam, theta_m=None) -> list[MechanismResult]:
+    """``mechanism_I`` of many walls at once: ``lam`` (and θ_m, if known) one per case, the
+    arithmetic on arrays, element by element the same as for one wall."""
+    w = _walls(cases)
+    rho, alpha, beta, b = w["rho"], w["alpha"], w["beta"], w["b"]
+    lam = np.asarray(lam, float)
+    th = theta_m_I(lam, rho, alpha, beta) if theta_m is None else np.asarray(theta_m, float)
+    v = vnorm_I(lam, rho, alpha, beta, th)
+    h = lam * b
+    m = w["gamma"] * h * b * w["l"]
+    I_O = m * (h ** 2 + b ** 2) / 3
+    W_m = work_I(th, lam, rho, alpha, beta) * w["g"] * w["gamma"] * w["s"] * b ** 3
+    lam_max = w["H"] / b
+    lam_a, a_g = static_critical_I(rho, alpha, lam_max)
+    eq14 = theta_m_I_eq14(lam, rho, alpha, beta)
+    vg = v * np.sqrt(w["g"] * b)
+    return [MechanismResult("I", *x[:3], x[3], x[4], x[5],
+                            RigidBody(m=x[6], x_G=x[7] / 2, z_G=x[1] / 2, I_O=x[8]),
+                            theta_m_eq14=x[9], lam_max=x[10], multiplier=x[11],
+                            lam_multiplier=x[12])
+            for x in zip(*(a.tolist() for a in (lam, h, v, vg, th, W_m, m, b, I_O, eq14,
+                                                 lam_max, a_g, lam_a)))]
+
+
 def mechanism_I(case: Case, lam: float | None = None,
                 theta_m: float | None = None) -> MechanismResult:
     """Mechanism I (detachment of the façade) at its critical λ, or at a given λ <= H/b;
-    ``theta_m``: θ_m at that λ if already known (``theta_m_I`` on arrays, for many walls)."""
-    w, rho, alpha, beta = case.wall, case.rho, case.alpha, case.beta
-    lam_max = w.H / w.b
+    ``theta_m``: θ_m at that λ if already known."""
+    lam_max = case.wall.H / case.wall.b
     if lam is None:
-        lam, _ = critical_I(rho, alpha, beta, lam_max)
+        lam, _ = critical_I(case.rho, case.alpha, case.beta, lam_max)
     lam = check_range("lam", lam, 0.0, lam_max, lo_open=True)
-    th = float(theta_m_I(lam, rho, alpha, beta) if theta_m is None else theta_m)
-    v = float(vnorm_I(lam, rho, alpha, beta, th))
-    h = lam * w.b
-    m = w.gamma * h * w.b * w.l
-    body = RigidBody(m=m, x_G=w.b / 2, z_G=h / 2, I_O=m * (h ** 2 + w.b ** 2) / 3)
-    W_m = float(work_I(th, lam, rho, alpha, beta)) * w.g * w.gamma * w.s * w.b ** 3
-    lam_a, a_g = (float(x) for x in static_critical_I(rho, alpha, lam_max))
-    return MechanismResult("I", float(lam), h, v, v * math.sqrt(w.g * w.b), th, W_m, body,
-                           theta_m_eq14=float(theta_m_I_eq14(lam, rho, alpha, beta)),
-                           lam_max=lam_max, multiplier=a_g, lam_multiplier=lam_a)
+    return mechanisms_I([case], [lam], None if theta_m is None else [theta_m])[0]
+
+
+def mechanisms_II(cases, tanpsi, lam, static=None) -> list[MechanismResult | ParameterError]:
+    """``mechanism_II`` of many walls at once: tan ψ and λ one per case (``static``: the
+    arrays (λ, a/g) of ``static_critical_II`` if known), the arithmetic on arrays, element by
+    element the same as for one wall. A case whose λ does not fit its wall gets the
+    ParameterError ``mechanism_II`` would raise, in place of its result."""
+    w = _walls(cases)
+    rho, b = w["rho"], w["b"]
+    t, lam = np.asarray(tanpsi, float), np.asarray(lam, float)
+    lam_max = lam_max_II(w["H"] / b, w["L"] / b, t)
+    xg, zg, i = geometry_II(lam, rho, t)
+    v = vnorm_II(lam, rho, t)
+    h = lam * b
+    m = w["gamma"] * (w["l"] * b * h + w["s"] * t * h ** 2 / 2)
+    lam_a, a_g = static_critical_II(rho, t, lam_max) if static is None else static
+    vg = v * np.sqrt(w["g"] * b)
+    out = []
+    for x in zip(*(np.asarray(a, float).tolist() for a in (
+            lam, h, v, vg, m, xg * b, zg * b, m * i * b ** 2, t, lam_max, a_g, lam_a, xg, zg,
+            w["g"]))):
+        if not 0.0 < x[0] <= x[9] * (1 + 1e-12):
+            out.append(ParameterError(
+                f"lam = {x[0]!r} is out of range: allowed 0 < lam <= {x[9]:g} (the part must "
+                "fit the wall and the wedge the transversal wall)"))
+            continue
+        body = RigidBody(m=x[4], x_G=x[5], z_G=x[6], I_O=x[7])
+        W_m = x[4] * x[14] * (body.r_G - body.z_G)
+        out.append(MechanismResult("II", x[0], x[1], x[2], x[3],
+                                   math.atan2(x[12], x[13]),  # G over O (eq. 18)
+                                   W_m, body, tanpsi=x[8], lam_max=x[9], multiplier=x[10],
+                                   lam_multiplier=x[11]))
+    return out
 
 
 def mechanism_II(case: Case, tanpsi: float | None = None, lam: float | None = None,
                  static: tuple[float, float] | None = None) -> MechanismResult:
     """Mechanism II (diagonal crack, tan ψ default √(cf/a), eq. 16) at its critical λ;
-    ``static``: (λ, a/g) of ``static_critical_II`` if already known (on arrays, for many
-    walls)."""
-    w, rho = case.wall, case.rho
+    ``static``: (λ, a/g) of ``static_critical_II`` if already known."""
+    w = case.wall
     t = case.alpha if tanpsi is None else check_range("tanpsi", tanpsi, 0.0)
-    lam_max = float(lam_max_II(w.H / w.b, w.L / w.b, t))
     if lam is None:
-        lam, _ = critical_II(rho, t, lam_max)
-    if not 0.0 < float(lam) <= lam_max * (1 + 1e-12):
-        raise ParameterError(f"lam = {lam!r} is out of range: allowed 0 < lam <= {lam_max:g} "
-                             "(the part must fit the wall and the wedge the transversal wall)")
-    lam = float(lam)
-    xg, zg, i = (float(x) for x in geometry_II(lam, rho, t))
-    v = float(vnorm_II(lam, rho, t))
-    h, b = lam * w.b, w.b
-    m = w.gamma * (w.l * b * h + w.s * t * h ** 2 / 2)
-    body = RigidBody(m=m, x_G=xg * b, z_G=zg * b, I_O=m * i * b ** 2)
-    theta_m = math.atan2(xg, zg)  # G over the vertical through O (eq. 18)
-    W_m = m * w.g * (body.r_G - body.z_G)
-    lam_a, a_g = (float(x) for x in (static_critical_II(rho, t, lam_max) if static is None
-                                     else static))
-    return MechanismResult("II", lam, h, v, v * math.sqrt(w.g * b), theta_m, W_m, body,
-                           tanpsi=t, lam_max=lam_max, multiplier=a_g, lam_multiplier=lam_a)
+        lam, _ = critical_II(case.rho, t, float(lam_max_II(w.H / w.b, w.L / w.b, t)))
+    res = mechanisms_II([case], [t], [float(lam)],
+                        None if static is None else ([static[0]], [static[1]]))[0]
+    if isinstance(res, ParameterError):
+        raise res
+    return res
