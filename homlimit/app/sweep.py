@@ -11,7 +11,7 @@ one case per row, one column per key), or a table times a grid. Every case
 - is evaluated on the Dask ``engine``: a case with the FE analysis is one task, ``run(config,
   write=False)``; closed-form-only cases (``analysis.fe = false``) go in vectorised batches
   (their critical λ for thousands of walls at once, ``closed_form.mechanisms.critical_I/II``;
-  then ``mechanism_I/II`` at that λ, as ``run`` does), a few tasks in all;
+  then ``mechanisms_I/II`` at that λ, as ``run`` does), a few tasks in all;
 - leaves its record (``Result.to_dict()``, the summary.json layout, plus ``status`` and, for
   a failed case, ``error``) in ``OUT/records/`` as soon as it finishes, atomically; a rerun
   with ``resume`` skips every case already recorded.
@@ -28,7 +28,6 @@ import contextlib
 import csv
 import dataclasses
 import itertools
-import json
 import logging
 import math
 import time
@@ -39,10 +38,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .._io import atomic_path, check_output_folder, write_json
+from .._io import atomic_path, check_output_folder, write_text
 from ..errors import ParameterError
 from .config import SCHEMA, TOP_LEVEL, CaseConfig, ConfigError, _default_data, load_case
-from .engine import Engine, RecordStore, batch_json, record_key
+from .engine import Engine, RecordStore, batch_json, json_text, record_key
 
 __all__ = ["SweepCase", "SweepResult", "batch_closed_form", "flatten", "parse_grid",
            "plan_sweep", "read_table", "run_case", "sweep", "write_table"]
@@ -236,8 +235,8 @@ def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
     """Records of closed-form-only cases, as ``run_case`` gives them: the critical λ of
     mechanisms I and II of every case at once (``critical_I``, ``critical_II`` on arrays, the
     same arithmetic element by element as one case) and mechanism I's θ_m there, then
-    ``mechanism_I/II`` at that λ and ``Result.to_dict()`` per case. ``timings_s`` holds each
-    case's share of the batch."""
+    ``mechanisms_I/II`` at that λ (arrays again) and ``Result.to_dict()`` per case.
+    ``timings_s`` holds each case's share of the batch."""
     from ..closed_form import mechanisms as mech
     from ..closed_form.paper import dem_row
     from .pipeline import Result, _hinges
@@ -253,16 +252,15 @@ def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
     lam_max_II = mech.lam_max_II(H_b, L_b, tanpsi)
     lam_II, _ = mech.critical_II(rho, tanpsi, lam_max_II)
     static_II = mech.static_critical_II(rho, tanpsi, lam_max_II)
+    res_I = mech.mechanisms_I(cases, lam_I, theta_I)
+    res_II = mech.mechanisms_II(cases, tanpsi, lam_II, static_II)
     out = []
-    for k, config in enumerate(configs):
+    for config, m1, m2 in zip(configs, res_I, res_II):
         t1 = time.perf_counter()
         try:
-            res = Result(config=config, dem=dem_row(config.case), mechanisms={
-                "I": mech.mechanism_I(config.case, lam=float(lam_I[k]),
-                                      theta_m=float(theta_I[k])),
-                "II": mech.mechanism_II(config.case, tanpsi=config.analysis.tanpsi or None,
-                                        lam=float(lam_II[k]),
-                                        static=(static_II[0][k], static_II[1][k]))})
+            if isinstance(m2, Exception):
+                raise m2
+            res = Result(config=config, dem=dem_row(config.case), mechanisms={"I": m1, "II": m2})
             if config.analysis.hinge_check:         # as compute(): one case at a time
                 res.hinges = _hinges(config.case, res.mechanisms)
             rec = {**res.to_dict(), "status": "ok"}
@@ -281,7 +279,8 @@ def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
 def flatten(record: dict, prefix: str = "") -> dict:
     """A record as one table row: nested keys joined with "." (their summary.json paths),
     lists of numbers as ``path.0``, ``path.1``...; lists of records (the FE scan, kept in the
-    JSON record) and the traceback are left out."""
+    JSON record) and the traceback are left out; NaN and ±inf as None (null, as the stored
+    JSON record has them)."""
     row: dict = {}
     _flatten_into(row, record, prefix)
     return row
@@ -293,38 +292,50 @@ def _flatten_into(row: dict, record: dict, prefix: str):
             continue
         path = f"{prefix}{k}"
         kind = type(v)
-        if kind is float or kind is str or kind is int or v is None or kind is bool:
+        if kind is float:
+            row[path] = v if v - v == 0.0 else None    # NaN, ±inf: null
+        elif kind is str or kind is int or v is None or kind is bool:
             row[path] = v          # the plain values first: most of a record
         elif isinstance(v, dict):
             _flatten_into(row, v, path + ".")
         elif isinstance(v, list | tuple):
             if all(not isinstance(x, dict | list | tuple) for x in v):
-                row.update({f"{path}.{j}": x for j, x in enumerate(v)})
+                row.update({f"{path}.{j}": None if type(x) is float and x - x != 0.0 else x
+                            for j, x in enumerate(v)})
         else:
             row[path] = v
 
 
-def _rows(cases: list[SweepCase], records: dict[str, dict]) -> list[dict]:
-    rows = []
+def record_row(record: dict) -> dict:
+    """A record's part of its table row: status, error, then ``flatten`` of the rest."""
+    return {"status": record.get("status"), "error": record.get("error"),
+            **flatten({k: v for k, v in record.items() if k not in ("status", "error")})}
+
+
+def _rows(cases: list[SweepCase], records: dict[str, dict],
+          flat: dict[str, dict] | None = None) -> list[dict]:
+    """The table rows in sweep order; ``flat``: rows ``record_row`` already made (on the
+    workers, for the batches), by key."""
+    rows, flat = [], flat or {}
     for c in cases:
-        rec = records.get(c.key)
-        if rec is None:  # invalid, or a task lost with its worker
-            rec = {"status": "failed", "error": c.error or "no record (the task was lost)"}
-        row = {"case_index": c.index, "key": c.key, "status": rec.get("status"),
-               "error": rec.get("error")}
-        flat = flatten({k: v for k, v in rec.items() if k not in ("status", "error")})
+        fr = flat.get(c.key)
+        if fr is None:
+            rec = records.get(c.key)
+            if rec is None:  # invalid, or a task lost with its worker
+                rec = {"status": "failed", "error": c.error or "no record (the task was lost)"}
+            fr = record_row(rec)
+        row = {"case_index": c.index, "key": c.key, **fr}
         if c.config is not None:  # a case's own name and source (records are shared by key)
-            flat.update({"case": c.config.name, "source": c.config.source})
-        rows.append({**row, **flat})
+            row.update({"case": c.config.name, "source": c.config.source})
+        rows.append(row)
     return rows
 
 
 def _column(values: list):
-    """One table column for pyarrow: NaN as null (as a stored JSON record has it); a column
-    that mixes kinds (numbers and text) as text."""
+    """One table column for pyarrow (rows from ``record_row``: NaN already null, as a stored
+    JSON record has it); a column that mixes kinds (numbers and text) as text."""
     import pyarrow as pa
 
-    values = [None if isinstance(v, float) and v != v else v for v in values]
     try:
         return pa.array(values)
     except (pa.ArrowInvalid, pa.ArrowTypeError):
@@ -388,12 +399,12 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
     swept = list(dict.fromkeys(
         [f"inputs.{k}" if "." in k else "case" for k in grid_d]
         + [f"inputs.{k}" if "." in k else "case" for c in cases for k in c.overrides]))
-    write_json(folder / "sweep.json", {
+    write_text(folder / "sweep.json", json_text({
         "homlimit_version": package_version(), "base": source, "base_case": data,
         "grid": grid_d, "table": None if table is None or isinstance(table, list)
         else str(table), "swept": swept, "n_cases": len(cases),
         "cases": [{"index": c.index, "key": c.key, "overrides": c.overrides,
-                   "valid": c.config is not None} for c in cases]})
+                   "valid": c.config is not None} for c in cases]}, indent=True))
     records = store.load()
     if retry_failed:
         records = {k: r for k, r in records.items() if r.get("status") == "ok"}
@@ -403,14 +414,16 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
     if n_resumed:
         log.info("resuming: %d of %d distinct cases already recorded in %s", n_resumed,
                  len(valid), store.folder)
+    flat: dict[str, dict] = {}     # table rows of the batches' records, made on the workers
     batched = [c for c in todo if c.closed_form_only]
     single = [c for c in todo if not c.closed_form_only]
     if todo:
         n_failed = sum(1 for k in valid if records.get(k, {}).get("status", "ok") != "ok")
         with Engine(workers, scheduler, progress) if engine is None \
                 else contextlib.nullcontext(engine) as eng:
-            _evaluate(eng, store, records, batched, single, len(valid), (n_resumed, n_failed))
-    rows = _rows(cases, records)
+            _evaluate(eng, store, records, flat, batched, single, len(valid),
+                      (n_resumed, n_failed))
+    rows = _rows(cases, records, flat)
     files = write_table(folder, rows, swept)
     files.update({"sweep_json": folder / "sweep.json", "records": store.folder})
     n_failed = sum(1 for r in rows if r["status"] != "ok")
@@ -418,11 +431,12 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
                        time.perf_counter() - t0, files)
 
 
-def _evaluate(eng: Engine, store: RecordStore, records: dict, batched: list[SweepCase],
-              single: list[SweepCase], total: int, already: tuple[int, int]):
+def _evaluate(eng: Engine, store: RecordStore, records: dict, flat: dict,
+              batched: list[SweepCase], single: list[SweepCase], total: int,
+              already: tuple[int, int]):
     """Run the missing cases on ``eng``: closed-form batches and one task per other case;
-    every record is stored the moment it arrives (a batch as one file, its text made on the
-    worker)."""
+    every record is stored the moment it arrives (a batch as one file, its text and its table
+    rows made on the worker: ``flat``; other records in ``records``)."""
     chunks = _chunks(batched, eng.n_workers if eng.client is not None else 1)
     items = [("batch", ([c.config for c in ch], [c.key for c in ch])) for ch in chunks] + \
             [("case", c.config) for c in single]
@@ -431,7 +445,7 @@ def _evaluate(eng: Engine, store: RecordStore, records: dict, batched: list[Swee
     def save(k, res):
         if isinstance(res, _BatchText):
             store.put_batch_json(res.keys, res.text)
-            records.update(json.loads(res.text)["records"])
+            flat.update(zip(res.keys, res.rows))
         else:
             store.put(owners[k][0].key, res)
             records[owners[k][0].key] = res
@@ -458,11 +472,12 @@ def _evaluate(eng: Engine, store: RecordStore, records: dict, batched: list[Swee
 
 @dataclass(frozen=True)
 class _BatchText:
-    """A batch's records as the text of its record file (``engine.batch_json``), made on the
-    worker: the client writes it as it is and parses it back at C speed."""
+    """A batch's records as the text of its record file (``engine.batch_json``) and as table
+    rows (``record_row``), both made on the worker: the client writes the text as it is."""
 
     keys: list[str]
     text: str
+    rows: list[dict]
     n_failed: int
 
 
@@ -472,5 +487,5 @@ def _evaluate_item(item):
         return run_case(payload)
     configs, keys = payload
     recs = batch_closed_form(configs)
-    return _BatchText(keys, batch_json(dict(zip(keys, recs))),
+    return _BatchText(keys, batch_json(dict(zip(keys, recs))), [record_row(r) for r in recs],
                       sum(1 for r in recs if r["status"] != "ok"))
