@@ -26,6 +26,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
+import orjson
 
 from .errors import OutputError
 
@@ -103,6 +104,21 @@ def to_jsonable(obj):
     if obj is None or isinstance(obj, str):
         return obj
     raise TypeError(f"cannot write {type(obj).__name__} to JSON: {obj!r}")
+
+
+def json_bytes(data, sort_keys: bool = False, indent: bool = False) -> bytes:
+    """``data`` as UTF-8 JSON (compact, or indented by 2), NaN and ±inf as null (as
+    ``write_json``), numpy values and paths as ``to_jsonable`` makes them: orjson, ~10x the
+    standard library's speed (a sweep writes and reads thousands of records); the standard
+    library for what orjson refuses (integers beyond 64 bits, in an invalid case's input)."""
+    opt = (orjson.OPT_SERIALIZE_NUMPY | orjson.OPT_NON_STR_KEYS
+           | (orjson.OPT_SORT_KEYS if sort_keys else 0) | (orjson.OPT_INDENT_2 if indent else 0))
+    try:
+        return orjson.dumps(data, option=opt, default=to_jsonable)
+    except TypeError:
+        return json.dumps(to_jsonable(data), sort_keys=sort_keys, ensure_ascii=True,
+                          indent=2 if indent else None,
+                          separators=(",", ": ") if indent else (",", ":")).encode("ascii")
 
 
 def write_json(path: str | Path, data) -> Path:

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
-import json
 import math
 import tomllib
 import unicodedata
@@ -34,10 +33,11 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from .._io import json_bytes
 from ..blocks.geometry import FACADE_BONDS
 from ..dynamics.pulses import PULSE_KINDS
 from ..errors import ParameterError
-from ..params import FACADE_DEFAULT, FACADE_MODELS, Case, Masonry, Wall
+from ..params import FACADE_DEFAULT, FACADE_MODELS, PART_DIVISIONS, Case, Masonry, Wall
 from . import budget
 
 __all__ = ["AnalysisConfig", "BlocksConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig",
@@ -135,6 +135,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                  "default fits a 2-core, 24 GiB machine with margin "
                                  f"(about {budget.memory_gib(budget.DEFAULT_MAX_TRIANGLES):.1f}"
                                  " GiB at its peak; docs/cli.md)"),
+        "part_divisions": Key(int, PART_DIVISIONS, "", 2, 1000,
+                              doc="elements per height of a failing part in the FE impulse "
+                                  "scan: a part of height h is meshed at min(size, "
+                                  "h/part_divisions), so short parts stay resolved"),
     },
     "analysis": {
         "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),
@@ -233,6 +237,7 @@ class MeshConfig:
 
     size: float = 0.25
     max_triangles: int = budget.DEFAULT_MAX_TRIANGLES
+    part_divisions: int = PART_DIVISIONS
 
 
 @dataclass(frozen=True)
@@ -501,9 +506,11 @@ def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> l
         out.append(f"[mesh] size = {size!r} m is out of range: "
                    f"allowed 0 < size <= min(H, b + L) = {span:g} m")
         return out
-    # the impulse scan's parts run from one course (a) to H, each meshed at min(size, h/10)
-    parts = (m["a"],) if not mesh_only and has(m, "a") else ()
-    n = budget.fe_triangles(w["H"], w["b"], w["L"], size, parts)
+    # the impulse scan's parts run from one course (a) to H, each meshed at
+    # min(size, h/part_divisions)
+    parts = (m["a"] / w["b"],) if not mesh_only and has(m, "a") else ()
+    n = budget.fe_triangles(w["H"], w["b"], w["L"], size, parts,
+                            divisions=me.get("part_divisions", PART_DIVISIONS))
     if n > me["max_triangles"]:
         keys = "[mesh] size" + ("" if mesh_only else " (or [analysis] fe = false)")
         out.append(f"[mesh] size = {size!r} m gives about {n:.3g} triangles in the largest FE "
@@ -603,34 +610,42 @@ def _read(path: Path) -> dict:
 
 
 def load_case(path_or_dict: str | Path | dict | None = None,
-              overrides: list[str] | dict | None = None) -> CaseConfig:
+              overrides: list[str] | dict | None = None,
+              source: str | None = None) -> CaseConfig:
     """Read and validate a case: a TOML path, a dict of the same shape, or None (the default).
 
     ``overrides``: "section.key=value" strings (value in TOML syntax; a bare word is a string)
     or a {"section.key": value} dict, applied before validation (the CLI's ``--set``). When
     they change any input outside [output], the name gets a short hash of the resolved inputs
-    (``base_name`` and ``changes`` record what changed).
+    (``base_name`` and ``changes`` record what changed). ``source``: where a dict came from
+    (default "<dict>").
     Raises ConfigError (a ParameterError) listing every problem, before any computation.
     """
+    return load_case_inputs(path_or_dict, overrides, source)[0]
+
+
+def load_case_inputs(path_or_dict=None, overrides=None,
+                     source: str | None = None) -> tuple[CaseConfig, dict]:
+    """``load_case`` and the case's resolved inputs: ``as_dict()`` without the name and
+    [output] (what the name's hash, and a sweep record's key, are made of)."""
     if path_or_dict is None:
-        data, source, stem = _default_data(), "<default: B1>", "B1"
+        data, src, stem = _default_data(), "<default: B1>", "B1"
     elif isinstance(path_or_dict, dict):
-        data, source, stem = path_or_dict, "<dict>", "case"
+        data, src, stem = path_or_dict, source or "<dict>", "case"
     else:
         path = Path(path_or_dict)
-        source, stem = str(path), path.stem
+        src, stem = str(path), path.stem
         data = _read(path)
-    if not overrides:
-        return _parse(data, source, stem)
-    new = _override(data, overrides, source)
-    config = _parse(new, source, stem)
-    changes = _changes(data, new)
-    if not changes:
-        return config
+    new = _override(data, overrides, src) if overrides else data
+    config = _parse(new, src, stem)
     inputs = {k: v for k, v in config.as_dict().items() if k not in ("name", "output")}
-    digest = hashlib.sha256(json.dumps(inputs, sort_keys=True).encode()).hexdigest()[:8]
+    changes = _changes(data, new) if overrides else ()
+    if not changes:
+        return config, inputs
+    digest = hashlib.sha256(json_bytes(inputs, sort_keys=True)).hexdigest()[:8]
     case = dataclasses.replace(config.case, name=f"{config.name}-{digest}")
-    return dataclasses.replace(config, case=case, base_name=config.name, changes=changes)
+    return dataclasses.replace(config, case=case, base_name=config.name,
+                               changes=changes), inputs
 
 
 def _changes(old: dict, new: dict) -> tuple:

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import contextlib
 import csv
-import dataclasses
 import itertools
 import logging
 import math
@@ -40,7 +39,14 @@ import numpy as np
 
 from .._io import atomic_path, check_output_folder, write_text
 from ..errors import ParameterError
-from .config import SCHEMA, TOP_LEVEL, CaseConfig, ConfigError, _default_data, load_case
+from .config import (
+    SCHEMA,
+    TOP_LEVEL,
+    CaseConfig,
+    ConfigError,
+    _default_data,
+    load_case_inputs,
+)
 from .engine import Engine, RecordStore, batch_json, json_text, record_key
 
 __all__ = ["SweepCase", "SweepResult", "batch_closed_form", "flatten", "parse_grid",
@@ -175,12 +181,6 @@ def _base(base) -> tuple[dict, str]:
     return data, str(path)
 
 
-def _inputs(config: CaseConfig) -> dict:
-    """What a record's key is made of: every resolved input except the name and [output]."""
-    d = config.as_dict()
-    return {k: v for k, v in d.items() if k not in ("name", "output")}
-
-
 def plan_sweep(base=None, grid=None, table=None) -> tuple[list[SweepCase], dict, str]:
     """The cases of a sweep (table rows × grid points, in that order), each validated and
     keyed. Returns (cases, base data, source). Raises ParameterError for a malformed grid or
@@ -189,16 +189,18 @@ def plan_sweep(base=None, grid=None, table=None) -> tuple[list[SweepCase], dict,
     grid = parse_grid(grid) if grid else {}
     rows = table if isinstance(table, list) else (read_table(table) if table else [{}])
     points = [dict(zip(grid, vals)) for vals in itertools.product(*grid.values())]
-    cases, first_error = [], None
+    from .pipeline import package_version
+
+    cases, first_error, version = [], None, package_version()
     for k, ov in enumerate({**row, **pt} for row in rows for pt in points):
         try:
-            config = dataclasses.replace(load_case(data, ov), source=source)
+            config, inputs = load_case_inputs(data, ov, source)
         except ConfigError as e:
             first_error = first_error or e
             cases.append(SweepCase(k, ov, record_key("invalid", {"base": data, "set": ov}),
                                    error=str(e)))
             continue
-        cases.append(SweepCase(k, ov, record_key("case", _inputs(config)), config))
+        cases.append(SweepCase(k, ov, record_key("case", inputs, version), config))
     if all(c.config is None for c in cases):
         raise first_error
     return cases, data, source
