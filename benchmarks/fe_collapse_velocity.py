@@ -38,8 +38,8 @@ for t in table1():
         continue
     a = t.case.masonry.a
     ref = None
-    for label, size, step, div in (("default", 0.25, a, 10), ("halved", 0.125, a / 2, 20),
-                                   ("quartered", 0.0625, a / 4, 40)):
+    for label, size, step, div in (("default", 0.25, a, 20), ("halved", 0.125, a / 2, 40),
+                                   ("quartered", 0.0625, a / 4, 80)):
         if label not in args.settings:
             continue
         t0 = time.perf_counter()

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import math
 
+from ..params import PART_DIVISIONS
+
 __all__ = ["DEFAULT_MAX_TRIANGLES", "KIB_PER_TRIANGLE", "MEMORY_BUDGET_GIB", "MESHERS",
            "estimate_triangles", "fe_triangles", "memory_gib"]
 
@@ -64,14 +66,14 @@ def estimate_triangles(H: float, b: float, L: float, h: float, mesher: str = "cr
 
 
 def fe_triangles(H: float, b: float, L: float, size: float, lams=(),
-                 mesher: str = "crossed") -> float:
+                 mesher: str = "crossed", divisions: int = PART_DIVISIONS) -> float:
     """The largest problem of an FE run [triangles]: the whole wall at ``size`` and each part
     of the impulse scan (``lams``: slenderness λ = h/b of the parts; a part of height h is
-    meshed at min(size, h/10), ``mechanism.analysis.part_problem``)."""
+    meshed at min(size, h/divisions), ``mechanism.analysis.part_problem``)."""
     n = estimate_triangles(H, b, L, size, mesher)
     for lam in lams:
         hp = min(float(lam) * b, H)
-        n = max(n, estimate_triangles(hp, b, L, min(size, hp / 10), mesher))
+        n = max(n, estimate_triangles(hp, b, L, min(size, hp / divisions), mesher))
     return n
 
 

@@ -243,7 +243,7 @@ def _check_budget(option: str, cases, size: float, max_triangles: int, scan: boo
     ``scan``, the impulse scan's parts too, from one course a up) exceeds ``max_triangles``
     (``budget``)."""
     n = max(budget.fe_triangles(c.wall.H, c.wall.b, c.wall.L, size,
-                                (c.masonry.a,) if scan else ()) for c in cases)
+                                (c.masonry.a / c.wall.b,) if scan else ()) for c in cases)
     if n > max_triangles:
         raise ParameterError(
             f"{option} = {size!r} m gives about {n:.3g} triangles in the largest FE problem "
@@ -424,7 +424,7 @@ def pulse_records(config: CaseConfig) -> tuple[list, FEResult | None]:
     if "FE" in pc.mechanisms:
         with _stage({}, "FE path for the FE rocker"):
             fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
-                           heights=an.heights)
+                           heights=an.heights, divisions=config.mesh.part_divisions)
         if fe.critical is None:
             raise ParameterError("[pulse] mechanisms = 'FE': the FE scan found no mechanism "
                                  "with a v̄_g (see fe_scan's vg_method)")
@@ -558,7 +558,8 @@ def compute(config: CaseConfig) -> Result:
                     f"scan from one course to H, whole wall {whole.n_triangles} triangles"
                     f"{', static bound' if an.static else ''}"):
             result.fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
-                                  whole=whole, static=an.static, heights=an.heights)
+                                  whole=whole, static=an.static, heights=an.heights,
+                                  divisions=config.mesh.part_divisions)
         if result.fe.critical is not None:
             result.mechanisms["FE"] = result.fe.critical
     if an.blocks:

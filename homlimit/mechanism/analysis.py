@@ -30,7 +30,7 @@ import numpy as np
 from ..errors import ParameterError, check_choice, check_range
 from ..fe.problems import Problem, t_section
 from ..impulse import RigidBody, collapse_velocity, hinge_impulse_ratio
-from ..params import FACADE_DEFAULT, FACADE_MODELS, Case
+from ..params import FACADE_DEFAULT, FACADE_MODELS, PART_DIVISIONS, Case
 from .crack import FanEdges, fan_edges, mechanism_type
 from .fe_impulse import GeneralisedImpulse, contour_pieces, generalised_impulse, p2_nodes
 from .rigidfit import MechanismMeasures, measure_mechanism
@@ -140,7 +140,7 @@ class FEMechanism:
 
     @property
     def label(self) -> str:
-        return f"FE body, {self.kind} (eq. 7)"
+        return f"FE body, {self.kind} (one-DOF eqs 4-7)"
 
     def record(self) -> dict:
         """The flat record of one analysed height (fe_scan.csv)."""
@@ -174,7 +174,7 @@ class FEMechanism:
 
 
 def part_problem(case: Case, h_part: float, facade: str, mesh_size: float,
-                 divisions: int = 10) -> Problem:
+                 divisions: int = PART_DIVISIONS) -> Problem:
     """The T-section of the top part of height ``h_part`` (``problems.t_section`` with its base
     at z0 = H − h_part), element size min(mesh_size, h_part/divisions) so that short parts stay
     resolved."""
@@ -228,7 +228,7 @@ def _analyse_height(case: Case, mesh_size: float, facade: str, options, division
 
 
 def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
-           options=None, map=map, divisions: int = 10) -> list[FEMechanism]:
+           options=None, map=map, divisions: int = PART_DIVISIONS) -> list[FEMechanism]:
     """``analyse`` on the top part of height h_part for every h_part in ``h_parts`` [m] (the
     whole wall for h_part = H). The hinge may float above the base of the analysed part: each
     mechanism's own h = H − z_O. ``map(fn, h_parts)``: how the heights are evaluated, results
@@ -312,7 +312,7 @@ class FEResult:
 def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT, options=None,
               whole: Problem | None = None, static: bool = False, heights: int = 6,
               step: float | None = None, rtol: float = 0.005, map=map,
-              divisions: int = 10) -> FEResult:
+              divisions: int = PART_DIVISIONS) -> FEResult:
     """The FE impulse scan over a <= h_part <= H (module docstring): ``heights`` starting
     heights, refined around the minimum down to ``step`` [m] (default a) or ``rtol``; with
     ``static``, the whole wall's lower bound on its mesh. ``whole``: the whole wall's problem if
