@@ -237,7 +237,8 @@ class Engine:
             failed: Callable | None = None, weight: Callable | None = None,
             total: int | None = None, already: tuple[int, int] = (0, 0),
             description: str = "tasks") -> list:
-        """``[fn(x) for x in items]``, every call a task, results in item order.
+        """``[fn(x) for x in items]``, every call a task, results in item order; ``items`` may
+        be an iterator (each item is submitted as it comes, e.g. as a sweep plans its cases).
 
         on_result(k, result): called in this process as soon as task k finishes (to store its
         record); failed(item, exc): the result of a task that raised (a lost worker, say;
@@ -248,14 +249,18 @@ class Engine:
         from distributed import as_completed
 
         weight = weight or _weight
-        n = len(items)
-        total = n if total is None else total
+        if total is None:
+            items = list(items)
+            total = len(items)
         done, n_failed = already
-        results: list = [None] * n
         prog, bar = _progress(total, description, self.progress)
         with prog:
             prog.update(bar, completed=done, failed=n_failed, remaining=total - done)
-            futures = {self.submit(fn, x): k for k, x in enumerate(items)}
+            submitted, futures = [], {}
+            for k, x in enumerate(items):   # an iterator's items are submitted as they come
+                submitted.append(x)
+                futures[self.submit(fn, x)] = k
+            results: list = [None] * len(submitted)
             for fut in as_completed(futures):
                 k = futures[fut]
                 if fut.status == "finished":
@@ -265,7 +270,7 @@ class Engine:
                 elif failed is None:
                     raise fut.exception()
                 else:
-                    res = failed(items[k], fut.exception())
+                    res = failed(submitted[k], fut.exception())
                 results[k] = res
                 m, f = weight(res)
                 done, n_failed = done + m, n_failed + f

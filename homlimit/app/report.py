@@ -116,6 +116,21 @@ def read_csv(path: str | Path) -> list[dict]:
              for k, v in r.items()} for r in rows]
 
 
+def column_unit(path: str) -> str | None:
+    """The unit of a sweep table column named by its summary.json path ("inputs.wall.H": m,
+    "mechanisms.I.vg": m/s, "fe.edges.0": that of "edges"); None if none is registered."""
+    parts = path.split(".")
+    if parts[0] == "timings_s":
+        return "s"
+    if parts[0] == "inputs" and len(parts) >= 2:
+        units = _input_units()
+        u = units.get(parts[1])
+        return u.get(parts[2]) if isinstance(u, dict) and len(parts) > 2 else \
+            (u if isinstance(u, str) else None)
+    names = [p for p in parts if not p.isdigit()]
+    return UNITS.get(names[-1]) if names else None
+
+
 @functools.cache
 def _input_units() -> dict:
     """The unit of every case-file key, by section (the schema's, fixed)."""

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import gc
 import itertools
 import logging
 import math
@@ -34,6 +35,7 @@ import tomllib
 import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
+from sys import intern
 
 import numpy as np
 
@@ -47,7 +49,7 @@ from .config import (
     _default_data,
     load_case_inputs,
 )
-from .engine import Engine, RecordStore, batch_json, json_text, record_key
+from .engine import Engine, RecordStore, batch_json, cpu_count, json_text, record_key
 
 __all__ = ["SweepCase", "SweepResult", "batch_closed_form", "flatten", "parse_grid",
            "plan_sweep", "read_table", "run_case", "sweep", "write_table"]
@@ -188,22 +190,47 @@ def plan_sweep(base=None, grid=None, table=None) -> tuple[list[SweepCase], dict,
     data, source = _base(base)
     grid = parse_grid(grid) if grid else {}
     rows = table if isinstance(table, list) else (read_table(table) if table else [{}])
-    points = [dict(zip(grid, vals)) for vals in itertools.product(*grid.values())]
+    errors: list[ConfigError] = []
+    with _no_gc():
+        cases = list(_plan(data, source, grid, rows, errors))
+    _check_some_valid(cases, errors)
+    return cases, data, source
+
+
+def _plan(data: dict, source: str, grid: dict, rows: list[dict], errors: list):
+    """The cases one by one (``plan_sweep``); each invalid case's ConfigError is appended to
+    ``errors``."""
     from .pipeline import package_version
 
-    cases, first_error, version = [], None, package_version()
+    points = [dict(zip(grid, vals)) for vals in itertools.product(*grid.values())]
+    version = package_version()
     for k, ov in enumerate({**row, **pt} for row in rows for pt in points):
         try:
             config, inputs = load_case_inputs(data, ov, source)
         except ConfigError as e:
-            first_error = first_error or e
-            cases.append(SweepCase(k, ov, record_key("invalid", {"base": data, "set": ov}),
-                                   error=str(e)))
+            errors.append(e)
+            yield SweepCase(k, ov, record_key("invalid", {"base": data, "set": ov}),
+                            error=str(e))
             continue
-        cases.append(SweepCase(k, ov, record_key("case", inputs, version), config))
-    if all(c.config is None for c in cases):
-        raise first_error
-    return cases, data, source
+        yield SweepCase(k, ov, record_key("case", inputs, version), config)
+
+
+def _check_some_valid(cases: list[SweepCase], errors: list):
+    if cases and all(c.config is None for c in cases):
+        raise errors[0]
+
+
+@contextlib.contextmanager
+def _no_gc():
+    """Python's cyclic garbage collector paused: planning and batches make tens of thousands
+    of objects without cycles, and collecting that heap again and again costs 10 %."""
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was:
+            gc.enable()
 
 
 # ----------------------------------------------------------------------------- the tasks
@@ -239,6 +266,11 @@ def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
     same arithmetic element by element as one case) and mechanism I's θ_m there, then
     ``mechanisms_I/II`` at that λ (arrays again) and ``Result.to_dict()`` per case.
     ``timings_s`` holds each case's share of the batch."""
+    with _no_gc():
+        return _batch_closed_form(configs)
+
+
+def _batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
     from ..closed_form import mechanisms as mech
     from ..closed_form.paper import dem_row
     from .pipeline import Result, _hinges
@@ -292,7 +324,7 @@ def _flatten_into(row: dict, record: dict, prefix: str):
     for k, v in record.items():
         if k == "traceback":
             continue
-        path = f"{prefix}{k}"
+        path = intern(f"{prefix}{k}")     # one key object per column: small pickles
         kind = type(v)
         if kind is float:
             row[path] = v if v - v == 0.0 else None    # NaN, ±inf: null
@@ -309,9 +341,11 @@ def _flatten_into(row: dict, record: dict, prefix: str):
 
 
 def record_row(record: dict) -> dict:
-    """A record's part of its table row: status, error, then ``flatten`` of the rest."""
+    """A record's part of its table row: status, error, then ``flatten`` of the rest but its
+    ``units`` table (the same for every case: the table's metadata, ``write_table``)."""
     return {"status": record.get("status"), "error": record.get("error"),
-            **flatten({k: v for k, v in record.items() if k not in ("status", "error")})}
+            **flatten({k: v for k, v in record.items()
+                       if k not in ("status", "error", "units")})}
 
 
 def _rows(cases: list[SweepCase], records: dict[str, dict],
@@ -345,16 +379,21 @@ def _column(values: list):
 
 
 def write_table(folder: Path, rows: list[dict], swept: list[str]) -> dict[str, Path]:
-    """results.parquet and results.csv: one row per case, META, the swept inputs, the rest."""
+    """results.parquet and results.csv: one row per case, META, the swept inputs, the rest;
+    the unit of every column (``report.column_unit``) as the Parquet metadata "units" (JSON)."""
     import pyarrow as pa
     import pyarrow.csv as pcsv
     import pyarrow.parquet as pq
+
+    from .report import column_unit
 
     seen: dict = {}
     for r in rows:          # every row's keys in first-seen order (dict.update keeps it)
         seen.update(r)
     cols = list(dict.fromkeys(META + swept + list(seen)))
     table = pa.table({c: _column([r.get(c) for r in rows]) for c in cols})
+    table = table.replace_schema_metadata({"units": json_text(
+        {c: column_unit(c) for c in cols if c not in META})})
     files = {"parquet": folder / "results.parquet", "csv": folder / "results.csv"}
     with atomic_path(files["parquet"]) as tmp:
         pq.write_table(table, tmp)
@@ -364,14 +403,10 @@ def write_table(folder: Path, rows: list[dict], swept: list[str]) -> dict[str, P
 
 
 # ----------------------------------------------------------------------------- the sweep
-def _chunks(items: list, n: int) -> list[list]:
-    """``items`` in about equal consecutive chunks, at least ``n`` of them and each at most
-    BATCH long."""
-    if not items:
-        return []
-    k = max(n, math.ceil(len(items) / BATCH))
-    size = math.ceil(len(items) / k)
-    return [items[j:j + size] for j in range(0, len(items), size)]
+def _chunk_size(n_cases: int, workers: int) -> int:
+    """Closed-form cases per batch: about four batches per worker (the first can start while
+    the next are planned), at most BATCH."""
+    return max(1, min(BATCH, math.ceil(n_cases / (4 * max(workers, 1)))))
 
 
 def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
@@ -386,45 +421,83 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
     LocalCluster of ``workers`` processes, or an existing scheduler's address), or ``engine``
     already open; resume: keep the records of an earlier run and run only the missing cases
     (off: start from nothing); retry_failed: run recorded failures again.
+
+    The cases are planned (validated and keyed) in chunks: when the first chunk has work, the
+    engine starts and each chunk's batch runs while the next is planned; otherwise (a resumed
+    or an invalid sweep) every case is planned before anything starts.
     """
-    t0 = time.perf_counter()
-    cases, data, source = plan_sweep(base, grid, table)
     from .pipeline import folder_name, package_version
 
+    t0 = time.perf_counter()
+    data, source = _base(base)
+    grid_d = parse_grid(grid) if grid else {}
+    rows_in = table if isinstance(table, list) else (read_table(table) if table else [{}])
     name = str(data.get("name") or "sweep")
     folder = Path(out) if out else Path("homlimit-out") / folder_name(name) / "sweep"
     check_output_folder(folder, SWEEP_NAMES)   # a new folder or a sweep's, before any work
     store = RecordStore(folder / "records")
     if not resume:
         store.clear()
-    grid_d = parse_grid(grid) if grid else {}
-    swept = list(dict.fromkeys(
-        [f"inputs.{k}" if "." in k else "case" for k in grid_d]
-        + [f"inputs.{k}" if "." in k else "case" for c in cases for k in c.overrides]))
-    write_text(folder / "sweep.json", json_text({
-        "homlimit_version": package_version(), "base": source, "base_case": data,
-        "grid": grid_d, "table": None if table is None or isinstance(table, list)
-        else str(table), "swept": swept, "n_cases": len(cases),
-        "cases": [{"index": c.index, "key": c.key, "overrides": c.overrides,
-                   "valid": c.config is not None} for c in cases]}, indent=True))
     records = store.load()
     if retry_failed:
         records = {k: r for k, r in records.items() if r.get("status") == "ok"}
-    valid = {c.key: c for c in cases if c.config is not None}   # one task per distinct key
-    todo = [c for k, c in valid.items() if k not in records]
-    n_resumed = len(valid) - len(todo)
-    if n_resumed:
-        log.info("resuming: %d of %d distinct cases already recorded in %s", n_resumed,
-                 len(valid), store.folder)
+    n_cases = len(rows_in) * math.prod(len(v) for v in grid_d.values())
+    size = _chunk_size(n_cases, engine.n_workers if engine and engine.client
+                       else workers or cpu_count())
+    errors: list[ConfigError] = []
+    planner = _plan(data, source, grid_d, rows_in, errors)
+    with _no_gc():
+        cases = list(itertools.islice(planner, size))
+    stream = any(c.config is not None and c.key not in records for c in cases)
+    if not stream:                       # nothing to do in the first chunk: plan every case
+        with _no_gc():
+            cases += list(planner)
+        _check_some_valid(cases, errors)
+
+    def write_meta():                    # sweep.json, once every case is planned
+        swept = list(dict.fromkeys(
+            [f"inputs.{k}" if "." in k else "case" for k in grid_d]
+            + [f"inputs.{k}" if "." in k else "case" for c in cases for k in c.overrides]))
+        write_text(folder / "sweep.json", json_text({
+            "homlimit_version": package_version(), "base": source, "base_case": data,
+            "grid": grid_d, "table": None if table is None or isinstance(table, list)
+            else str(table), "swept": swept, "n_cases": len(cases),
+            "cases": [{"index": c.index, "key": c.key, "overrides": c.overrides,
+                       "valid": c.config is not None} for c in cases]}, indent=True))
+        return swept
+
+    recorded = set(records)
     flat: dict[str, dict] = {}     # table rows of the batches' records, made on the workers
-    batched = [c for c in todo if c.closed_form_only]
-    single = [c for c in todo if not c.closed_form_only]
-    if todo:
-        n_failed = sum(1 for k in valid if records.get(k, {}).get("status", "ok") != "ok")
+    work = _Work(records, size)
+    swept = None
+    if stream or any(work.todo(c) for c in cases):
+        n_failed = sum(1 for r in records.values() if r.get("status", "ok") != "ok")
+        total = n_cases if stream else len({c.key for c in cases if c.config is not None})
+        done = 0 if stream else len({c.key for c in cases if c.key in records})
+
+        def planned():
+            yield from list(cases)
+            for c in planner:
+                cases.append(c)
+                yield c
+
+        def items():
+            nonlocal swept
+            with _no_gc():
+                yield from work.batches(planned())
+            swept = write_meta()
+            yield from work.singles()
+
         with Engine(workers, scheduler, progress) if engine is None \
                 else contextlib.nullcontext(engine) as eng:
-            _evaluate(eng, store, records, flat, batched, single, len(valid),
-                      (n_resumed, n_failed))
+            _evaluate(eng, store, records, flat, work.owners, items(), total,
+                      (done, n_failed if not stream else 0))
+    if swept is None:
+        swept = write_meta()
+    n_resumed = len({c.key for c in cases if c.config is not None} & recorded)
+    if n_resumed:
+        log.info("resumed: %d distinct cases were already recorded in %s", n_resumed,
+                 store.folder)
     rows = _rows(cases, records, flat)
     files = write_table(folder, rows, swept)
     files.update({"sweep_json": folder / "sweep.json", "records": store.folder})
@@ -433,16 +506,52 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
                        time.perf_counter() - t0, files)
 
 
+class _Work:
+    """The work items of the cases not recorded yet, one task per distinct key: closed-form
+    cases in batches of ``size`` as they come, the others (``singles``) after them;
+    ``owners[k]``: the cases of item k."""
+
+    def __init__(self, records: dict, size: int):
+        self.seen = set(records)
+        self.size = size
+        self.owners: list[list[SweepCase]] = []
+        self._single: list[SweepCase] = []
+
+    def todo(self, c: SweepCase) -> bool:
+        return c.config is not None and c.key not in self.seen
+
+    def batches(self, cases):
+        batch = []
+        for c in cases:
+            if not self.todo(c):
+                continue
+            self.seen.add(c.key)
+            if not c.closed_form_only:
+                self._single.append(c)
+                continue
+            batch.append(c)
+            if len(batch) == self.size:
+                yield self._item(batch)
+                batch = []
+        if batch:
+            yield self._item(batch)
+
+    def _item(self, batch):
+        self.owners.append(batch)
+        return "batch", ([c.config for c in batch], [c.key for c in batch])
+
+    def singles(self):
+        for c in self._single:
+            self.owners.append([c])
+            yield "case", c.config
+
+
 def _evaluate(eng: Engine, store: RecordStore, records: dict, flat: dict,
-              batched: list[SweepCase], single: list[SweepCase], total: int,
-              already: tuple[int, int]):
-    """Run the missing cases on ``eng``: closed-form batches and one task per other case;
-    every record is stored the moment it arrives (a batch as one file, its text and its table
-    rows made on the worker: ``flat``; other records in ``records``)."""
-    chunks = _chunks(batched, eng.n_workers if eng.client is not None else 1)
-    items = [("batch", ([c.config for c in ch], [c.key for c in ch])) for ch in chunks] + \
-            [("case", c.config) for c in single]
-    owners = [ch for ch in chunks] + [[c] for c in single]
+              owners: list[list[SweepCase]], items, total: int, already: tuple[int, int]):
+    """Run the work ``items`` on ``eng`` (closed-form batches, one task per other case;
+    ``owners[k]``: the cases of item k, filled in as ``items`` is consumed): every record is
+    stored the moment it arrives (a batch as one file, its text and its table rows made on the
+    worker: ``flat``; other records in ``records``)."""
 
     def save(k, res):
         if isinstance(res, _BatchText):
