@@ -425,6 +425,7 @@ c = 0.2
 f = 0.6
 [mesh]
 size = 0.6
+part_divisions = 10
 [analysis]
 heights = 2
 facade = "homogenised"

@@ -75,7 +75,7 @@ def test_fe_result_scans_from_one_course_and_reports_its_minimum(table1_case):
     height, refines around its minimum down to one course or 0.5 %, and reports where the
     minimum lies; the critical record is the scan's lowest v̄_g."""
     case = table1_case("B2")
-    res = fe_result(case, mesh_size=0.5, heights=4)
+    res = fe_result(case, mesh_size=0.5, heights=4, divisions=10)   # the scan's logic only
     hs = [m.h_part for m in res.scan]
     assert hs[0] == pytest.approx(case.masonry.a) and hs[-1] == pytest.approx(case.wall.H)
     assert hs == sorted(hs) and len(hs) > 4                     # refined beyond the start
