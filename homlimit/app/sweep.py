@@ -187,14 +187,20 @@ def plan_sweep(base=None, grid=None, table=None) -> tuple[list[SweepCase], dict,
     """The cases of a sweep (table rows × grid points, in that order), each validated and
     keyed. Returns (cases, base data, source). Raises ParameterError for a malformed grid or
     table, and the first case's ConfigError when no case at all is valid."""
-    data, source = _base(base)
-    grid = parse_grid(grid) if grid else {}
-    rows = table if isinstance(table, list) else (read_table(table) if table else [{}])
+    data, source, grid, rows = _sweep_inputs(base, grid, table)
     errors: list[ConfigError] = []
     with _no_gc():
         cases = list(_plan(data, source, grid, rows, errors))
     _check_some_valid(cases, errors)
     return cases, data, source
+
+
+def _sweep_inputs(base, grid, table) -> tuple[dict, str, dict, list[dict]]:
+    """The base case's data and source, the parsed grid and the table's override rows."""
+    data, source = _base(base)
+    grid = parse_grid(grid) if grid else {}
+    rows = table if isinstance(table, list) else (read_table(table) if table else [{}])
+    return data, source, grid, rows
 
 
 def _plan(data: dict, source: str, grid: dict, rows: list[dict], errors: list):
@@ -277,17 +283,17 @@ def _batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
 
     t0 = time.perf_counter()
     cases = [c.case for c in configs]
-    col = lambda fn: np.array([fn(c) for c in cases], float)  # noqa: E731
-    rho, alpha, beta = col(lambda c: c.rho), col(lambda c: c.alpha), col(lambda c: c.beta)
-    H_b, L_b = col(lambda c: c.wall.H / c.wall.b), col(lambda c: c.wall.L / c.wall.b)
+    walls = mech.wall_arrays(cases)
+    rho, alpha, beta = walls["rho"], walls["alpha"], walls["beta"]
+    H_b, L_b = walls["H"] / walls["b"], walls["L"] / walls["b"]
     tanpsi = np.array([cf.analysis.tanpsi or c.alpha for cf, c in zip(configs, cases)])
     lam_I, _ = mech.critical_I(rho, alpha, beta, H_b)
     theta_I = mech.theta_m_I(lam_I, rho, alpha, beta)
     lam_max_II = mech.lam_max_II(H_b, L_b, tanpsi)
     lam_II, _ = mech.critical_II(rho, tanpsi, lam_max_II)
     static_II = mech.static_critical_II(rho, tanpsi, lam_max_II)
-    res_I = mech.mechanisms_I(cases, lam_I, theta_I)
-    res_II = mech.mechanisms_II(cases, tanpsi, lam_II, static_II)
+    res_I = mech.mechanisms_I(cases, lam_I, theta_I, walls)
+    res_II = mech.mechanisms_II(cases, tanpsi, lam_II, static_II, walls)
     out = []
     for config, m1, m2 in zip(configs, res_I, res_II):
         t1 = time.perf_counter()
@@ -429,9 +435,7 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
     from .pipeline import folder_name, package_version
 
     t0 = time.perf_counter()
-    data, source = _base(base)
-    grid_d = parse_grid(grid) if grid else {}
-    rows_in = table if isinstance(table, list) else (read_table(table) if table else [{}])
+    data, source, grid_d, rows_in = _sweep_inputs(base, grid, table)
     name = str(data.get("name") or "sweep")
     folder = Path(out) if out else Path("homlimit-out") / folder_name(name) / "sweep"
     check_output_folder(folder, SWEEP_NAMES)   # a new folder or a sweep's, before any work

@@ -46,6 +46,7 @@ __all__ = [
     "mechanism_II",
     "mechanisms_I",
     "mechanisms_II",
+    "wall_arrays",
     "multiplier_I",
     "multiplier_II",
     "static_critical_I",
@@ -347,8 +348,9 @@ def _column(cases, get) -> np.ndarray:
     return np.array([get(c) for c in cases], float)
 
 
-def _walls(cases):
-    """The wall fields H, b, l, s, L, γ, g and ρ, α, β of ``cases`` as arrays."""
+def wall_arrays(cases) -> dict[str, np.ndarray]:
+    """The wall fields H, b, l, s, L, γ, g and ρ, α, β of ``cases`` as arrays (for
+    ``mechanisms_I/II`` and the critical λ of many walls)."""
     ws = [c.wall for c in cases]
     cols = {k: _column(ws, lambda w, k=k: getattr(w, k)) for k in "H b l s L gamma g".split()}
     cols.update(rho=cols["l"] / cols["s"], alpha=_column(cases, lambda c: c.alpha),
@@ -356,10 +358,11 @@ def _walls(cases):
     return cols
 
 
-def mechanisms_I(cases, lam, theta_m=None) -> list[MechanismResult]:
+def mechanisms_I(cases, lam, theta_m=None, walls=None) -> list[MechanismResult]:
     """``mechanism_I`` of many walls at once: ``lam`` (and θ_m, if known) one per case, the
-    arithmetic on arrays, element by element the same as for one wall."""
-    w = _walls(cases)
+    arithmetic on arrays, element by element the same as for one wall; ``walls``: their
+    ``wall_arrays`` if already made."""
+    w = wall_arrays(cases) if walls is None else walls
     rho, alpha, beta, b = w["rho"], w["alpha"], w["beta"], w["b"]
     lam = np.asarray(lam, float)
     th = theta_m_I(lam, rho, alpha, beta) if theta_m is None else np.asarray(theta_m, float)
@@ -391,12 +394,14 @@ def mechanism_I(case: Case, lam: float | None = None,
     return mechanisms_I([case], [lam], None if theta_m is None else [theta_m])[0]
 
 
-def mechanisms_II(cases, tanpsi, lam, static=None) -> list[MechanismResult | ParameterError]:
+def mechanisms_II(cases, tanpsi, lam, static=None,
+                  walls=None) -> list[MechanismResult | ParameterError]:
     """``mechanism_II`` of many walls at once: tan ψ and λ one per case (``static``: the
     arrays (λ, a/g) of ``static_critical_II`` if known), the arithmetic on arrays, element by
     element the same as for one wall. A case whose λ does not fit its wall gets the
-    ParameterError ``mechanism_II`` would raise, in place of its result."""
-    w = _walls(cases)
+    ParameterError ``mechanism_II`` would raise, in place of its result. ``walls``: their
+    ``wall_arrays`` if already made."""
+    w = wall_arrays(cases) if walls is None else walls
     rho, b = w["rho"], w["b"]
     t, lam = np.asarray(tanpsi, float), np.asarray(lam, float)
     lam_max = lam_max_II(w["H"] / b, w["L"] / b, t)
