@@ -72,8 +72,8 @@ def test_fe_analysis_end_to_end_on_a_coarse_mesh(table1_case):
 @pytest.mark.slow
 def test_fe_result_scans_from_one_course_and_reports_its_minimum(table1_case):
     """The scan starts at one course (h_part = a) and ends with the whole wall, is sorted by
-    height, refines around its minimum down to one course or 0.5 %, and reports where the
-    minimum lies; the critical record is the scan's lowest v̄_g."""
+    height, refines around its minimum down to one course (two within 0.5 %), and reports
+    where the minimum lies; the critical record is the scan's lowest v̄_g."""
     case = table1_case("B2")
     res = fe_result(case, mesh_size=0.5, heights=4, divisions=10)   # the scan's logic only
     hs = [m.h_part for m in res.scan]
@@ -84,8 +84,8 @@ def test_fe_result_scans_from_one_course_and_reports_its_minimum(table1_case):
     k = hs.index(r.h_part)
     for j in (k - 1, k + 1):                                     # resolved neighbours
         if 0 <= j < len(hs):
-            assert (abs(hs[j] - hs[k]) <= case.masonry.a * (1 + 1e-9)
-                    or abs(res.scan[j].vg / r.vg - 1) <= 0.005)
+            width, a = abs(hs[j] - hs[k]), case.masonry.a * (1 + 1e-9)
+            assert width <= a or (width <= 2 * a and abs(res.scan[j].vg / r.vg - 1) <= 0.005)
     assert res.critical_at in ("interior", "bound: one course", "bound: whole wall")
     assert r.lam == pytest.approx(r.h / 0.5)
     d = res.as_dict()

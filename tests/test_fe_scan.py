@@ -10,7 +10,14 @@ from homlimit import mechanism_I, mechanism_II
 from homlimit.dynamics import MechanismIRocker, RectangularPulse, RigidRocker, holding_pulse
 from homlimit.dynamics.integrate import simulate
 from homlimit.impulse import hinge_impulse_ratio
-from homlimit.mechanism.analysis import fe_result, h_scan
+from homlimit.mechanism.analysis import (
+    PART_TOL,
+    analyse,
+    fe_result,
+    h_scan,
+    part_problem,
+    scan_midpoints,
+)
 
 
 @pytest.mark.slow
@@ -72,3 +79,32 @@ def test_no_holding_pulse_when_f_g_does_not_lift_the_body(table1_case):
     rk = RigidRocker(mechanism_II(case).body, g=case.wall.g)
     hp = holding_pulse(rk, 0.5 * rk.a_uplift / case.wall.g)
     assert math.isnan(hp.duration) and "slides first" in hp.reason
+
+
+def test_scan_splits_a_wide_gap_whose_far_end_is_near_the_minimum():
+    """The halved B2 scan (h_part [m], v̄_g/√(gb)): the old rule left the 1.12 m gap between
+    1.96 and 3.08 m because 0.4722 is within 0.5 % of 0.4702, yet v̄_g is 0.4638 at 2.5 m.
+    A gap is closed only when it is at most one step wide, or at most two and near."""
+    hs = [1.440, 1.963, 3.083, 3.153]
+    vg = [0.50661, 0.47220, 0.47015, 0.47172]
+    assert scan_midpoints(hs, vg, step=0.07, rtol=0.005) == [pytest.approx(2.523)]
+    # two steps wide and within rtol: closed; one step wide: closed whatever the values
+    assert scan_midpoints([1.0, 1.2, 1.3], [0.471, 0.470, 0.60], step=0.1, rtol=0.005) == []
+    assert scan_midpoints([1.0, 1.2, 1.3], [0.480, 0.470, 0.60], step=0.1, rtol=0.005) == \
+        [pytest.approx(1.1)]
+    # non-finite values are never the minimum; a minimum at the last height has one gap
+    assert scan_midpoints([1.0, 2.0, 4.0], [math.nan, 0.5, 0.4], step=0.1, rtol=0.005) == \
+        [pytest.approx(3.0)]
+
+
+@pytest.mark.slow
+def test_parts_solved_at_part_tol_give_the_ladders_v_g(table1_case):
+    """The scan solves its parts at Clarabel tolerance PART_TOL = 1e-7 instead of the ladder
+    (1e-9, which stalls on fine part meshes): v̄_g and the multiplier are those of the
+    ladder's solve to 1e-4 (B2, the part of 2.5 m at h/20: a hinge + fan)."""
+    case = table1_case("B2")
+    ladder = analyse(case, part_problem(case, 2.5, "bedjoints", 0.25, 20))
+    (part,) = h_scan(case, [2.5], mesh_size=0.25, divisions=20)
+    assert PART_TOL == 1e-7 and part.kind == ladder.kind == "hinge+fan"
+    assert part.vg == pytest.approx(ladder.vg, rel=1e-4)
+    assert part.multiplier == pytest.approx(ladder.multiplier, rel=1e-4)

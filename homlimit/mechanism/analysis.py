@@ -13,7 +13,8 @@ scan runs to ever smaller parts. In the wall no failing part is lower than one c
 scan spans a <= h <= H; with the default bed-joint façade (its blocks run through the
 thickness) no crack cuts the façade diagonally. The scan starts from ``heights`` heights spaced
 geometrically over that range and bisects around its minimum until the neighbouring heights
-are one ``step`` (default a) apart or within ``rtol`` (0.5 %) of the minimum; the result says
+are one ``step`` (default a) apart, or two steps apart and within ``rtol`` (0.5 %) of the
+minimum (``scan_midpoints``); the result says
 whether the minimum is interior or sits at a bound (one course, or the whole wall).
 """
 
@@ -36,7 +37,12 @@ from .fe_impulse import GeneralisedImpulse, contour_pieces, generalised_impulse,
 from .rigidfit import MechanismMeasures, measure_mechanism
 
 __all__ = ["FEMechanism", "FEResult", "analyse", "densities", "fe_result", "h_scan",
-           "part_problem"]
+           "part_problem", "scan_midpoints"]
+
+# Clarabel's tolerance for the scan's parts: the linear programs' default 1e-9 stalls on most
+# fine part meshes and is met only at the ladder's 1e-7 rung after two stalled runs (B2, part
+# 2.5 m at h/40: 35 s, against 8.8 s at 1e-7 directly, v̄_g equal to 1e-6; docs/fe-impulse.md)
+PART_TOL = 1e-7
 
 log = logging.getLogger(__name__)
 
@@ -218,12 +224,18 @@ def analyse(case: Case, problem: Problem, options=None) -> FEMechanism:
 def _analyse_height(case: Case, mesh_size: float, facade: str, options, divisions: int,
                     h_part: float) -> FEMechanism:
     """One height of the scan: ``analyse`` on the top part of height ``h_part`` (the whole
-    wall, meshed at ``mesh_size``, when h_part >= H). A module function, so that an executor
-    can run it as a task (``h_scan``'s ``map``)."""
+    wall, meshed at ``mesh_size``, when h_part >= H). A part is solved to ``PART_TOL`` unless
+    ``options`` sets a tolerance. A module function, so that an executor can run it as a task
+    (``h_scan``'s ``map``)."""
     if h_part >= case.wall.H:
         log.info("FE mechanism of the whole wall")
         return analyse(case, t_section(case, facade=facade, h=mesh_size), options)
+    from ..fe.solver import SolverOptions
+
     log.info("FE analysis: part of height %.3f m", h_part)
+    options = options or SolverOptions()
+    if options.tol is None:
+        options = dataclasses.replace(options, tol=PART_TOL)
     return analyse(case, part_problem(case, h_part, facade, mesh_size, divisions), options)
 
 
@@ -309,12 +321,32 @@ class FEResult:
             "scan": [m.record() for m in self.scan]}
 
 
+def scan_midpoints(hs, vg, step: float, rtol: float) -> list[float]:
+    """The next heights of the scan: the midpoints of the gaps beside the lowest finite v̄_g
+    of the heights ``hs`` (sorted) that are still open. A gap is closed when it is at most
+    ``step`` wide, or at most 2·``step`` wide with its far end within ``rtol`` of the minimum:
+    the end values alone never close a wide gap, since v̄_g may dip inside it."""
+    v = [x if math.isfinite(x) else math.inf for x in vg]
+    k = int(np.argmin(v))
+    tol = 1 + 1e-9
+    new = []
+    for j in (k - 1, k + 1):
+        if not 0 <= j < len(hs):
+            continue
+        width = abs(hs[j] - hs[k])
+        near = math.isfinite(v[k]) and abs(v[j] / v[k] - 1) <= rtol
+        if width > step * tol and not (near and width <= 2 * step * tol):
+            new.append(0.5 * (hs[j] + hs[k]))
+    return new
+
+
 def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT, options=None,
               whole: Problem | None = None, static: bool = False, heights: int = 6,
               step: float | None = None, rtol: float = 0.005, map=map,
               divisions: int = PART_DIVISIONS) -> FEResult:
     """The FE impulse scan over a <= h_part <= H (module docstring): ``heights`` starting
-    heights, refined around the minimum down to ``step`` [m] (default a) or ``rtol``; with
+    heights, refined around the minimum down to ``step`` [m] (default a), or 2·step where
+    the neighbour is within ``rtol`` of the minimum (``scan_midpoints``); with
     ``static``, the whole wall's lower bound on its mesh. ``whole``: the whole wall's problem if
     already built (``t_section(case, facade=facade, h=mesh_size)``). ``map``: how each round
     of heights is evaluated (``h_scan``; the whole wall too when ``whole`` is not given);
@@ -337,15 +369,7 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
         done.update(zip(new, h_scan(case, new, mesh_size, facade, options, map, divisions)))
 
     run(list(np.geomspace(a, w.H, heights)[:-1]) + [w.H])
-    while True:                          # bisect the gaps beside the minimum
-        hs = sorted(done)
-        v = [done[h].vg if np.isfinite(done[h].vg) else math.inf for h in hs]
-        k = int(np.argmin(v))
-        new = [0.5 * (hs[j] + hs[j + d]) for d, j in ((-1, k), (1, k))
-               if 0 <= j + d < len(hs) and abs(hs[j + d] - hs[j]) > step * (1 + 1e-9)
-               and not (math.isfinite(v[k]) and abs(v[j + d] / v[k] - 1) <= rtol)]
-        if not new:
-            break
+    while new := scan_midpoints(sorted(done), [done[h].vg for h in sorted(done)], step, rtol):
         run(new)
     sta = None
     if static:
