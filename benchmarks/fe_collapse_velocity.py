@@ -2,9 +2,9 @@
 
 For every wall, the FE impulse scan (``mechanism.analysis.fe_result``: failing parts from one
 course a to H, refined around the minimum) at the default settings (bed-joint façade, mesh
-0.25 m, parts meshed at min(0.25 m, h/10), scan step a) and with the element size and the
-scan step halved (0.125 m and h/20, a/2; the h/10 rule governs short parts, so it is halved
-too):
+0.25 m, parts meshed at min(0.25 m, h/N) with N = ``params.PART_DIVISIONS``, scan step a) and
+with the element size and the scan step halved (0.125 m and h/2N, a/2; the h/N rule governs
+short parts, so it is halved too):
 critical λ, h, v̄_g/√(gb), mechanism kind, where the minimum lies, the hinge's impulse ratio
 |P_x/P_z|, retries of the solver ladder, and the relative change of v̄_g between the two.
 
@@ -20,6 +20,7 @@ import time
 
 from homlimit.closed_form.paper import table1
 from homlimit.mechanism.analysis import fe_result
+from homlimit.params import PART_DIVISIONS as N
 
 p = argparse.ArgumentParser()
 p.add_argument("--tests", nargs="*")
@@ -38,8 +39,8 @@ for t in table1():
         continue
     a = t.case.masonry.a
     ref = None
-    for label, size, step, div in (("default", 0.25, a, 20), ("halved", 0.125, a / 2, 40),
-                                   ("quartered", 0.0625, a / 4, 80)):
+    for label, size, step, div in (("default", 0.25, a, N), ("halved", 0.125, a / 2, 2 * N),
+                                   ("quartered", 0.0625, a / 4, 4 * N)):
         if label not in args.settings:
             continue
         t0 = time.perf_counter()

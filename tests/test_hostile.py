@@ -278,7 +278,7 @@ def test_the_budget_can_be_raised(sandbox):
     """A case just over a lowered budget passes once [mesh] max_triangles allows it."""
     res = invoke("mesh", "--set", "mesh.size=1.0", "--set", "mesh.max_triangles=200")
     assert res.exit_code == 2 and "max_triangles = 200" in res.stderr
-    res = invoke("mesh", "--json", "--set", "mesh.size=1.0", "--set", "mesh.max_triangles=8000")
+    res = invoke("mesh", "--json", "--set", "mesh.size=1.0", "--set", "mesh.max_triangles=20000")
     assert res.exit_code == 0, res.output
     n = json.loads(res.stdout)["n_triangles"]
     from homlimit.app.budget import estimate_triangles
