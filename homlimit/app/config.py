@@ -154,7 +154,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "heights": Key(int, 6, "", lo=2, hi=200,
                        doc="starting heights of the FE impulse scan, spaced geometrically "
                            "from one course (a) to H, refined around the minimum of v̄_g "
-                           "(eq. 7) to one course or 0.5 %"),
+                           "(eq. 7) to one course (two courses within 0.5 %)"),
         "static": Key(bool, True,
                       doc="static lower bound of the whole wall's FE multiplier on the same "
                           "mesh (the bracket λ⁻ <= λ <= λ⁺), its stress field in "
