@@ -106,5 +106,7 @@ def test_parts_solved_at_part_tol_give_the_ladders_v_g(table1_case):
     ladder = analyse(case, part_problem(case, 2.5, "bedjoints", 0.25, 20))
     (part,) = h_scan(case, [2.5], mesh_size=0.25, divisions=20)
     assert PART_TOL == 1e-7 and part.kind == ladder.kind == "hinge+fan"
+    assert part.record()["solver_tol"] == PART_TOL            # recorded in fe_scan.csv
+    assert ladder.record()["solver_tol"] in (1e-9, 1e-7)      # the ladder's first or last rung
     assert part.vg == pytest.approx(ladder.vg, rel=1e-4)
     assert part.multiplier == pytest.approx(ladder.multiplier, rel=1e-4)

@@ -84,7 +84,8 @@ def test_csv_headers_carry_units(tmp_path):
     from homlimit.errors import ParameterError
 
     scan = ["h_part", "h", "lam", "vg", "vnorm", "vg_body", "multiplier", "mechanism",
-            "tanpsi", "hinge_ratio", "status", "retries", "vg_method"]    # FEMechanism.record
+            "tanpsi", "hinge_ratio", "status", "retries", "solver_tol",
+            "vg_method"]                                                   # FEMechanism.record
     fe_cols = ["lam_fe", "vnorm_fe", "vg_fe", "tanpsi_fe", "tanpsi_fe_edges", "mechanism_fe",
                "multiplier_fe", "critical_at_fe", "hinge_ratio_fe"]
     for col in scan + list(table1_rows()[0]) + fe_cols + CRACK_COLUMNS + SPECTRUM_COLUMNS:

@@ -37,7 +37,7 @@ _DIMENSIONLESS = (
     "tanpsi_edges tanpsi_block tanpsi_fixed tan_alpha tan_f tan_c_over_a fan_T1 fan_T2 "
     "explained block_share interior_share eq14_error n_triangles polarity pga_g pT n_impacts "
     "hinge_ratio hinge_ratio_fe hinge_ratio_I hinge_ratio_II multiplier_I multiplier_II rtol "
-    "ivp_rtol lam_multiplier retries").split()
+    "ivp_rtol lam_multiplier retries solver_tol").split()
 _TEXT = ("name test mechanism mechanism_fe critical_mechanism vg_method facade pulse ivp_method "
          "fan_admissible wedge_admissible case status critical_at critical_at_fe reason").split()
 #: the SI unit of every quantity in a result file ("-": dimensionless, "": text or a flag)

@@ -174,10 +174,11 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
 
     t0 = time.perf_counter()
     times["solve"] = 0.0
-    raws = []
+    raws, tols = [], []          # raw results and Clarabel tolerances of the attempts
 
     def attempt(opts):
         t1 = time.perf_counter()
+        tols.append(opts.get("tol_gap_rel"))
         raws.append(_solve(prob, data, chain, inv, opts, options))
         times["solve"] += float(prob.solver_stats.solve_time or time.perf_counter() - t1)
         return prob.status, prob.solver_stats.num_iters or 0
@@ -222,7 +223,8 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
     sizes = {"triangles": int(nel), "dofs": int(disc.basis.N), "free": int(free.size),
              "variables": int(data["A"].shape[1]), "rows": int(data["A"].shape[0]),
              "nnz": int(data["A"].nnz), "iterations": int(stats.num_iters or 0),
-             "retried": int(len(attempts) > 1), "attempts": attempts}
+             "retried": int(len(attempts) > 1), "attempts": attempts,
+             "tol": tols[-1]}
     return KinematicSolution(
         multiplier=primal, u=u, velocity=u[disc.basis.nodal_dofs].T.copy(),
         dissipation=dissip_pt.reshape(nel, 3).sum(axis=1), interface_dissipation=idis,

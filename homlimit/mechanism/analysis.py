@@ -156,7 +156,7 @@ class FEMechanism:
                 "tanpsi": self.tanpsi, "hinge_ratio": self.hinge_ratio,
                 "status": self.solution.status,
                 "retries": len(self.solution.sizes.get("attempts", [0])) - 1,
-                "vg_method": self.vg_method}
+                "solver_tol": self.solution.sizes.get("tol"), "vg_method": self.vg_method}
 
     def as_dict(self) -> dict:
         """The mechanism's row of summary.json (as the closed forms' ``as_dict``)."""
