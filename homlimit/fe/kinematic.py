@@ -174,17 +174,17 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
 
     t0 = time.perf_counter()
     times["solve"] = 0.0
-    raws, tols = [], []          # raw results and Clarabel tolerances of the attempts
+    raws = []
 
     def attempt(opts):
         t1 = time.perf_counter()
-        tols.append(opts.get("tol_gap_rel"))
         raws.append(_solve(prob, data, chain, inv, opts, options))
         times["solve"] += float(prob.solver_stats.solve_time or time.perf_counter() - t1)
         return prob.status, prob.solver_stats.num_iters or 0
 
     # without iterative refinement the LP can stall on large meshes: solve again with it
-    status, attempts = run_ladder(attempt, options.ladder("kinematic", free.size, conic))
+    ladder = options.ladder("kinematic", free.size, conic)
+    status, attempts = run_ladder(attempt, ladder)
     raw, stats = raws[-1], prob.solver_stats
     times["wrap"] = time.perf_counter() - t0 - times["solve"]   # cvxpy's hand-over
     check_status("kinematic", status, options.solver)
@@ -224,7 +224,7 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
              "variables": int(data["A"].shape[1]), "rows": int(data["A"].shape[0]),
              "nnz": int(data["A"].nnz), "iterations": int(stats.num_iters or 0),
              "retried": int(len(attempts) > 1), "attempts": attempts,
-             "tol": tols[-1]}
+             "tol": ladder[len(attempts) - 1][1].get("tol_gap_rel")}
     return KinematicSolution(
         multiplier=primal, u=u, velocity=u[disc.basis.nodal_dofs].T.copy(),
         dissipation=dissip_pt.reshape(nel, 3).sum(axis=1), interface_dissipation=idis,
