@@ -282,7 +282,8 @@ def test_interrupted_sweep_resumes_to_the_same_table(interrupt_cases, sig):
                          text=True)
     records = out / "records"
     t0 = time.monotonic()
-    done = lambda: [f for f in records.glob("*.json") if f.name != MANIFEST]  # noqa: E731
+    # complete records: hidden names are the manifest and temporary files still being written
+    done = lambda: [f for f in records.glob("*.json") if not f.name.startswith(".")]  # noqa: E731
     while not (records.is_dir() and done()):
         assert p.poll() is None, p.communicate()
         assert time.monotonic() - t0 < 300, "no record after 300 s"
