@@ -167,9 +167,12 @@ def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
     pick = pick[speed[pick] > 0.05 * vmax]
     ax.quiver(pts[pick, 0], pts[pick, 1], v[pick, 0], v[pick, 1], color="w", alpha=0.8,
               angles="xy", scale_units="xy", scale=vmax / (span / 18), width=0.003)
-    w = case.wall
+    from ..geometry import TSection
+
+    geo = TSection.from_case(case)
     hinge = data.get("hinge")
-    x0, z0 = (w.b, 0.0) if hinge is None else (float(hinge[0]), float(hinge[1]))
+    x0, z0 = ((geo.x_junction, geo.z0) if hinge is None
+              else (float(hinge[0]), float(hinge[1])))
     if hinge is not None:
         ax.plot([x0], [z0], "o", color="r", ms=9, mec="k", label="hinge (rotation centre)")
     for k, poly in enumerate(data.get("crack_edges") or []):
@@ -179,7 +182,7 @@ def plot_mechanism(path: str | Path, data: dict, case, title: str = "") -> Path:
     if data.get("crack") is not None:
         c = np.asarray(data["crack"])
         ax.plot(c[:, 0], c[:, 1], "-", color="r", lw=2.5, label="detected crack (mid-line)")
-    top = w.H - z0
+    top = geo.H - z0
     c_a = case.masonry.c / case.masonry.a
     for slope, style, lab in ((case.alpha, "--", f"tan ψ = √(cf/a) = {case.alpha:.3f} (eq. 16)"),
                               (case.masonry.f, "-.", f"tan ψ = f = {case.masonry.f:.3f}"),

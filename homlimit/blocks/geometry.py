@@ -32,6 +32,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import ParameterError, check_range
+from ..geometry import TSection
 from ..params import Case
 
 __all__ = ["Assembly", "Interfaces", "KIND_NAMES", "polygon_moments", "find_interfaces",
@@ -399,21 +400,22 @@ def running_bond_panel(n_blocks: int, n_courses: int, a: float, c: float,
 FACADE_BONDS = ("through", "running-bond")
 
 
-def _course_breaks(b: float, L: float, c: float, toothed: bool, facade: str, tol: float
+def _course_breaks(geo: TSection, c: float, toothed: bool, facade: str, tol: float
                    ) -> np.ndarray:
     """x breaks of one course. Wall: blocks of 2c from x = b (x = b + c if ``toothed``), the
     last one whatever is left up to b + L. Façade "through": one block [0, b] (or [0, b + c]
     if toothed); "running-bond": the wall's bond continued to x = 0 (the first block is what
     is left), so that a block straddles x = b in toothed courses."""
+    b, x_end = geo.x_junction, geo.x_end
     start = b + c if toothed else b
-    k_max = int(math.ceil((b + L) / (2 * c))) + 2
+    k_max = int(math.ceil(x_end / (2 * c))) + 2
     j = np.arange(-k_max, k_max + 1)
     xs = start + 2 * c * j
     lo = b + tol if facade == "through" else tol
-    xs = xs[(xs > lo) & (xs < b + L - tol)]
+    xs = xs[(xs > lo) & (xs < x_end - tol)]
     if facade == "through" and not toothed:
         xs = np.r_[b, xs]
-    return np.unique(np.r_[0.0, xs, b + L])
+    return np.unique(np.r_[0.0, xs, x_end])
 
 
 def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "through"
@@ -429,14 +431,12 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     course, so the façade shows bed joints only) or "running-bond" (the wall's bond continued
     through the façade: the discrete counterpart of the homogenised façade of eq. 15).
     """
-    if not isinstance(case, Case):
-        raise ParameterError(f"case = {type(case).__name__} is out of range: allowed a "
-                             "homlimit.params.Case")
+    geo = TSection.from_case(case)
     if facade not in FACADE_BONDS:
         raise ParameterError(f"facade = {facade!r} is out of range: allowed {FACADE_BONDS}")
     w, mas = case.wall, case.masonry
-    H, L, b, a, c = w.H, w.L, w.b, mas.a, mas.c
-    tol = 1e-9 * max(H, b + L)
+    H, L, b, a, c = geo.H, geo.L, geo.x_junction, mas.a, mas.c
+    tol = 1e-9 * geo.extent
     n_full = int(math.floor(H / a + 1e-9))
     zs = a * np.arange(n_full + 1)
     if H - zs[-1] > tol:
@@ -444,8 +444,8 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     zs[-1] = H
     n_c = zs.size - 1
     toothed = (np.arange(n_c) % 2 == 0) == bool(toothed_first)
-    xt = _course_breaks(b, L, c, True, facade, tol)
-    xp = _course_breaks(b, L, c, False, facade, tol)
+    xt = _course_breaks(geo, c, True, facade, tol)
+    xp = _course_breaks(geo, c, False, facade, tol)
     counts = np.where(toothed, xt.size - 1, xp.size - 1)
     course = np.repeat(np.arange(n_c), counts)
     j = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
@@ -457,7 +457,7 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     kind = np.where(x1 <= b + tol, FACADE, np.where(x0 >= b - tol, WALL, TOOTHING))
     gs = w.gamma * w.s
     # ground (index 0), then the blocks
-    X0, X1 = np.r_[0.0, x0], np.r_[b + L, x1]
+    X0, X1 = np.r_[0.0, x0], np.r_[geo.x_end, x1]
     Z0, Z1 = np.r_[-a, z0], np.r_[0.0, z1]
     n = X0.size
     fixed = np.r_[True, np.zeros(n - 1, bool)]

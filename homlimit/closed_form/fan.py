@@ -44,6 +44,7 @@ import numpy as np
 from scipy.optimize import minimize
 
 from ..errors import ParameterError, check_choice, check_range
+from ..geometry import TSection
 from ..params import FACADE_MODELS, Case
 
 __all__ = [
@@ -139,24 +140,35 @@ def _area_centroid(poly: np.ndarray):
 
 @dataclass(frozen=True)
 class _Section:
-    """The analysed T-section: façade [0, b] and wall [b, b + L] over z_base <= z <= H."""
+    """The analysed T-section (``homlimit.geometry.TSection`` over z_base <= z <= H) with the
+    façade's density ratio ρ."""
 
-    b: float
-    L: float
-    H: float
+    geo: TSection
     rho: float
-    z_base: float
+
+    @property
+    def b(self) -> float:
+        return self.geo.b
+
+    @property
+    def H(self) -> float:
+        return self.geo.H
+
+    @property
+    def z_base(self) -> float:
+        return self.geo.z0
 
     def parts(self):
-        zb, H, b, L = self.z_base, self.H, self.b, self.L
-        yield self.rho, np.array([[0, zb], [b, zb], [b, H], [0, H]], float)
-        yield 1.0, np.array([[b, zb], [b + L, zb], [b + L, H], [b, H]], float)
+        """(density relative to the wall's, polygon) of the façade and the wall."""
+        reg = self.geo.regions
+        yield self.rho, np.array(reg["facade"], float)
+        yield 1.0, np.array(reg["wall"], float)
 
 
 def _section(case: Case, z_base: float) -> _Section:
     w = case.wall
     z_base = check_range("z_base", z_base, 0.0, w.H, hi_open=True, unit="m")
-    return _Section(w.b, w.L, w.H, case.rho, z_base)
+    return _Section(TSection.from_case(case, z_base), case.rho)
 
 
 def _ray(T: float, z0: float, side: int):

@@ -27,6 +27,7 @@ import meshio
 import numpy as np
 
 from ..errors import MeshError, ParameterError, check_range
+from ..geometry import BOUNDARIES, REGIONS, TSection
 
 __all__ = ["gmsh_session", "polygon_mesh", "tsection", "TSECTION_REGIONS",
            "TSECTION_BOUNDARIES"]
@@ -34,8 +35,8 @@ __all__ = ["gmsh_session", "polygon_mesh", "tsection", "TSECTION_REGIONS",
 Point = tuple[float, float]
 Segment = tuple[Point, Point]
 
-TSECTION_REGIONS = ("facade", "wall")
-TSECTION_BOUNDARIES = ("base", "outer", "top", "end", "junction")
+TSECTION_REGIONS = REGIONS            # the names of homlimit.geometry.TSection
+TSECTION_BOUNDARIES = BOUNDARIES
 
 
 @contextmanager
@@ -330,25 +331,20 @@ def tsection(H: float, b: float, L: float, size: float, *,
     mesh must conform to, e.g. rays from a hinge (0, z_h) on the outer face; ``refine_points``
     (x, z, size, radius) and ``refine_segments``: more local refinement (see ``polygon_mesh``).
     """
-    H = check_range("H", H, 0.0, lo_open=True, unit="m")
-    b = check_range("b", b, 0.0, lo_open=True, unit="m")
-    L = check_range("L", L, 0.0, lo_open=True, unit="m")
-    z0 = check_range("z0", z0, 0.0, H, hi_open=True, unit="m")
-    size = check_range("size", size, 0.0, min(H - z0, b + L), lo_open=True, unit="m")
+    geo = TSection(H, b, L, z0)
+    H, b, z0 = geo.H, geo.b, geo.z0
+    size = check_range("size", size, 0.0, geo.span, lo_open=True, unit="m")
     refine = []
-    for what, s, r, seg in (("junction", size_junction, radius_junction, ((b, z0), (b, H))),
-                            ("top", size_top, radius_top, ((0.0, H), (b, H)))):
+    seg = geo.boundaries
+    for what, s, r, line in (("junction", size_junction, radius_junction, seg["junction"]),
+                             ("top", size_top, radius_top, ((0.0, H), (b, H)))):
         if r is not None:
             r = check_range(f"radius_{what}", r, 0.0, lo_open=True, unit="m")
         if s is not None:
             s = check_range(f"size_{what}", s, 0.0, size, lo_open=True, unit="m")
-            refine.append((*seg, s, b if r is None else r))
-    x1 = b + L
-    regions = {"facade": [(0.0, z0), (b, z0), (b, H), (0.0, H)],
-               "wall": [(b, z0), (x1, z0), (x1, H), (b, H)]}
-    boundaries = {"base": [((0.0, z0), (x1, z0))], "outer": [((0.0, z0), (0.0, H))],
-                  "top": [((0.0, H), (x1, H))], "end": [((x1, z0), (x1, H))],
-                  "junction": [((b, z0), (b, H))]}
+            refine.append((*line, s, b if r is None else r))
+    regions = {k: list(v) for k, v in geo.regions.items()}
+    boundaries = {k: [v] for k, v in seg.items()}
     return polygon_mesh(regions, boundaries, size=size,
                         refine_segments=refine + list(refine_segments),
                         refine_points=refine_points, embed_lines=embed_lines, name="tsection",

@@ -21,6 +21,7 @@ import numpy as np
 from skfem import MeshTri
 
 from ..errors import ParameterError, check_choice, check_range
+from ..geometry import REGIONS, TSection
 from ..params import FACADE_MODELS, Case
 from . import strength
 from .operators import COMPONENTS
@@ -361,25 +362,24 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     check_choice("facade", facade, FACADE_MODELS)
     check_choice("mesher", mesher, ("crossed", "gmsh"))
     t0 = time.perf_counter()
-    b, L, H = w.b, w.L, w.H
+    geo = TSection.from_case(case, z0)
+    b, H = geo.b, geo.H
     h_far = h if h_far is None else check_range("h_far", h_far, 0.0, lo_open=True, unit="m")
     if mesher == "gmsh":
         from .geometry import tsection
         from .mesh import to_skfem
 
-        m = to_skfem(tsection(H, b, L, size=h, size_junction=min(h, b / n_b), z0=z0))
+        m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0))
     else:
         xs = np.r_[np.linspace(0.0, b, n_b + 1)[:-1],
-                   graded(b, b + L, min(b / n_b, h_far), max(b / n_b, h_far), foci=(b,),
+                   graded(b, geo.x_end, min(b / n_b, h_far), max(b / n_b, h_far), foci=(b,),
                           growth=growth)]
-        zs = np.linspace(z0, H, max(2, int(math.ceil((H - z0) / h))) + 1)
-        tol = 1e-9 * H
+        zs = np.linspace(z0, H, max(2, int(math.ceil(geo.height / h))) + 1)
         m = crossed_mesh(xs, zs).with_boundaries({
-            "base": lambda x: _near(x[1], z0, tol),
-            "outer": lambda x: _near(x[0], 0.0, tol),
-            "top": lambda x: _near(x[1], H, tol),
-            "end": lambda x: _near(x[0], b + L, tol),
-        }).with_subdomains({"facade": lambda x: x[0] < b, "wall": lambda x: x[0] > b})
+            name: (lambda x, name=name: geo.on_boundary(name, x))
+            for name in ("base", "outer", "top", "end")
+        }).with_subdomains({name: (lambda x, name=name: geo.in_region(name, x))
+                            for name in REGIONS})
     wg = w.gamma * w.g
     wf = w.rho * wg
     fac = (strength.Homogenised(mas.a, mas.c, mas.f) if facade == "homogenised"

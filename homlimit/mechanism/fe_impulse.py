@@ -37,6 +37,7 @@ import numpy as np
 from skfem import Basis, ElementTriP2
 
 from ..errors import ParameterError, check_range
+from ..geometry import TSection
 from ..impulse import RigidBody, peak_work
 from .crack import p2_subtriangles
 
@@ -70,9 +71,9 @@ def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
     from ..fe.geometry import tsection
     from ..fe.mesh import to_skfem
 
-    w = case.wall
-    b, L, H = w.b, w.L, w.H
-    z0 = check_range("z0", z0, 0.0, H, hi_open=True, unit="m")
+    z0 = check_range("z0", z0, 0.0, case.wall.H, hi_open=True, unit="m")
+    geo = TSection.from_case(case, z0)
+    b, H = geo.b, geo.H
     z_hinge = check_range("z_hinge", z_hinge, z0, H, hi_open=True, unit="m")
     h = check_range("h", h, 0.0, H - z0, lo_open=True, unit="m")
     h_hinge = h / 4 if h_hinge is None else check_range("h_hinge", h_hinge, 0.0, h,
@@ -80,9 +81,9 @@ def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
     x_apex = check_range("x_apex", x_apex, 0.0, b, unit="m")
     rays = []
     for T in (check_range("slope", T, 0.0, lo_open=True) for T in slopes):
-        z_end = min(H, z_hinge + (b + L - x_apex) / T)
+        z_end = min(H, z_hinge + (geo.x_end - x_apex) / T)
         rays.append(((x_apex, z_hinge), (x_apex + T * (z_end - z_hinge), z_end)))
-    return to_skfem(tsection(H, b, L, size=h, z0=z0, embed_lines=rays + list(extra_lines),
+    return to_skfem(tsection(H, b, geo.L, size=h, z0=z0, embed_lines=rays + list(extra_lines),
                              refine_points=[(x_apex, z_hinge, h_hinge, 1.0)]))
 
 
