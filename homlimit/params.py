@@ -12,7 +12,7 @@ from dataclasses import dataclass, fields
 from .errors import ParameterError, check_range
 
 __all__ = ["Wall", "Masonry", "Case", "G_STANDARD", "FACADE_DEFAULT", "FACADE_MODELS",
-           "PART_DIVISIONS"]
+           "MESHERS", "MESHER_DEFAULT", "PART_DIVISIONS"]
 
 G_STANDARD = 9.81  # m/s², the value used throughout the paper's examples
 # strength of the façade in the section plane: bed joints only (its blocks run through the
@@ -20,6 +20,11 @@ G_STANDARD = 9.81  # m/s², the value used throughout the paper's examples
 # idealisation, in which a crack may cut the façade diagonally)
 FACADE_MODELS = ("homogenised", "bedjoints")
 FACADE_DEFAULT = "bedjoints"
+# the meshes of the T-section (fe.problems.t_section): the crossed structured grid (every cell
+# cut by its diagonals; the default), gmsh unstructured (refined along the junction), and gmsh
+# with the façade strip structured and x-aligned like the crossed grid, the wall unstructured
+MESHERS = ("crossed", "gmsh", "gmsh-strip")
+MESHER_DEFAULT = "crossed"
 # elements per height of a failing part in the FE impulse scan (element size min(mesh size,
 # h_part / PART_DIVISIONS)): at 30 a fan mechanism's v̄_g is within 0.25 % of its h_part/80
 # value (B2, part 2.5 m: 0.4575, 0.4629, 0.4638, 0.4640, 0.4640 at /20, /30, /40, /60, /80);

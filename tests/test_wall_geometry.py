@@ -69,3 +69,38 @@ def test_meshes_and_blocks_cover_the_geometry():
     A = t_section_blocks(Case())
     areas = polygon_moments(A.vertices, A.offsets)[0][~A.fixed]
     assert areas.sum() == pytest.approx(TSection(9.0, 0.5, 6.0).area(), rel=1e-12)
+
+
+# ----------------------------------------------------------------------------- the gmsh strip
+def test_structured_strip_is_a_crossed_grid_conforming_to_the_wall():
+    """tsection(strip="structured"): the façade is n_b × ⌈h/size⌉ crossed cells (4 triangles
+    each, every cell side along x or z), the wall conforms to its nodes on x = b."""
+    from homlimit.fe.geometry import tsection
+    from homlimit.fe.mesh import element_areas, to_skfem
+
+    g = TSection(9.0, 0.5, 6.0, 3.0)
+    m = to_skfem(tsection(g.H, g.b, g.L, 0.5, z0=g.z0, strip="structured", n_b=4))
+    f, w = m.subdomains["facade"], m.subdomains["wall"]
+    assert len(f) == 4 * 4 * 12                                    # 6 m / 0.5 m rows
+    a = element_areas(m)
+    assert a[f] == pytest.approx(np.full(len(f), 0.125 * 0.5 / 4), rel=1e-9)
+    assert a[w].sum() == pytest.approx(g.area("wall"), rel=1e-12)
+    # façade nodes: the grid x ∈ {0, 1/8, .., 1/2} × z ∈ {3, 3.5, .., 9} and the cell centres
+    P = m.p[:, np.unique(m.t[:, f])]
+    corner = np.isclose(P[0] * 8, np.round(P[0] * 8)) & np.isclose(P[1] * 2, np.round(P[1] * 2))
+    centre = np.isclose(P[0] * 8 % 1, 0.5) & np.isclose(P[1] * 2 % 1, 0.5)
+    assert np.all(corner | centre) and corner.sum() == 5 * 13 and centre.sum() == 4 * 12
+    # the wall's triangles on the junction use exactly the strip's 13 nodes there
+    Pw = m.p[:, np.unique(m.t[:, w])]
+    on = np.isclose(Pw[0], 0.5)
+    np.testing.assert_allclose(np.sort(Pw[1, on]), 3.0 + 0.5 * np.arange(13), atol=1e-12)
+    assert {"base", "outer", "top", "end", "junction"} == set(m.boundaries)
+
+
+def test_structured_strip_refuses_embedded_lines():
+    from homlimit.fe.geometry import tsection
+
+    with pytest.raises(ParameterError, match="embed_lines"):
+        tsection(9.0, 0.5, 6.0, 0.5, strip="structured", embed_lines=[((0, 1), (3, 3))])
+    with pytest.raises(ParameterError, match="strip"):
+        tsection(9.0, 0.5, 6.0, 0.5, strip="mapped")

@@ -12,12 +12,11 @@ from __future__ import annotations
 
 import math
 
-from ..params import PART_DIVISIONS
+from ..params import MESHERS, PART_DIVISIONS
 
 __all__ = ["DEFAULT_MAX_TRIANGLES", "KIB_PER_TRIANGLE", "MEMORY_BUDGET_GIB", "MESHERS",
            "estimate_triangles", "fe_triangles", "memory_gib"]
 
-MESHERS = ("crossed", "gmsh")
 N_B = 4          # columns across the façade (t_section's n_b)
 GROWTH = 1.15    # growth of the crossed mesh's column widths away from the junction
 # gmsh: triangles per unit area at size h is GMSH_AREA/h² (equilateral: 4/√3 = 2.31), and a
@@ -26,6 +25,12 @@ GROWTH = 1.15    # growth of the crossed mesh's column widths away from the junc
 # the estimate lies within 0.95 .. 1.05 of the count above 5 000 triangles
 GMSH_AREA = 2.36
 GMSH_TRANSITION = 2.76
+# checked again on B1 (H 9, b 0.5, L 6; count, estimate/count): gmsh at h 0.5, 0.25, 0.125 m:
+# 2118 (0.94), 3530 (0.98), 8834 (1.01). gmsh-strip: the strip is exact, 4·N_B per row of h,
+# the wall is gmsh's: B1 at h 1, 0.5, 0.25, 0.125 m: 366 (2.81), 1388 (1.15), 3278 (1.02),
+# 9236 (1.02); H 4, b 0.3, L 3: 456 (1.78), 1214 (1.07), 2766 (1.02) at h 0.5 .. 0.125 m. The
+# coarse meshes are over-estimated (the safe side): there the junction's edges are h long, so
+# the wall's band is coarser than b/N_B.
 
 # Peak memory of the conic programs per triangle: the largest measured above 5 000 triangles
 # (B1, both meshers, 4 300 .. 19 000 triangles, benchmarks/bench_memory.py): kinematic
@@ -48,16 +53,19 @@ def estimate_triangles(H: float, b: float, L: float, h: float, mesher: str = "cr
     far spacing max(h, b/N_B) over L, plus the graded columns between the two sizes
     (ln(max/min)/ln(GROWTH)); exact to within +0 .. +32 % above 5 000 triangles.
     gmsh: area over h² (GMSH_AREA) plus the junction band at min(h, b/N_B).
+    gmsh-strip: the façade's crossed rows exactly, 4·N_B·max(2, ⌈H/h⌉), plus gmsh's wall.
     Returns a float (inf when the count would not fit a float).
     """
     h_j = min(h, b / N_B)
     try:
-        if mesher == "gmsh":
+        if mesher in ("gmsh", "gmsh-strip"):
             band = min(b, L)
-            fine = H * (b + band) / h_j ** 2
             transition = H * min(b, max(L - band, 0.0)) / (h_j * h)
             far = H * max(L - 2 * b, 0.0) / h ** 2
-            return GMSH_AREA * (fine + far) + GMSH_TRANSITION * transition
+            wall = GMSH_AREA * (H * band / h_j ** 2 + far) + GMSH_TRANSITION * transition
+            if mesher == "gmsh-strip":
+                return 4.0 * N_B * max(2, math.ceil(H / h)) + wall
+            return GMSH_AREA * H * b / h_j ** 2 + wall
         h_far = max(h, b / N_B)
         graded = math.log(h_far / h_j) / math.log(GROWTH)
         return 4.0 * math.ceil(H / h) * (N_B + L / h_far + graded)

@@ -41,6 +41,7 @@ from ..errors import (
     ResultError,
     SolverError,
 )
+from ..params import MESHER_DEFAULT
 from .budget import DEFAULT_MAX_TRIANGLES
 
 __all__ = ["app", "main"]
@@ -79,6 +80,8 @@ CaseArg = Annotated[Path | None, typer.Argument(help="Case file (TOML); see docs
 MaxTriOpt = Annotated[int, typer.Option(
     help="Problem-size budget: the most triangles one FE mesh may have (estimated before "
          "meshing; the default fits a 2-core, 24 GiB machine).")]
+MesherOpt = Annotated[str, typer.Option(
+    help="FE mesh: crossed, gmsh or gmsh-strip (the case file's [mesh] mesher).")]
 
 
 _HANDLER: logging.Handler | None = None
@@ -291,6 +294,7 @@ def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
                help="Only this Table 1 test, e.g. B1 (repeatable) \\[default: all 12].")]
            = None,
            max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES,
+           mesher: MesherOpt = MESHER_DEFAULT,
            workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
            blocks: Annotated[bool, typer.Option("--blocks", help="Instead: the rigid-block "
                                                 "model's column (slow: one scan per wall).")]
@@ -318,7 +322,7 @@ def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
               [out / "table1_blocks.csv", out / "table1_blocks_ratios.json"])
         return
     kw = dict(fe=fe, mesh_size=mesh_size, heights=heights, tests=test, facade=facade,
-              max_triangles=max_triangles)
+              max_triangles=max_triangles, mesher=mesher)
     with _stdout_quiet(as_json) as stdout, result_folder(out, "table1") as staging:
         if fe:  # validated before any work, then every height of every wall a Dask task
             table1_records(**kw, fe_results=lambda *args: [])
@@ -379,6 +383,7 @@ def crack_study(as_json: JsonOpt = False, out: _out("homlimit-out/crack-study/")
                     show_default=False, help="Façade model: homogenised or bedjoints (repeat "
                                              "for both) \\[default: both].")] = None,
                 max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES,
+                mesher: MesherOpt = MESHER_DEFAULT,
                 workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
                 resume: Annotated[bool, typer.Option(
                     "--resume/--no-resume", help="Keep the points recorded in OUT/records/ "
@@ -391,7 +396,8 @@ def crack_study(as_json: JsonOpt = False, out: _out("homlimit-out/crack-study/")
     out = out or Path("homlimit-out") / "crack-study"
     _logging(verbose, quiet, as_json)
     grid = dict(mesh_size=mesh_size, finer=finer or None, quick=quick, c_over_a=c_over_a,
-                frictions=friction, facades=facade, max_triangles=max_triangles)
+                frictions=friction, facades=facade, max_triangles=max_triangles,
+                mesher=mesher)
     store = RecordStore(out / "records")   # a nested set: kept when the set is replaced
     with _stdout_quiet(as_json) as stdout, _interruptible(store.folder), \
             result_folder(out, "crack-study") as staging:

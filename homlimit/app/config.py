@@ -37,7 +37,16 @@ from .._io import json_bytes
 from ..blocks.geometry import FACADE_BONDS
 from ..dynamics.pulses import PULSE_KINDS
 from ..errors import ParameterError
-from ..params import FACADE_DEFAULT, FACADE_MODELS, PART_DIVISIONS, Case, Masonry, Wall
+from ..params import (
+    FACADE_DEFAULT,
+    FACADE_MODELS,
+    MESHER_DEFAULT,
+    MESHERS,
+    PART_DIVISIONS,
+    Case,
+    Masonry,
+    Wall,
+)
 from . import budget
 
 __all__ = ["AnalysisConfig", "BlocksConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig",
@@ -139,6 +148,12 @@ SCHEMA: dict[str, dict[str, Key]] = {
                               doc="elements per height of a failing part in the FE impulse "
                                   "scan: a part of height h is meshed at min(size, "
                                   "h/part_divisions), so short parts stay resolved"),
+        "mesher": Key(str, MESHER_DEFAULT, choices=MESHERS,
+                      doc="the mesh of the whole wall and of every part of the FE scan: "
+                          "\"crossed\" (structured grid, every cell cut by its diagonals), "
+                          "\"gmsh\" (unstructured, refined to b/4 along the junction) or "
+                          "\"gmsh-strip\" (gmsh with the façade strip a crossed grid of 4 "
+                          "columns, the wall unstructured; docs/kinematic.md)"),
     },
     "analysis": {
         "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),
@@ -238,6 +253,7 @@ class MeshConfig:
     size: float = 0.25
     max_triangles: int = budget.DEFAULT_MAX_TRIANGLES
     part_divisions: int = PART_DIVISIONS
+    mesher: str = MESHER_DEFAULT
 
 
 @dataclass(frozen=True)
@@ -510,6 +526,7 @@ def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> l
     # min(size, h/part_divisions)
     parts = (m["a"] / w["b"],) if not mesh_only and has(m, "a") else ()
     n = budget.fe_triangles(w["H"], w["b"], w["L"], size, parts,
+                            mesher=me.get("mesher", MESHER_DEFAULT),
                             divisions=me.get("part_divisions", PART_DIVISIONS))
     if n > me["max_triangles"]:
         keys = "[mesh] size" + ("" if mesh_only else " (or [analysis] fe = false)")

@@ -31,6 +31,7 @@ import orjson
 
 from .._io import MANIFEST, json_bytes, to_jsonable, write_json, write_text
 from ..errors import ParameterError, check_range
+from ..params import MESHER_DEFAULT
 
 __all__ = ["BLAS_ENV", "Engine", "Interrupted", "RecordStore", "batch_json", "cpu_count",
            "json_text", "read_json", "record_key"]
@@ -303,18 +304,20 @@ class Engine:
         return map_
 
     def fe_results(self, cases: Sequence, mesh_size: float, facade: str, heights: int,
-                   options=None) -> list:
+                   options=None, mesher: str = MESHER_DEFAULT) -> list:
         """The FE path of several walls with every collapse height a task: each wall's scan
         (``analysis.fe_result``: its starting heights, whole wall included, then each round
         of the refinement around the minimum) through its ``map`` hook, all walls at once (a
         client thread per wall only waits). Returns one ``mechanism.analysis.FEResult`` per
-        wall, as ``fe_result(case, mesh_size, facade, options, heights=heights)`` would."""
+        wall, as ``fe_result(case, mesh_size, facade, options, heights=heights,
+        mesher=mesher)`` would."""
         from concurrent.futures import ThreadPoolExecutor
 
         from ..mechanism.analysis import fe_result
 
         def one(case):
-            return fe_result(case, mesh_size, facade, options, heights=heights, map=self.map)
+            return fe_result(case, mesh_size, facade, options, heights=heights, map=self.map,
+                             mesher=mesher)
 
         if not cases:
             return []

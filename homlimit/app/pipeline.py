@@ -43,7 +43,7 @@ from ..closed_form import mechanisms as mech
 from ..closed_form.paper import DemResult, dem_row, table1, table1_rows
 from ..errors import ParameterError, ResultError, check_choice, check_range
 from ..mechanism.analysis import FEResult, fe_result
-from ..params import FACADE_DEFAULT, FACADE_MODELS, Case
+from ..params import FACADE_DEFAULT, FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case
 from . import budget, report
 from .config import CaseConfig, check_mesh, load_case
 
@@ -234,16 +234,19 @@ def _whole_problem(config: CaseConfig):
     """The whole wall's T-section problem (``problems.t_section``, base at z = 0)."""
     from ..fe.problems import t_section
 
-    return t_section(config.case, facade=config.analysis.facade, h=config.mesh.size)
+    return t_section(config.case, facade=config.analysis.facade, h=config.mesh.size,
+                     mesher=config.mesh.mesher)
 
 
 # ----------------------------------------------------------------------------- other commands
-def _check_budget(option: str, cases, size: float, max_triangles: int, scan: bool = True):
+def _check_budget(option: str, cases, size: float, max_triangles: int, scan: bool = True,
+                  mesher: str = MESHER_DEFAULT):
     """ParameterError when the largest FE problem over ``cases`` at mesh ``size`` (with
-    ``scan``, the impulse scan's parts too, from one course a up) exceeds ``max_triangles``
-    (``budget``)."""
+    ``scan``, the impulse scan's parts too, from one course a up) on the ``mesher``'s mesh
+    exceeds ``max_triangles`` (``budget``)."""
     n = max(budget.fe_triangles(c.wall.H, c.wall.b, c.wall.L, size,
-                                (c.masonry.a / c.wall.b,) if scan else ()) for c in cases)
+                                (c.masonry.a / c.wall.b,) if scan else (), mesher=mesher)
+            for c in cases)
     if n > max_triangles:
         raise ParameterError(
             f"{option} = {size!r} m gives about {n:.3g} triangles in the largest FE problem "
@@ -254,26 +257,28 @@ def _check_budget(option: str, cases, size: float, max_triangles: int, scan: boo
 
 def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
                    tests: list[str] | None = None, facade: str = FACADE_DEFAULT,
-                   max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, fe_results=None
-                   ) -> list[dict]:
+                   max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, fe_results=None,
+                   mesher: str = MESHER_DEFAULT) -> list[dict]:
     """Table 1 reproduced (``paper.table1_rows``), optionally with the FE body's columns
     lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe,
     critical_at_fe, hinge_ratio_fe (the critical height of the FE scan, ``fe_result``, from
     ``heights`` starting heights). ``tests``: a subset of the test names (B1 ... C6).
     ``max_triangles``: the problem-size budget of the FE meshes (``budget``), checked before
-    any work. ``fe_results(cases, mesh_size, facade, heights, options)``: the FE path of the
+    any work; ``mesher``: the FE meshes (``problems.MESHERS``).
+    ``fe_results(cases, mesh_size, facade, heights, options, mesher)``: the FE path of the
     walls, one ``FEResult`` each (default: ``fe_result`` wall after wall here;
     ``engine.Engine.fe_results`` runs every height as a Dask task)."""
     check_range("mesh_size", mesh_size, 0.0, 9.0, lo_open=True, unit="m")
     check_range("heights", heights, 2, 200)
     check_choice("facade", facade, FACADE_MODELS)
+    check_choice("mesher", mesher, MESHERS)
     check_range("max_triangles", max_triangles, 100, 1e8)
     cases = {t.test: t.case for t in table1()}
     for t in tests or ():
         check_choice("test", t, tuple(cases))
     if fe:
         _check_budget("--mesh-size", [c for t, c in cases.items() if not tests or t in tests],
-                      mesh_size, max_triangles)
+                      mesh_size, max_triangles, mesher=mesher)
     timings: dict[str, float] = {}
     with _stage(timings, "closed forms for Table 1"):
         rows = [r for r in table1_rows() if not tests or r["test"] in tests]
@@ -283,9 +288,10 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
         with _stage(timings, "FE body", f"{len(walls)} walls"):
             if fe_results is None:
                 results = [fe_result(case, mesh_size, facade, _solver_options(),
-                                     heights=heights) for case in walls]
+                                     heights=heights, mesher=mesher) for case in walls]
             else:
-                results = fe_results(walls, mesh_size, facade, heights, _solver_options())
+                results = fe_results(walls, mesh_size, facade, heights, _solver_options(),
+                                     mesher)
     for row, res in zip(rows, results):
         crit = res.critical
         if crit is None:
@@ -349,12 +355,12 @@ def figure2_curves(rho=None) -> dict:
 
 def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
                         c_over_a=None, frictions=None, facades=None,
-                        max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, map=map
-                        ) -> list[dict]:
+                        max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, map=map,
+                        mesher: str = MESHER_DEFAULT) -> list[dict]:
     """The crack-angle study over a grid of c/a and f (``studies.crack_angle_study``): each
     grid argument left None takes the study's default. ``max_triangles``: the problem-size
     budget of its meshes (``budget``), checked before any work; ``map``: how the grid points
-    are evaluated (``crack_angle_study``)."""
+    are evaluated (``crack_angle_study``); ``mesher``: ``problems.MESHERS``."""
     from .studies import STUDY_WALL, crack_angle_study
 
     w = STUDY_WALL
@@ -362,18 +368,19 @@ def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quic
     if finer is not None:
         check_range("finer", finer, 0.0, mesh_size, lo_open=True, hi_open=True, unit="m")
     check_range("max_triangles", max_triangles, 100, 1e8)
+    check_choice("mesher", mesher, MESHERS)
     for name, values in (("c_over_a", c_over_a), ("f", frictions)):
         for v in values or ():
             check_range(name, v, 0.0, 100.0, lo_open=True)
     finest = finer if finer is not None and not quick else mesh_size
     _check_budget("--finer" if finest != mesh_size else "--mesh-size", [Case(w)], finest,
-                  max_triangles, scan=False)
+                  max_triangles, scan=False, mesher=mesher)
     for fac in facades or ():
         check_choice("facade", fac, FACADE_MODELS)
     grid = {k: tuple(v) for k, v in (("c_over_a", c_over_a), ("frictions", frictions),
                                      ("facades", facades)) if v}
     return crack_angle_study(mesh_size=mesh_size, finer=finer, quick=quick,
-                             options=_solver_options(), map=map, **grid)
+                             options=_solver_options(), map=map, mesher=mesher, **grid)
 
 
 def mesh_case(config: CaseConfig, out: Path) -> dict:
@@ -392,7 +399,7 @@ def mesh_case(config: CaseConfig, out: Path) -> dict:
     files = {"mesh_vtu": out / "mesh.vtu", "mesh_png": out / "mesh.png"}
     return {"case": config.name, "n_triangles": int(len(tri)), "n_nodes": int(len(m.points)),
             "regions": {n: int(np.count_nonzero(region == k)) for k, n in enumerate(names)},
-            "mesh": {"size": config.mesh.size},
+            "mesh": {"size": config.mesh.size, "mesher": config.mesh.mesher},
             "files": {k: str(v) for k, v in files.items()}}
 
 
@@ -424,7 +431,8 @@ def pulse_records(config: CaseConfig) -> tuple[list, FEResult | None]:
     if "FE" in pc.mechanisms:
         with _stage({}, "FE path for the FE rocker"):
             fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
-                           heights=an.heights, divisions=config.mesh.part_divisions)
+                           heights=an.heights, divisions=config.mesh.part_divisions,
+                           mesher=config.mesh.mesher)
         if fe.critical is None:
             raise ParameterError("[pulse] mechanisms = 'FE': the FE scan found no mechanism "
                                  "with a v̄_g (see fe_scan's vg_method)")
@@ -559,7 +567,8 @@ def compute(config: CaseConfig) -> Result:
                     f"{', static bound' if an.static else ''}"):
             result.fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
                                   whole=whole, static=an.static, heights=an.heights,
-                                  divisions=config.mesh.part_divisions)
+                                  divisions=config.mesh.part_divisions,
+                                  mesher=config.mesh.mesher)
         if result.fe.critical is not None:
             result.mechanisms["FE"] = result.fe.critical
     if an.blocks:

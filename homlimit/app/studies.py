@@ -18,11 +18,11 @@ import time
 import numpy as np
 
 from ..closed_form.fan import optimise_fan, optimise_wedge
-from ..errors import SolverError, check_range
+from ..errors import SolverError, check_choice, check_range
 from ..fe.problems import t_section
 from ..fe.solver import SolverOptions
 from ..mechanism.analysis import analyse
-from ..params import FACADE_MODELS, Case, Masonry, Wall
+from ..params import FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case, Masonry, Wall
 
 __all__ = ["crack_angle_study", "crack_point", "C_OVER_A", "FRICTIONS", "STUDY_WALL",
            "CRACK_COLUMNS"]
@@ -50,15 +50,18 @@ def _deg(t: float) -> float:
 
 def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
                       c_over_a=C_OVER_A, frictions=FRICTIONS, facades=FACADE_MODELS,
-                      wall: Wall = STUDY_WALL, options=None, map=map) -> list[dict]:
+                      wall: Wall = STUDY_WALL, options=None, map=map,
+                      mesher: str = MESHER_DEFAULT) -> list[dict]:
     """Crack-angle records, one per (c/a, f, façade, mesh size); keys ``CRACK_COLUMNS``.
 
     mesh_size: the default mesh (``problems.t_section``'s h) [m]; finer: a second, finer mesh
     (None: skip); quick: c/a ∈ {0.5, 1, 3}, f ∈ {0.3, 0.9} and the default mesh only;
     options: ``SolverOptions`` of the kinematic solves; map(fn, points): how the grid points
     are evaluated, records in order (default: one after another here; ``app.engine.Engine``'s
-    ``stored_map`` makes each point a Dask task whose record is kept).
+    ``stored_map`` makes each point a Dask task whose record is kept); mesher: the mesh of
+    every point (``problems.MESHERS``).
     """
+    check_choice("mesher", mesher, MESHERS)
     mesh_size = check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
     sizes = [mesh_size]
     if finer is not None and not quick:
@@ -68,18 +71,21 @@ def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick:
         c_over_a, frictions = (0.5, 1.0, 3.0), (0.3, 0.9)
     grid = [(check_range("c_over_a", ca, 0.0, lo_open=True), f, fac, h)
             for ca in c_over_a for f in frictions for fac in facades for h in sizes]
-    fn = functools.partial(crack_point, wall=wall, options=options or SolverOptions())
+    fn = functools.partial(crack_point, wall=wall, options=options or SolverOptions(),
+                           mesher=mesher)
     return list(map(fn, grid))
 
 
-def crack_point(point: tuple, wall: Wall = STUDY_WALL, options=None) -> dict:
-    """The crack-angle record of one grid point (c/a, f, façade, mesh size) [-, -, -, m]."""
+def crack_point(point: tuple, wall: Wall = STUDY_WALL, options=None,
+                mesher: str = MESHER_DEFAULT) -> dict:
+    """The crack-angle record of one grid point (c/a, f, façade, mesh size) [-, -, -, m] on
+    the ``mesher``'s mesh."""
     ca, f, fac, h = point
     options = options or SolverOptions()
     case = Case(dataclasses.replace(wall), Masonry(a=_A, c=ca * _A, f=f),
                 name=f"c/a={ca:g},f={f:g}")
     t0 = time.perf_counter()
-    problem = t_section(case, facade=fac, h=h)
+    problem = t_section(case, facade=fac, h=h, mesher=mesher)
     try:                      # the solver's own ladder retries a stall (fe.solver)
         fe = analyse(case, problem, options)
     except SolverError as exc:

@@ -26,17 +26,18 @@ from contextlib import contextmanager
 import meshio
 import numpy as np
 
-from ..errors import MeshError, ParameterError, check_range
+from ..errors import MeshError, ParameterError, check_choice, check_range
 from ..geometry import BOUNDARIES, REGIONS, TSection
 
 __all__ = ["gmsh_session", "polygon_mesh", "tsection", "TSECTION_REGIONS",
-           "TSECTION_BOUNDARIES"]
+           "TSECTION_BOUNDARIES", "STRIPS"]
 
 Point = tuple[float, float]
 Segment = tuple[Point, Point]
 
 TSECTION_REGIONS = REGIONS            # the names of homlimit.geometry.TSection
 TSECTION_BOUNDARIES = BOUNDARIES
+STRIPS = ("free", "structured")       # tsection's meshes of the façade strip
 
 
 @contextmanager
@@ -126,6 +127,7 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
                  refine_points: Sequence = (),
                  refine_segments: Sequence = (),
                  embed_lines: Sequence[Segment] = (),
+                 structured: Mapping[str, tuple[int, int]] | None = None,
                  name: str = "polygon",
                  verbosity: int = 0) -> meshio.Mesh:
     """Triangulate polygonal regions, conforming across shared edges.
@@ -142,6 +144,12 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
     refine_segments:[((x1, z1), (x2, z2), size, radius)], the same around a segment.
     embed_lines:    unnamed segments the mesh must conform to (e.g. rays of a fan from a hinge
                     on the boundary); they may end on, or cross, boundaries and each other.
+    structured:     {region: (nx, nz)}: an axis-aligned rectangular region meshed as a
+                    structured grid of nx × nz equal cells (gmsh transfinite, recombined into
+                    quadrangles), each cell cut by its two diagonals into four triangles at its
+                    centre (the "crossed" cells of ``problems.crossed_mesh``, whose edges are
+                    aligned with x and z); the other regions stay unstructured and conform to
+                    its edge nodes. No embedded line may cross it.
     Returns a meshio.Mesh (see the module docstring).
     """
     boundaries = {} if boundaries is None else boundaries
@@ -162,6 +170,22 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
     rpts = [_refinement(f"refine_points[{i}]", r, False) for i, r in enumerate(refine_points)]
     rsegs = [_refinement(f"refine_segments[{i}]", r, True) for i, r in enumerate(refine_segments)]
     lines = [_segment(f"embed_lines[{i}]", s) for i, s in enumerate(embed_lines)]
+    grid = {}
+    for k, v in (structured or {}).items():
+        if k not in polys:
+            raise ParameterError(f"structured region {k!r} is out of range: allowed one of "
+                                 f"{sorted(polys)}")
+        P = polys[k]
+        if len(P) != 4 or not all(P[i, 0] == P[(i + 1) % 4, 0] or P[i, 1] == P[(i + 1) % 4, 1]
+                                  for i in range(4)):
+            raise ParameterError(f"structured region {k!r} is not an axis-aligned rectangle: "
+                                 "allowed four vertices joined by horizontal and vertical edges")
+        try:
+            nx, nz = v
+        except (TypeError, ValueError):
+            raise ParameterError(f"structured[{k!r}] = {v!r} is not (nx, nz)") from None
+        grid[k] = (int(check_range(f"structured[{k!r}].nx", nx, 1, 10 ** 5)),
+                   int(check_range(f"structured[{k!r}].nz", nz, 1, 10 ** 5)))
     allp = np.vstack(list(polys.values()))
     extent = float(np.max(allp.max(0) - allp.min(0)))
     check_range("size", size, 0.0, extent, lo_open=True, unit="m")
@@ -206,6 +230,8 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
         for k, cs in bnd_curves.items():
             gmsh.model.addPhysicalGroup(1, sorted(cs), name=k)
 
+        for k, (nx, nz) in grid.items():
+            _transfinite(gmsh, k, reg_surf[k], nx, nz)
         _size_field(gmsh, size, rpts, rsegs)
         gmsh.model.mesh.generate(2)
         return _to_meshio(gmsh, tol)
@@ -218,6 +244,24 @@ def _curves_in_surfaces(gmsh, surfaces) -> set[int]:
         cs.update(abs(t) for d, t in gmsh.model.getBoundary([(2, s)], oriented=False) if d == 1)
         cs.update(t for d, t in gmsh.model.mesh.getEmbedded(2, s) if d == 1)
     return cs
+
+
+def _transfinite(gmsh, region, surfaces, nx, nz):
+    """Make the rectangle ``region`` a transfinite surface of nx × nz quadrangles."""
+    if len(surfaces) != 1:
+        raise MeshError(f"structured region {region!r} is cut into {len(surfaces)} surfaces "
+                        "by embedded or named lines: allowed none crossing it")
+    s = surfaces[0]
+    curves = [abs(t) for d, t in gmsh.model.getBoundary([(2, s)], oriented=False) if d == 1]
+    if len(curves) != 4:
+        raise MeshError(f"structured region {region!r} has {len(curves)} boundary curves "
+                        "after the named lines split it: allowed 4 (a segment ends on a side)")
+    for c in curves:
+        x0, z0, _, x1, z1, _ = gmsh.model.getBoundingBox(1, c)
+        # OCC pads bounding boxes (~1e-7): a side is horizontal if wider than tall
+        gmsh.model.mesh.setTransfiniteCurve(c, (nx if x1 - x0 > z1 - z0 else nz) + 1)
+    gmsh.model.mesh.setTransfiniteSurface(s)
+    gmsh.model.mesh.setRecombine(2, s)
 
 
 def _size_field(gmsh, size, rpts, rsegs):
@@ -268,7 +312,7 @@ def _to_meshio(gmsh, tol) -> meshio.Mesh:
     xyz = xyz.reshape(-1, 3)
     index = np.full(int(tags.max()) + 1, -1)
     index[tags.astype(int)] = np.arange(len(tags))
-    blocks, names = [], {}
+    blocks, names, centres = [], {}, []
     for dim, ptag in gmsh.model.getPhysicalGroups():
         pname = gmsh.model.getPhysicalName(dim, ptag)
         etype = 2 if dim == 2 else 1
@@ -276,6 +320,14 @@ def _to_meshio(gmsh, tol) -> meshio.Mesh:
         for ent in gmsh.model.getEntitiesForPhysicalGroup(dim, ptag):
             _, ntags = gmsh.model.mesh.getElementsByType(etype, int(ent))
             c = index[ntags.astype(int)].reshape(-1, dim + 1)
+            if dim == 2:                  # quadrangles of a structured region: crossed cells
+                _, qtags = gmsh.model.mesh.getElementsByType(3, int(ent))
+                if len(qtags):
+                    q = index[qtags.astype(int)].reshape(-1, 4)
+                    mid = len(xyz) + sum(len(m) for m in centres) + np.arange(len(q))
+                    centres.append(xyz[q].mean(axis=1))
+                    c = np.vstack([c, np.stack([np.stack([q[:, i], q[:, (i + 1) % 4], mid], 1)
+                                                for i in range(4)], 1).reshape(-1, 3)])
             conn.append(c)
             geo.append(np.full(len(c), int(ent)))
         conn = np.vstack(conn) if conn else np.zeros((0, dim + 1), int)
@@ -283,6 +335,8 @@ def _to_meshio(gmsh, tol) -> meshio.Mesh:
             raise MeshError(f"physical group {pname!r} received no elements")
         blocks.append(("triangle" if dim == 2 else "line", conn, ptag, np.concatenate(geo)))
         names[pname] = (ptag, dim)
+    if centres:
+        xyz = np.vstack([xyz, *centres])
     # compact node numbering; counter-clockwise triangles
     used = np.unique(np.concatenate([c.ravel() for _, c, _, _ in blocks]))
     renum = np.full(len(xyz), -1)
@@ -319,6 +373,7 @@ def tsection(H: float, b: float, L: float, size: float, *,
              radius_junction: float | None = None, radius_top: float | None = None,
              z0: float = 0.0, embed_lines: Sequence[Segment] = (),
              refine_points: Sequence = (), refine_segments: Sequence = (),
+             strip: str = "free", n_b: int = 4,
              verbosity: int = 0) -> meshio.Mesh:
     """Mesh of the x–z section: façade 0 <= x <= b, transversal wall b <= x <= b + L,
     z0 <= z <= H (the failing part of height h = H − z0 when z0 > 0).
@@ -330,10 +385,24 @@ def tsection(H: float, b: float, L: float, size: float, *,
     edge, growing linearly to ``size`` over a further radius. ``embed_lines``: segments the
     mesh must conform to, e.g. rays from a hinge (0, z_h) on the outer face; ``refine_points``
     (x, z, size, radius) and ``refine_segments``: more local refinement (see ``polygon_mesh``).
+    ``strip``: "free" (default: the façade strip meshed unstructured like the wall) or
+    "structured": the strip is a grid of ``n_b`` columns across b and max(2, ⌈(H − z0)/size⌉)
+    equal rows, each cell cut by its diagonals into four triangles (the crossed cells of
+    ``problems.crossed_mesh``, edges aligned with x), and the wall, unstructured, conforms to
+    its nodes on the junction; no embedded line may cross the strip then.
     """
     geo = TSection(H, b, L, z0)
     H, b, z0 = geo.H, geo.b, geo.z0
     size = check_range("size", size, 0.0, geo.span, lo_open=True, unit="m")
+    check_choice("strip", strip, STRIPS)
+    structured = None
+    if strip == "structured":
+        n_b = int(check_range("n_b", n_b, 1, 10 ** 4))
+        if embed_lines:
+            raise ParameterError(f"embed_lines = {list(embed_lines)!r} with strip = "
+                                 "'structured' is out of range: allowed none (the strip is a "
+                                 "structured grid; use strip = 'free')")
+        structured = {"facade": (n_b, max(2, int(math.ceil(geo.height / size))))}
     refine = []
     seg = geo.boundaries
     for what, s, r, line in (("junction", size_junction, radius_junction, seg["junction"]),
@@ -347,5 +416,5 @@ def tsection(H: float, b: float, L: float, size: float, *,
     boundaries = {k: [v] for k, v in seg.items()}
     return polygon_mesh(regions, boundaries, size=size,
                         refine_segments=refine + list(refine_segments),
-                        refine_points=refine_points, embed_lines=embed_lines, name="tsection",
-                        verbosity=verbosity)
+                        refine_points=refine_points, embed_lines=embed_lines,
+                        structured=structured, name="tsection", verbosity=verbosity)

@@ -22,7 +22,7 @@ from skfem import MeshTri
 
 from ..errors import ParameterError, check_choice, check_range
 from ..geometry import REGIONS, TSection
-from ..params import FACADE_MODELS, Case
+from ..params import FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case
 from . import strength
 from .operators import COMPONENTS
 
@@ -36,6 +36,7 @@ __all__ = [
     "mohr_coulomb_footing",
     "free_block",
     "t_section",
+    "MESHERS",
     "PRANDTL",
     "VERTICAL_CUT_LB",
     "VERTICAL_CUT_UB",
@@ -339,7 +340,7 @@ def free_block(b: float = 0.5, h: float = 3.0, f: float = 0.6, gamma: float = 20
 
 def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
               h: float = 0.25, n_b: int = 4, growth: float = 1.15,
-              h_far: float | None = None, mesher: str = "crossed") -> Problem:
+              h_far: float | None = None, mesher: str = MESHER_DEFAULT) -> Problem:
     """The façade strip + transversal wall of the paper in the section plane x–z.
 
     Façade 0 <= x <= b (region "facade", density ρ·γ with ρ = l/s, the paper's 2D reduction),
@@ -353,6 +354,10 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     growing from b/n_b at the junction to h (or ``h_far``) at rate ``growth``.
     ``mesher="gmsh"``: an unstructured gmsh mesh instead (``geometry.tsection`` with size h,
     refined to b/n_b along the junction; adds the interior boundary "junction").
+    ``mesher="gmsh-strip"``: gmsh with the façade strip structured and x-aligned like the
+    crossed grid (n_b columns, rows of h, crossed cells) and the wall unstructured, refined to
+    b/n_b along the junction as with "gmsh" and conforming to the strip's nodes there
+    (``geometry.tsection(strip="structured")``).
     Reference: the prototype's hinge + fan mechanism (docs/kinematic.md); no closed form.
     """
     w, mas = case.wall, case.masonry
@@ -360,7 +365,7 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     h = check_range("h", h, 0.0, w.H - z0, lo_open=True, unit="m")
     n_b = int(check_range("n_b", n_b, 1))
     check_choice("facade", facade, FACADE_MODELS)
-    check_choice("mesher", mesher, ("crossed", "gmsh"))
+    check_choice("mesher", mesher, MESHERS)
     t0 = time.perf_counter()
     geo = TSection.from_case(case, z0)
     b, H = geo.b, geo.H
@@ -370,6 +375,12 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
         from .mesh import to_skfem
 
         m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0))
+    elif mesher == "gmsh-strip":
+        from .geometry import tsection
+        from .mesh import to_skfem
+
+        m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0,
+                              strip="structured", n_b=n_b))
     else:
         xs = np.r_[np.linspace(0.0, b, n_b + 1)[:-1],
                    graded(b, geo.x_end, min(b / n_b, h_far), max(b / n_b, h_far), foci=(b,),

@@ -31,7 +31,7 @@ import numpy as np
 from ..errors import ParameterError, check_choice, check_range
 from ..fe.problems import Problem, t_section
 from ..impulse import RigidBody, collapse_velocity, hinge_impulse_ratio
-from ..params import FACADE_DEFAULT, FACADE_MODELS, PART_DIVISIONS, Case
+from ..params import FACADE_DEFAULT, FACADE_MODELS, MESHER_DEFAULT, MESHERS, PART_DIVISIONS, Case
 from .crack import FanEdges, fan_edges, mechanism_type
 from .fe_impulse import GeneralisedImpulse, contour_pieces, generalised_impulse, p2_nodes
 from .rigidfit import MechanismMeasures, measure_mechanism
@@ -180,12 +180,12 @@ class FEMechanism:
 
 
 def part_problem(case: Case, h_part: float, facade: str, mesh_size: float,
-                 divisions: int = PART_DIVISIONS) -> Problem:
+                 divisions: int = PART_DIVISIONS, mesher: str = MESHER_DEFAULT) -> Problem:
     """The T-section of the top part of height ``h_part`` (``problems.t_section`` with its base
     at z0 = H − h_part), element size min(mesh_size, h_part/divisions) so that short parts stay
-    resolved."""
+    resolved; ``mesher``: ``problems.MESHERS``."""
     prob = t_section(case, z0=max(0.0, case.wall.H - h_part), facade=facade,
-                     h=min(mesh_size, h_part / divisions))
+                     h=min(mesh_size, h_part / divisions), mesher=mesher)
     return dataclasses.replace(prob, meta={**prob.meta, "h_part": h_part})
 
 
@@ -222,36 +222,41 @@ def analyse(case: Case, problem: Problem, options=None) -> FEMechanism:
 
 
 def _analyse_height(case: Case, mesh_size: float, facade: str, options, divisions: int,
-                    h_part: float) -> FEMechanism:
+                    h_part: float, mesher: str = MESHER_DEFAULT) -> FEMechanism:
     """One height of the scan: ``analyse`` on the top part of height ``h_part`` (the whole
     wall, meshed at ``mesh_size``, when h_part >= H). A part is solved to ``PART_TOL`` unless
     ``options`` sets a tolerance. A module function, so that an executor can run it as a task
     (``h_scan``'s ``map``)."""
     if h_part >= case.wall.H:
         log.info("FE mechanism of the whole wall")
-        return analyse(case, t_section(case, facade=facade, h=mesh_size), options)
+        return analyse(case, t_section(case, facade=facade, h=mesh_size, mesher=mesher),
+                       options)
     from ..fe.solver import SolverOptions
 
     log.info("FE analysis: part of height %.3f m", h_part)
     options = options or SolverOptions()
     if options.tol is None:
         options = dataclasses.replace(options, tol=PART_TOL)
-    return analyse(case, part_problem(case, h_part, facade, mesh_size, divisions), options)
+    return analyse(case, part_problem(case, h_part, facade, mesh_size, divisions, mesher),
+                   options)
 
 
 def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
-           options=None, map=map, divisions: int = PART_DIVISIONS) -> list[FEMechanism]:
+           options=None, map=map, divisions: int = PART_DIVISIONS, mesher: str = MESHER_DEFAULT
+           ) -> list[FEMechanism]:
     """``analyse`` on the top part of height h_part for every h_part in ``h_parts`` [m] (the
     whole wall for h_part = H). The hinge may float above the base of the analysed part: each
     mechanism's own h = H − z_O. ``map(fn, h_parts)``: how the heights are evaluated, results
     in order (default: one after another here; ``app.engine.Engine.map`` makes each height a
-    Dask task); ``divisions``: elements per part height (``part_problem``)."""
+    Dask task); ``divisions``: elements per part height (``part_problem``); ``mesher``:
+    ``problems.MESHERS``."""
     w = case.wall
+    check_choice("mesher", mesher, MESHERS)
     h_parts = [check_range("h_part", hp, 0.0, w.H, lo_open=True, unit="m") for hp in h_parts]
     divisions = int(check_range("divisions", divisions, 1, 1000))
     log.info("FE scan: %d collapse heights", len(h_parts))
     return list(map(functools.partial(_analyse_height, case, mesh_size, facade, options,
-                                      divisions), h_parts))
+                                      divisions, mesher=mesher), h_parts))
 
 
 @dataclass(frozen=True)
@@ -303,7 +308,8 @@ class FEResult:
         full, crit, case = self.whole, self.critical, self.whole.case
         return {
             "multiplier": full.multiplier, "n_triangles": full.n_triangles,
-            "facade": full.facade, "mesh_size": full.mesh_size, "hinge": list(full.O),
+            "facade": full.facade, "mesh_size": full.mesh_size,
+            "mesher": full.problem.meta.get("mesher", ""), "hinge": list(full.O),
             "omega": full.measures.fit.omega, "mechanism": full.kind,
             "explained": full.measures.explained, "block_share": full.measures.block_share,
             "tanpsi": full.tanpsi, "tanpsi_uncertainty": full.tanpsi_uncertainty,
@@ -343,21 +349,23 @@ def scan_midpoints(hs, vg, step: float, rtol: float) -> list[float]:
 def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT, options=None,
               whole: Problem | None = None, static: bool = False, heights: int = 6,
               step: float | None = None, rtol: float = 0.005, map=map,
-              divisions: int = PART_DIVISIONS) -> FEResult:
+              divisions: int = PART_DIVISIONS, mesher: str = MESHER_DEFAULT) -> FEResult:
     """The FE impulse scan over a <= h_part <= H (module docstring): ``heights`` starting
     heights, refined around the minimum down to ``step`` [m] (default a), or 2·step where
     the neighbour is within ``rtol`` of the minimum (``scan_midpoints``); with
     ``static``, the whole wall's lower bound on its mesh. ``whole``: the whole wall's problem if
     already built (``t_section(case, facade=facade, h=mesh_size)``). ``map``: how each round
     of heights is evaluated (``h_scan``; the whole wall too when ``whole`` is not given);
-    ``divisions``: elements per part height (``part_problem``)."""
+    ``divisions``: elements per part height (``part_problem``); ``mesher``: the mesh of the
+    whole wall and of every part (``problems.MESHERS``)."""
     check_choice("facade", facade, FACADE_MODELS)
+    check_choice("mesher", mesher, MESHERS)
     w, a = case.wall, case.masonry.a
     heights = int(check_range("heights", heights, 2, 200))
     step = a if step is None else check_range("step", step, 0.0, w.H, lo_open=True, unit="m")
     rtol = check_range("rtol", rtol, 0.0, 0.5, lo_open=True)
     if static and whole is None:
-        whole = t_section(case, facade=facade, h=mesh_size)
+        whole = t_section(case, facade=facade, h=mesh_size, mesher=mesher)
     done: dict[float, FEMechanism] = {}
 
     def run(hs):
@@ -366,7 +374,8 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
             log.info("FE mechanism of the whole wall: %d triangles, P2", whole.n_triangles)
             done[w.H] = analyse(case, whole, options)
             new.remove(w.H)
-        done.update(zip(new, h_scan(case, new, mesh_size, facade, options, map, divisions)))
+        done.update(zip(new, h_scan(case, new, mesh_size, facade, options, map, divisions,
+                                    mesher)))
 
     run(list(np.geomspace(a, w.H, heights)[:-1]) + [w.H])
     while new := scan_midpoints(sorted(done), [done[h].vg for h in sorted(done)], step, rtol):
