@@ -391,7 +391,7 @@ def test_mesh_command_writes_vtu_and_png(tmp_path):
     assert r.returncode == 0, r.stderr
     info = json.loads(r.stdout)
     assert info["regions"]["facade"] + info["regions"]["wall"] == info["n_triangles"] > 0
-    assert info["mesh"] == {"size": 0.8}
+    assert info["mesh"] == {"size": 0.8, "mesher": "crossed"}
     import meshio
 
     from homlimit.fe.mesh import read
