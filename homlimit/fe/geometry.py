@@ -8,7 +8,9 @@ starts (ParameterError naming the parameter).
   embedded lines the mesh must conform to, and local refinement around points and segments;
   the generic builder behind the classical benchmarks (strip footing, vertical cut, block).
 - ``tsection``: the façade strip 0 <= x <= b and the transversal wall b <= x <= b + L,
-  z0 <= z <= H, conforming along the junction x = b (paper, Figure 1).
+  z0 <= z <= H, conforming along the junction x = b (paper, Figure 1); the outline and its
+  names come from ``homlimit.geometry.TSection``. The strip may be a structured crossed grid
+  (``strip="structured"``) inside the unstructured mesh.
 
 The output mesh is the only mesh currency before scikit-fem (see ``homlimit.fe.mesh``):
 points (n, 3) with z-coordinate 0 (the plane is x–z, stored as the first two columns);
