@@ -25,9 +25,20 @@ def _fe(mesher: str | None) -> dict:
 
 
 @pytest.mark.slow
-def test_gmsh_run_records_its_mesher_and_crossed_is_the_default():
+def test_gmsh_run_records_its_mesher_and_crossed_is_the_default(monkeypatch):
+    from homlimit.mechanism import analysis
+
+    used = []                                 # the mesher of every part of the scan
+
+    def spy(*args, **kw):
+        used.append((kw.get("z0", 0.0), kw.get("mesher")))
+        return t_section(*args, **kw)
+
+    monkeypatch.setattr(analysis, "t_section", spy)
     t0 = time.perf_counter()
     g = _fe("gmsh")
+    parts = [m for z0, m in used if z0 > 0]
+    assert len(parts) >= 2 and set(parts) == {"gmsh"}
     assert g["inputs"]["mesh"]["mesher"] == "gmsh" and g["fe"]["mesher"] == "gmsh"
     # the whole wall's mesh is gmsh's (its triangle count, not the crossed grid's)
     n_gmsh = t_section(Case(), facade="bedjoints", h=1.0, mesher="gmsh").n_triangles
