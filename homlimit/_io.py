@@ -340,10 +340,10 @@ def check_owner(target: str | Path, info: Mapping | None):
     if not old or same_owner(old, info):
         return
     raise ParameterError(
-        f"output folder = {os.fspath(target)!r} holds the result set of "
-        f"`homlimit {old.get('command')}` of {source_text(old)}: this `homlimit "
-        f"{info.get('command')}` of {source_text(info)} would replace it; give it a folder "
-        "of its own with --out DIR (out= in Python), or remove that folder")
+        f"output folder = {os.fspath(target)!r} holds the result set of 'homlimit "
+        f"{old.get('command')}' on {source_text(old)}: this 'homlimit {info.get('command')}' "
+        f"on {source_text(info)} would replace it; give it a folder of its own with --out DIR "
+        "(out= in Python), or remove that folder")
 
 
 def check_output_folder(target: str | Path, names: Iterable[str] = (),

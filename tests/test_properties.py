@@ -8,7 +8,8 @@ For every case, ``homlimit run CASE``:
   sandbox, and the names include ``../..``, absolute paths and separators);
 - leaves the output folder with the previous complete result set, untouched, or a new complete
   one (``_io.check_result_set``): half the examples write into a folder that already holds a
-  set of a different case.
+  set of another case, recorded as made from the same case file before an edit (a set of
+  another source is refused: tests/test_dataloss.py).
 
 Closed forms only for most examples (``[analysis] fe = false``), a handful with a coarse FE
 mesh in ``test_fe_cases``; both run in well under a minute.
@@ -164,6 +165,9 @@ def _check_run(content: bytes, use_out: bool):
             out.mkdir()
             for name, data in previous.items():
                 (out / name).write_bytes(data)
+            manifest = json.loads((out / _io.MANIFEST).read_text())   # this case file's set,
+            manifest["source"] = os.path.realpath(cwd / "case.toml")  # edited since
+            (out / _io.MANIFEST).write_text(json.dumps(manifest))
             args += ["--out", "out"]
         old = os.getcwd()
         os.chdir(cwd)

@@ -298,8 +298,8 @@ def test_another_source_or_command_is_refused_before_any_work(tmp_path):
                                            "source_sha256": digest}):
                 pytest.fail("the work started")
         msg = str(info.value)
-        assert "\n" not in msg and "--out DIR" in msg and "`homlimit demo` of embedded:B1" \
-            in msg and f"`homlimit {command}` of {source}" in msg, msg
+        assert "\n" not in msg and "--out DIR" in msg and "'homlimit demo' on embedded:B1" \
+            in msg and f"'homlimit {command}' on {source}" in msg, msg
     assert _contents(out) == before and _leftovers(tmp_path, {"B1"}) == []
     _owned(out, "demo", "embedded:B1", None, "again")        # the same: replaced as before
     assert (out / "summary.json").read_text() == "again" and (out / "sweep").is_dir()
@@ -311,7 +311,7 @@ def test_the_same_case_file_edited_or_copied_is_the_same_source(tmp_path):
     _owned(out, "run", "/cases/c4.toml", "h2", "edited")      # same path, new content
     _owned(out, "run", "/copy/c4.toml", "h2", "copied")       # same content, other path
     assert (out / "summary.json").read_text() == "copied"
-    with pytest.raises(ParameterError, match="`homlimit run` of /copy/c4.toml"):
+    with pytest.raises(ParameterError, match="'homlimit run' on /copy/c4.toml"):
         _owned(out, "run", "/other/c4.toml", "h3")
     # a set written before manifests recorded sources: replaced as before
     _set(tmp_path / "legacy", {"summary.json": "old"})
