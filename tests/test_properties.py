@@ -163,11 +163,11 @@ def _check_run(content: bytes, use_out: bool):
         if use_out:
             out = cwd / "out"
             out.mkdir()
+            manifest = json.loads(previous[_io.MANIFEST])            # this case file's set,
+            manifest["source"] = os.path.realpath(cwd / "case.toml")  # edited since
+            previous = {**previous, _io.MANIFEST: json.dumps(manifest).encode()}
             for name, data in previous.items():
                 (out / name).write_bytes(data)
-            manifest = json.loads((out / _io.MANIFEST).read_text())   # this case file's set,
-            manifest["source"] = os.path.realpath(cwd / "case.toml")  # edited since
-            (out / _io.MANIFEST).write_text(json.dumps(manifest))
             args += ["--out", "out"]
         old = os.getcwd()
         os.chdir(cwd)

@@ -11,7 +11,9 @@
 Every computing command takes ``--json`` (machine-readable on stdout, nothing else there),
 ``--out DIR`` (default homlimit-out/NAME/), ``-v`` (solver logs) and ``-q`` (no progress);
 progress, warnings and logs go to stderr through ``logging``. Each command writes one result
-set: its folder is checked before any work and replaced whole at the end (``_io.result_set``).
+set: its folder is checked before any work (a set of another command or another case source
+there is refused, exit 2) and the previous set replaced at the end, what that set did not write
+kept (``_io.result_set``).
 Exit codes: 0 success, 2 bad input (ParameterError, invalid case file, unusable output folder,
 usage), 3 a failure of the computation or of the disk (SolverError, MeshError, ResultError,
 OutputError, out of memory), with a one-line reason on stderr and no traceback; an interrupt
@@ -61,7 +63,8 @@ def _out(default: str):
     """The --out option of a command whose result set goes to ``default`` without it."""
     return Annotated[Path | None, typer.Option(
         "--out", "-o", show_default=False,
-        help=f"Output folder, replaced whole by the new result set \\[default: {default}].")]
+        help=f"Output folder: the new result set replaces the one there, if it is this "
+             f"command's on this case \\[default: {default}].")]
 
 
 _NAME = ("NAME the case name, with a hash of its inputs when --set changed them")
