@@ -242,13 +242,13 @@ def _recover(target: Path):
         pid = rest.partition("-")[0]
         if pid.isdigit() and not _alive(int(pid)):
             dead.append((kind, p))
-    for kind, p in dead:                    # the previous set first, then what it had lent
+    for kind, p in dead:           # first the previous set back in its place, then what
         if kind == "old" and not os.path.lexists(target):
             os.rename(p, target)
-    for kind, p in dead:
+    for kind, p in dead:           # a staging folder had carried out of it
         if os.path.lexists(p):
             if target.is_dir() and not target.is_symlink():
-                for name in _manifest(p).get("kept", ()):
+                for name in _kept(p):
                     if os.path.lexists(p / name) and not os.path.lexists(target / name):
                         os.rename(p / name, target / name)
             _remove(p)
@@ -261,6 +261,13 @@ def _manifest(folder: Path) -> dict:
     except (OSError, ValueError):
         return {}
     return data if isinstance(data, dict) else {}
+
+
+def _kept(folder: Path) -> list[str]:
+    """The entries the set in ``folder`` carried over (its manifest's ``kept``): plain names."""
+    kept = _manifest(folder).get("kept")
+    return [n for n in kept if isinstance(n, str) and n and "/" not in n
+            and n not in (".", "..")] if isinstance(kept, list) else []
 
 
 def _staging_name(name: str) -> bool:
@@ -293,7 +300,7 @@ def _written(folder: Path, names) -> set[str]:
     its manifest lists, and the manifest; for a set written before manifests existed, its
     files called one of ``names``."""
     manifest = _manifest(folder)
-    if "files" in manifest:
+    if isinstance(manifest.get("files"), list):
         return {MANIFEST} | {str(f).split("/")[0] for f in manifest["files"]}
     names = set(names)
     return {p.name for p in folder.iterdir() if p.name in names and p.is_file()
@@ -498,7 +505,7 @@ def _swap(staging: Path, target: Path, names):
     moved = []
     old = None
     try:
-        for name in _manifest(staging).get("kept", ()):
+        for name in _kept(staging):
             if os.path.lexists(target / name) and not os.path.lexists(staging / name):
                 os.rename(target / name, staging / name)
                 moved.append(name)
