@@ -9,8 +9,11 @@ numbers and lists, non-finite floats become ``null``.
 ``result_set(folder)`` does the same for a folder of files: the files are written into a fresh
 staging folder beside it, which replaces the folder in one rename at the end, so a reader sees
 the previous set or the new one, never a mix, and no file of an earlier run survives into a
-new set. A failure while writing (a full disk, ``EFBIG`` under ``ulimit -f``) raises
-``errors.OutputError`` naming the file.
+new set. It replaces only what the previous set wrote (the files its manifest lists): anything
+else in the folder (another command's nested set such as ``sweep/`` or ``pulse/``, a user's
+file) is carried over into the new set, and a folder holding another source's or another
+command's set is refused (``check_output_folder``). A failure while writing (a full disk,
+``EFBIG`` under ``ulimit -f``) raises ``errors.OutputError`` naming the file.
 """
 
 from __future__ import annotations
@@ -228,18 +231,48 @@ def _alive(pid: int) -> bool:
 
 
 def _recover(target: Path):
-    """Clean what a killed run (SIGKILL, power loss) left beside ``target``: staging folders of
-    dead processes are removed; a previous set moved aside but not replaced is put back."""
+    """Clean what a killed run (SIGKILL, power loss) left beside ``target``: a previous set
+    moved aside but not replaced is put back; what a dead process's staging folder carried
+    over from ``target`` (its manifest's ``kept``) is moved back; then its staging folders
+    are removed."""
     tag = _tag(target)
+    dead = []
     for p in target.parent.glob(tag + "-*"):
         kind, _, rest = p.name[len(tag) + 1:].partition("-")
         pid = rest.partition("-")[0]
-        if not pid.isdigit() or _alive(int(pid)):
-            continue
+        if pid.isdigit() and not _alive(int(pid)):
+            dead.append((kind, p))
+    for kind, p in dead:           # first the previous set back in its place, then what
         if kind == "old" and not os.path.lexists(target):
             os.rename(p, target)
-        else:
+    for kind, p in dead:           # a staging folder had carried out of it
+        if os.path.lexists(p):
+            if target.is_dir() and not target.is_symlink():
+                for name in _kept(p):
+                    if os.path.lexists(p / name) and not os.path.lexists(target / name):
+                        os.rename(p / name, target / name)
             _remove(p)
+
+
+def _manifest(folder: Path) -> dict:
+    """The manifest of the set in ``folder`` ({} when there is none or it cannot be read)."""
+    try:
+        data = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    return data if isinstance(data, dict) else {}
+
+
+def _kept(folder: Path) -> list[str]:
+    """The entries the set in ``folder`` carried over (its manifest's ``kept``): plain names."""
+    kept = _manifest(folder).get("kept")
+    return [n for n in kept if isinstance(n, str) and n and "/" not in n
+            and n not in (".", "..")] if isinstance(kept, list) else []
+
+
+def _staging_name(name: str) -> bool:
+    """A staging or previous-set folder of a nested set (``_tag``): never part of a set."""
+    return name.startswith(".homlimit-") and name != MANIFEST
 
 
 def is_result_set(folder: Path, names: Iterable[str] = ()) -> bool:
@@ -250,6 +283,8 @@ def is_result_set(folder: Path, names: Iterable[str] = ()) -> bool:
         return True
     names = set(names)
     for p in folder.iterdir():
+        if _staging_name(p.name) and p.is_dir() and not p.is_symlink():
+            continue                      # a nested set's staging (a killed run's leftover)
         if p.is_symlink():
             return False
         if p.is_dir():
@@ -260,16 +295,71 @@ def is_result_set(folder: Path, names: Iterable[str] = ()) -> bool:
     return True
 
 
-def _nested_sets(folder: Path, names) -> list[Path]:
-    return [p for p in folder.iterdir() if p.is_dir() and not p.is_symlink()
-            and is_result_set(p, names)]
+def _written(folder: Path, names) -> set[str]:
+    """The entries of ``folder`` that the set there wrote: the top-level names of the files
+    its manifest lists, and the manifest; for a set written before manifests existed, its
+    files called one of ``names``."""
+    manifest = _manifest(folder)
+    if isinstance(manifest.get("files"), list):
+        return {MANIFEST} | {str(f).split("/")[0] for f in manifest["files"]}
+    names = set(names)
+    return {p.name for p in folder.iterdir() if p.name in names and p.is_file()
+            and not p.is_symlink()}
 
 
-def check_output_folder(target: str | Path, names: Iterable[str] = ()) -> Path:
+def _foreign(folder: Path, names) -> list[str]:
+    """The entries of ``folder`` that the set there did not write (nested sets of other
+    commands, a user's files): a new set carries them over."""
+    if not folder.is_dir() or folder.is_symlink():
+        return []
+    written = _written(folder, names)
+    return sorted(p.name for p in folder.iterdir() if p.name not in written)
+
+
+def source_text(info: Mapping) -> str:
+    """How a manifest's source reads in a message: the case path or ``embedded:B1``."""
+    src = info.get("source")
+    return "an unrecorded source" if src is None else str(src)
+
+
+def same_owner(old: Mapping, new: Mapping) -> bool:
+    """May a set described by ``new`` (its manifest's command and source) replace the set
+    whose manifest is ``old``? Yes for the same command and the same source: the same path
+    (a case file edited since counts as the same source) or the same content hash (a copy of
+    the file). A set written before manifests recorded sources is compared on nothing."""
+    if "command" not in new or "source" not in old:
+        return True
+    if old.get("command") != new.get("command"):
+        return False
+    if old.get("source") == new.get("source"):
+        return True
+    digest = old.get("source_sha256")
+    return digest is not None and digest == new.get("source_sha256")
+
+
+def check_owner(target: str | Path, info: Mapping | None):
+    """ParameterError (a one-line message with an ``--out`` hint) when ``target`` holds a
+    result set of another command or another source than ``info`` describes
+    (``same_owner``); nothing otherwise."""
+    from .errors import ParameterError
+
+    old = _manifest(Path(target)) if info else {}
+    if not old or same_owner(old, info):
+        return
+    raise ParameterError(
+        f"output folder = {os.fspath(target)!r} holds the result set of 'homlimit "
+        f"{old.get('command')}' on {source_text(old)}: this 'homlimit {info.get('command')}' "
+        f"on {source_text(info)} would replace it; give it a folder of its own with --out DIR "
+        "(out= in Python), or remove that folder")
+
+
+def check_output_folder(target: str | Path, names: Iterable[str] = (),
+                        info: Mapping | None = None) -> Path:
     """Check that ``target`` can become a result set, before any work: its name is a path
     (no NUL byte, no component longer than the file system allows), it is not the working
     folder or one of its parents, it is a folder (or absent) that is empty or a result set
-    (``is_result_set``) and writable, and the nearest existing parent is a writable folder.
+    (``is_result_set``) and writable, the nearest existing parent is a writable folder, and
+    a set already there is of the command and source ``info`` names (``check_owner``).
     Raises ParameterError naming the folder and the reason; returns the path."""
     from .errors import ParameterError
 
@@ -308,6 +398,7 @@ def check_output_folder(target: str | Path, names: Iterable[str] = ()) -> Path:
         if any(absolute.iterdir()) and not is_result_set(absolute, names):
             bad(f"is a folder that holds other files (no {MANIFEST}): a result set replaces "
                 "its folder whole; give a new or empty folder, or remove it")
+        check_owner(target, info)
     elif not existing.is_dir():
         bad(f"cannot be created: {existing} is a file")
     parent = absolute.parent if existing == absolute else existing
@@ -333,7 +424,7 @@ def result_set(target: str | Path, *, info: Mapping | None = None,
     existed (``is_result_set``). Files and folders get the modes the umask gives.
     """
     names = tuple(names)
-    target = check_output_folder(target, names)
+    target = check_output_folder(target, names, info)
     created = []
     staging = None
     try:
@@ -368,8 +459,18 @@ def result_set(target: str | Path, *, info: Mapping | None = None,
     try:
         files = sorted(str(p.relative_to(staging)) for p in staging.rglob("*")
                        if p.is_file() and not _inside_nested(p, staging))
-        write_json(staging / MANIFEST, {**(info or {}), "files": files})
         with _signals_deferred():
+            kept = _foreign(target, names)
+            clash = [n for n in kept if os.path.lexists(staging / n)]
+            if clash:
+                from .errors import ParameterError
+
+                raise ParameterError(
+                    f"output folder = {os.fspath(target)!r} holds {clash[0]!r}, which the set "
+                    "there did not write and the new set would replace: move it away, or "
+                    "give another folder with --out DIR (out= in Python)")
+            write_json(staging / MANIFEST, {**(info or {}), "files": files,
+                                            **({"kept": kept} if kept else {})})
             _swap(staging, target, names)
     except BaseException as exc:
         abandon()
@@ -394,35 +495,49 @@ def _inside_nested(path: Path, root: Path) -> bool:
 
 
 def _swap(staging: Path, target: Path, names):
-    """Put ``staging`` in the place of ``target`` (nested result sets carried over)."""
+    """Put ``staging`` in the place of ``target``, carrying over what the set in ``target`` did
+    not write (the ``kept`` entries of the staged manifest): they are moved into ``staging``
+    first, and moved back if the exchange fails (a killed process's are put back by the next
+    run's ``_recover``)."""
     if not os.path.lexists(target):
         os.rename(staging, target)
         return
-    for p in _nested_sets(target, names):
-        if not os.path.lexists(staging / p.name):
-            os.rename(p, staging / p.name)
-    if _exchange(staging, target):
-        _remove(staging)                      # now the previous set
-        return
-    old = target.parent / f"{_tag(target)}-old-{os.getpid()}-{secrets.token_hex(3)}"
-    os.rename(target, old)
+    moved = []
+    old = None
     try:
-        os.rename(staging, target)
+        for name in _kept(staging):
+            if os.path.lexists(target / name) and not os.path.lexists(staging / name):
+                os.rename(target / name, staging / name)
+                moved.append(name)
+        if not _exchange(staging, target):
+            old = target.parent / f"{_tag(target)}-old-{os.getpid()}-{secrets.token_hex(3)}"
+            os.rename(target, old)
+            try:
+                os.rename(staging, target)
+            except BaseException:
+                os.rename(old, target)
+                raise
     except BaseException:
-        os.rename(old, target)
+        for name in moved:                   # the exchange did not happen: give them back
+            if os.path.lexists(staging / name) and not os.path.lexists(target / name):
+                os.rename(staging / name, target / name)
         raise
-    _remove(old)
+    _remove(staging if old is None else old)     # now the previous set
 
 
 def check_result_set(folder: str | Path) -> list[str]:
     """Problems of the result set in ``folder`` (empty: complete): its manifest is missing or
-    unreadable, a listed file is missing, or a file is not listed."""
+    unreadable, a listed file is missing, or a file is not listed (what the set carried over,
+    its manifest's ``kept`` entries, is not its own and not checked)."""
     folder = Path(folder)
     try:
-        listed = set(json.loads((folder / MANIFEST).read_text(encoding="utf-8"))["files"])
-    except (OSError, ValueError, KeyError, TypeError) as exc:
+        manifest = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+        listed = set(manifest["files"])
+        kept = set(manifest.get("kept", ()))
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
         return [f"{folder}: no readable {MANIFEST} ({exc})"]
     present = {str(p.relative_to(folder)) for p in folder.rglob("*")
-               if p.is_file() and p.name != MANIFEST and not _inside_nested(p, folder)}
+               if p.is_file() and p.name != MANIFEST and not _inside_nested(p, folder)
+               and p.relative_to(folder).parts[0] not in kept}
     return ([f"{folder}: {n} is listed but missing" for n in sorted(listed - present)]
             + [f"{folder}: {n} is not listed" for n in sorted(present - listed)])

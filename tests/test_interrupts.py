@@ -94,16 +94,16 @@ def _snapshot(folder: Path) -> dict[str, bytes]:
 
 @pytest.fixture
 def previous(tmp_path):
-    """A complete previous result set in tmp_path/out (lam_points = 50) and the case file of
-    the new run (lam_points = 200)."""
+    """A complete previous result set in tmp_path/out (lam_points = 50) of the case file that
+    the new run reads, edited since (lam_points = 200: the same source, so it is replaced)."""
     import homlimit
 
     old = CASE.read_text().replace("[analysis]", "[analysis]\nlam_points = 50")
     if "[analysis]" not in old:
         old += "\n[analysis]\nlam_points = 50\n"
-    (tmp_path / "old.toml").write_text(old)
-    homlimit.run(tmp_path / "old.toml", out=tmp_path / "out")
-    (tmp_path / "old.toml").unlink()
+    (tmp_path / "case.toml").write_text(old)
+    homlimit.run(tmp_path / "case.toml", out=tmp_path / "out")
+    (tmp_path / "case.toml").write_text(CASE.read_text())
     snap = _snapshot(tmp_path / "out")
     assert _io.check_result_set(tmp_path / "out") == [] and len(snap) == 3
     return snap
@@ -117,7 +117,7 @@ def _child(tmp_path, pause: str = "", limit: int | None = None):
         if limit is not None:
             resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
 
-    return subprocess.Popen([sys.executable, "-c", DRIVER, "run", str(CASE), "-q", "--out",
+    return subprocess.Popen([sys.executable, "-c", DRIVER, "run", "case.toml", "-q", "--out",
                              str(tmp_path / "out")], cwd=tmp_path, env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=preexec)
@@ -138,7 +138,8 @@ def _interrupt(tmp_path, pause: str, sig: int) -> tuple[int, str]:
 
 def _assert_clean(tmp_path):
     """Beside the result set: nothing (no staging folder, no temporary)."""
-    assert sorted(p.name for p in tmp_path.iterdir() if p.name != "ready") == ["out"]
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name != "ready") == ["case.toml",
+                                                                                "out"]
     assert not [p for p in (tmp_path / "out").rglob(".*") if p.name != _io.MANIFEST]
 
 

@@ -8,7 +8,8 @@ For every case, ``homlimit run CASE``:
   sandbox, and the names include ``../..``, absolute paths and separators);
 - leaves the output folder with the previous complete result set, untouched, or a new complete
   one (``_io.check_result_set``): half the examples write into a folder that already holds a
-  set of a different case.
+  set of another case, recorded as made from the same case file before an edit (a set of
+  another source is refused: tests/test_dataloss.py).
 
 Closed forms only for most examples (``[analysis] fe = false``), a handful with a coarse FE
 mesh in ``test_fe_cases``; both run in well under a minute.
@@ -162,6 +163,9 @@ def _check_run(content: bytes, use_out: bool):
         if use_out:
             out = cwd / "out"
             out.mkdir()
+            manifest = json.loads(previous[_io.MANIFEST])            # this case file's set,
+            manifest["source"] = os.path.realpath(cwd / "case.toml")  # edited since
+            previous = {**previous, _io.MANIFEST: json.dumps(manifest).encode()}
             for name, data in previous.items():
                 (out / name).write_bytes(data)
             args += ["--out", "out"]

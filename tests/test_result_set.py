@@ -208,3 +208,112 @@ def test_check_result_set_finds_a_mix(tmp_path):
     assert _io.check_result_set(out) == [f"{out}: vg_lambda.png is listed but missing",
                                          f"{out}: mechanism.vtu is not listed"]
     assert "no readable" in _io.check_result_set(tmp_path)[0]
+
+
+# ------------------------------------------------------------------ what it did not write
+@pytest.mark.parametrize("exchange", [True, False], ids=["renameat2", "two-renames"])
+def test_what_the_previous_set_did_not_write_is_kept(tmp_path, monkeypatch, exchange):
+    """A sweep stored in the run's folder (no manifest of its own: an interrupted first sweep)
+    and a user's file survive a new set; the files the previous set wrote do not."""
+    if not exchange:
+        monkeypatch.setattr(_io, "_exchange", lambda a, b: False)
+    out = tmp_path / "B1"
+    _set(out, {"summary.json": "run 1", "mechanism.vtu": "run 1"})
+    (out / "sweep" / "records").mkdir(parents=True)
+    (out / "sweep" / "records" / "k.json").write_text("record")
+    (out / "notes.txt").write_text("mine")
+    _set(out, {"summary.json": "run 2"})
+    assert _contents(out) == {"summary.json": "run 2", "notes.txt": "mine",
+                              "sweep/records/k.json": "record",
+                              _io.MANIFEST: (out / _io.MANIFEST).read_text()}
+    assert json.loads((out / _io.MANIFEST).read_text())["kept"] == ["notes.txt", "sweep"]
+    assert _io.check_result_set(out) == []
+    _set(out, {"summary.json": "run 3"})                    # kept again, not adopted
+    assert (out / "notes.txt").read_text() == "mine" and (out / "sweep").is_dir()
+    assert _leftovers(tmp_path, {"B1"}) == []
+
+
+def test_a_new_file_over_one_it_did_not_write_is_refused(tmp_path):
+    out = tmp_path / "B1"
+    _set(out, {"summary.json": "run 1"})
+    (out / "fe_scan.csv").write_text("the user's")
+    before = _contents(out)
+    with pytest.raises(ParameterError, match="holds 'fe_scan.csv', which the set there did "
+                                             "not write.*--out"):
+        _set(out, {"summary.json": "run 2", "fe_scan.csv": "new"})
+    assert _contents(out) == before
+    assert _leftovers(tmp_path, {"B1"}) == []
+
+
+def test_a_failed_exchange_gives_back_what_it_carried(tmp_path, monkeypatch):
+    out = tmp_path / "B1"
+    _set(out, {"summary.json": "run 1"})
+    _set(out / "sweep", {"sweep.json": "sweep"})
+    before = _contents(out)
+
+    def fail(a, b):
+        raise OSError(errno.EIO, "Input/output error")
+
+    monkeypatch.setattr(_io, "_exchange", fail)
+    with pytest.raises(OutputError, match="Input/output error"):
+        _set(out, {"summary.json": "run 2"})
+    assert _contents(out) == before
+    assert _leftovers(tmp_path, {"B1"}) == []
+
+
+def test_what_a_killed_swap_had_carried_is_put_back(tmp_path):
+    """SIGKILL after sweep/ was moved into the staging folder, before the exchange: the next
+    run moves it back (the dead staging folder's manifest lists it as kept)."""
+    out = tmp_path / "B1"
+    _set(out, {"summary.json": "old"})
+    _set(out / "sweep", {"sweep.json": "sweep"})
+    dead = tmp_path / f"{_io._tag(out)}-new-{2 ** 22 + 12345}-abc"
+    dead.mkdir()
+    _io.write_text(dead / "summary.json", "new, never swapped in")
+    _io.write_json(dead / _io.MANIFEST, {"command": "test", "files": ["summary.json"],
+                                         "kept": ["sweep"]})
+    os.rename(out / "sweep", dead / "sweep")
+    _set(out, {"summary.json": "next"})
+    assert _contents(out / "sweep")["sweep.json"] == "sweep"
+    assert (out / "summary.json").read_text() == "next"
+    assert _leftovers(tmp_path, {"B1"}) == []
+
+
+# ----------------------------------------------------------------------------- whose set
+def _owned(folder: Path, command: str, source: str, digest: str | None, text: str = "x"):
+    with _io.result_set(folder, info={"command": command, "source": source,
+                                      "source_sha256": digest}) as staging:
+        _io.write_text(staging / "summary.json", text)
+
+
+def test_another_source_or_command_is_refused_before_any_work(tmp_path):
+    out = tmp_path / "B1"
+    _owned(out, "demo", "embedded:B1", None)
+    _set(out / "sweep", {"sweep.json": "sweep"})
+    before = _contents(out)
+    for command, source, digest in (("run", "/x/b1.toml", "aa"), ("run", "embedded:B1", None),
+                                    ("pulse", "embedded:B1", None)):
+        with pytest.raises(ParameterError) as info:
+            with _io.result_set(out, info={"command": command, "source": source,
+                                           "source_sha256": digest}):
+                pytest.fail("the work started")
+        msg = str(info.value)
+        assert "\n" not in msg and "--out DIR" in msg and "'homlimit demo' on embedded:B1" \
+            in msg and f"'homlimit {command}' on {source}" in msg, msg
+    assert _contents(out) == before and _leftovers(tmp_path, {"B1"}) == []
+    _owned(out, "demo", "embedded:B1", None, "again")        # the same: replaced as before
+    assert (out / "summary.json").read_text() == "again" and (out / "sweep").is_dir()
+
+
+def test_the_same_case_file_edited_or_copied_is_the_same_source(tmp_path):
+    out = tmp_path / "C4"
+    _owned(out, "run", "/cases/c4.toml", "h1")
+    _owned(out, "run", "/cases/c4.toml", "h2", "edited")      # same path, new content
+    _owned(out, "run", "/copy/c4.toml", "h2", "copied")       # same content, other path
+    assert (out / "summary.json").read_text() == "copied"
+    with pytest.raises(ParameterError, match="'homlimit run' on /copy/c4.toml"):
+        _owned(out, "run", "/other/c4.toml", "h3")
+    # a set written before manifests recorded sources: replaced as before
+    _set(tmp_path / "legacy", {"summary.json": "old"})
+    _owned(tmp_path / "legacy", "run", "/cases/c4.toml", "h1", "new")
+    assert (tmp_path / "legacy" / "summary.json").read_text() == "new"

@@ -11,7 +11,9 @@
 Every computing command takes ``--json`` (machine-readable on stdout, nothing else there),
 ``--out DIR`` (default homlimit-out/NAME/), ``-v`` (solver logs) and ``-q`` (no progress);
 progress, warnings and logs go to stderr through ``logging``. Each command writes one result
-set: its folder is checked before any work and replaced whole at the end (``_io.result_set``).
+set: its folder is checked before any work (a set of another command or another case source
+there is refused, exit 2) and the previous set replaced at the end, what that set did not write
+kept (``_io.result_set``).
 Exit codes: 0 success, 2 bad input (ParameterError, invalid case file, unusable output folder,
 usage), 3 a failure of the computation or of the disk (SolverError, MeshError, ResultError,
 OutputError, out of memory), with a one-line reason on stderr and no traceback; an interrupt
@@ -62,7 +64,8 @@ def _out(default: str):
     """The --out option of a command whose result set goes to ``default`` without it."""
     return Annotated[Path | None, typer.Option(
         "--out", "-o", show_default=False,
-        help=f"Output folder, replaced whole by the new result set \\[default: {default}].")]
+        help=f"Output folder: the new result set replaces the one there, if it is this "
+             f"command's on this case \\[default: {default}].")]
 
 
 _NAME = ("NAME the case name, with a hash of its inputs when --set changed them")
@@ -244,12 +247,12 @@ def _show(stdout, as_json: bool, data, records: list[dict], cols: list[str], tit
 
 
 def _run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
-              quiet: bool, overrides: list[str] | None):
+              quiet: bool, overrides: list[str] | None, command: str = "run"):
     from .pipeline import run
 
     _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout:
-        result = run(case, out=out, write=True, overrides=overrides)
+        result = run(case, out=out, write=True, overrides=overrides, command=command)
     if as_json:
         _emit_json(stdout, result.to_dict())
     else:
@@ -272,12 +275,14 @@ def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
 def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
          quiet: QuietOpt = False, overrides: SetOpt = None):
     """Run the embedded default case: the paper's Table 1 wall B1 (H=9 m, b=0.5 m, ρ=12)."""
-    _run_case(None, as_json, out, verbose, quiet, overrides)
+    _run_case(None, as_json, out, verbose, quiet, overrides, command="demo")
 
 
 @app.command()
 @_guarded
-def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
+def table1(as_json: JsonOpt = False, out: _out(
+               "homlimit-out/table1/; with --fe, --blocks or -t: table1-fe/, table1-blocks/, "
+               "table1-B1/...") = None,
            verbose: VerboseOpt = False, quiet: QuietOpt = False,
            fe: Annotated[bool, typer.Option("--fe", help="Add the finite-element body's "
                                             "columns (slow: one scan over h per wall).")]
@@ -306,10 +311,14 @@ def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
     from . import plots, report
     from .pipeline import result_folder, table1_blocks_records, table1_records
 
-    out = out or Path("homlimit-out") / "table1"
+    variant = "--blocks" if blocks else "--fe" if fe else ""
+    tests = sorted(set(test or ()))
+    out = out or _table1_folder(variant, tests)
+    owner = dict(command=f"table1 {variant}".strip(),
+                 source="embedded:table1" + (f":{','.join(tests)}" if tests else ""))
     _logging(verbose, quiet, as_json)
     if blocks:
-        with _stdout_quiet(as_json) as stdout, result_folder(out, "table1") as staging:
+        with _stdout_quiet(as_json) as stdout, result_folder(out, **owner) as staging:
             rows, ratios = table1_blocks_records(test, facade=blocks_facade)
             report.write(staging / "table1_blocks.csv", rows)
             report.write(staging / "table1_blocks_ratios.json", ratios)
@@ -323,7 +332,7 @@ def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
         return
     kw = dict(fe=fe, mesh_size=mesh_size, heights=heights, tests=test, facade=facade,
               max_triangles=max_triangles, mesher=mesher)
-    with _stdout_quiet(as_json) as stdout, result_folder(out, "table1") as staging:
+    with _stdout_quiet(as_json) as stdout, result_folder(out, **owner) as staging:
         if fe:  # validated before any work, then every height of every wall a Dask task
             table1_records(**kw, fe_results=lambda *args: [])
             with _engine(workers, scheduler, not (quiet or as_json)) as engine:
@@ -339,6 +348,16 @@ def table1(as_json: JsonOpt = False, out: _out("homlimit-out/table1/") = None,
     _show(stdout, as_json, rows, rows, cols, "Table 1: closed forms (I, II) beside the DEM; "
           "vnorm = vg/sqrt(gb), ratio = closed form / DEM",
           [out / "table1.csv", out / "table1.json", out / "table1.png"])
+
+
+def _table1_folder(variant: str, tests: list[str]) -> Path:
+    """table1's default folder: homlimit-out/table1/ for the whole closed-form table; a
+    variant (--fe, --blocks) or a selection of tests (-t B1) has its own (table1-fe-B1/), so
+    that it never replaces another's set."""
+    from .pipeline import folder_name
+
+    parts = ["table1", variant.lstrip("-"), *tests]
+    return Path("homlimit-out") / folder_name("-".join(p for p in parts if p))
 
 
 @app.command()
@@ -428,14 +447,14 @@ def pulse(case: CaseArg = None, as_json: JsonOpt = False,
     from ..closed_form.paper import dem_row
     from . import plots, report
     from .config import load_case
-    from .pipeline import announce, output_dir, pulse_records, result_folder
+    from .pipeline import announce, output_dir, pulse_records, result_folder, source_of
 
     _logging(verbose, quiet, as_json)
     with _stdout_quiet(as_json) as stdout:
         config = load_case(case, overrides)
         announce(config)
         out = out or output_dir(config) / "pulse"
-        with result_folder(out, "pulse", case=config.name) as staging:
+        with result_folder(out, "pulse", case=config.name, **source_of(config)) as staging:
             points, _ = pulse_records(config)
             dem = dem_row(config.case)
             report.write(staging / "spectra.csv", [p.as_dict() for p in points])

@@ -28,6 +28,7 @@ import functools
 import hashlib
 import logging
 import math
+import os
 import time
 import unicodedata
 from contextlib import contextmanager
@@ -49,7 +50,7 @@ from .config import CaseConfig, check_mesh, load_case
 
 __all__ = ["Result", "crack_study_records", "figure2_curves", "folder_name", "mesh_case",
            "output_dir", "package_version", "pulse_records", "result_folder", "run",
-           "table1_blocks_records", "table1_records"]
+           "source_of", "table1_blocks_records", "table1_records"]
 
 log = logging.getLogger(__name__)
 
@@ -176,13 +177,44 @@ def output_dir(config: CaseConfig, out: str | Path | None = None) -> Path:
     return Path("homlimit-out") / folder_name(config.name)
 
 
+def source_of(where) -> dict:
+    """A result set's source, as its manifest records it: ``{"source": absolute path,
+    "source_sha256": hash of the file's bytes}`` for a case file, ``{"source":
+    "embedded:B1"}`` for the embedded default case (``None``, or a CaseConfig read from it),
+    ``{"source": "<dict>", "source_sha256": hash of its JSON}`` for a dict given in Python.
+    ``where``: a path, None, a dict or a CaseConfig (its ``source``)."""
+    if isinstance(where, CaseConfig):
+        if where.source.startswith("<default"):
+            return {"source": "embedded:B1"}
+        if where.source.startswith("<"):
+            return {"source": where.source, "source_sha256": hashlib.sha256(
+                _io.json_bytes(where.as_dict(), sort_keys=True)).hexdigest()}
+        where = Path(where.source)
+    if where is None:
+        return {"source": "embedded:B1"}
+    if isinstance(where, dict):
+        return {"source": "<dict>", "source_sha256": hashlib.sha256(
+            _io.json_bytes(where, sort_keys=True)).hexdigest()}
+    path = Path(os.path.abspath(where))
+    try:
+        digest = hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None
+    except OSError:
+        digest = None
+    return {"source": str(path), "source_sha256": digest}
+
+
 @contextmanager
 def result_folder(out: str | Path, command: str, **info):
     """Write one command's result set into ``out`` (``_io.result_set``): checks the folder and
     creates the staging folder now, before any work; yields the staging folder, where the
     caller writes its files under their final names; on success the set (with its manifest:
     version, ``command``, ``info``, files) replaces ``out`` whole, on failure or interrupt
-    ``out`` is left as it was. The reusable door for every command that writes files."""
+    ``out`` is left as it was. The reusable door for every command that writes files.
+    ``info``'s ``source`` (``source_of``; default ``embedded:<command>``) and ``command``
+    must match the set already in ``out``, if any: another command's or another source's set
+    is refused before any work (exit 2 with an ``--out`` hint, ``_io.check_owner``), and
+    what that set did not write (nested sets, a user's files) is kept."""
+    info = {"source": f"embedded:{command}", **info}
     with _io.result_set(out, info={"homlimit_version": package_version(), "command": command,
                                    **info}, names=report.OUTPUT_NAMES) as staging:
         yield staging
@@ -391,7 +423,7 @@ def mesh_case(config: CaseConfig, out: Path) -> dict:
     from . import plots
 
     check_mesh(config)
-    with result_folder(out, "mesh", case=config.name) as staging:
+    with result_folder(out, "mesh", case=config.name, **source_of(config)) as staging:
         m = from_skfem(_whole_problem(config).mesh)
         _, tri, region, names = plots.triangle_regions(m)
         report.write(staging / "mesh.vtu", m)
@@ -588,14 +620,16 @@ def compute(config: CaseConfig) -> Result:
 
 def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
         out: str | Path | None = None, write: bool = True,
-        overrides: list[str] | dict | None = None) -> Result:
+        overrides: list[str] | dict | None = None, command: str = "run") -> Result:
     """Run the case: validate, closed forms, FE (if asked), write files to ``out``.
 
     ``path_or_dict``: a TOML case file, a dict of the same shape, a CaseConfig, or None for the
     embedded default (Table 1's B1); ``overrides``: "section.key=value" strings or a
     {"section.key": value} dict applied before validation. ``out`` defaults to [output] dir or
     homlimit-out/NAME/ (``output_dir``); the files are one result set (``result_folder``):
-    the folder is checked before any computation and replaced whole at the end.
+    the folder is checked before any computation and replaced whole at the end; a folder
+    holding the set of another source or another command (``command``, recorded in the
+    manifest: "run", or "demo" for the command line's demo) is refused.
     Raises ConfigError/ParameterError for bad input and an unusable output folder (before any
     computation), SolverError when a conic program does not end optimal, ResultError when a
     result is not a finite number, OutputError when the files cannot be written (the previous
@@ -612,7 +646,7 @@ def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
     if not write:
         return compute(config)
     target = output_dir(config, out)
-    with result_folder(target, "run", case=config.name) as staging:
+    with result_folder(target, command, case=config.name, **source_of(config)) as staging:
         result = compute(config)
         result.files = _write(result, staging, target)
     return result

@@ -60,7 +60,8 @@ OUTPUT_NAMES = ("summary.json", "vg_lambda.png", "mesh.png", "mechanism.png", "s
                 "crack_study.png", "spectra.csv", "spectra.png", "mesh.json", "blocks.vtu",
                 "blocks_contacts.vtu", "blocks_contacts.csv", "blocks_mechanism.png",
                 "blocks_whole.png", "blocks_scan.csv", "table1_blocks.csv",
-                "table1_blocks_ratios.json")
+                "table1_blocks_ratios.json", "sweep.json", "results.parquet", "results.csv",
+                "vnorm_swept.png", "critical_map.png", "tanpsi.png", "vg_histogram.png")
 
 
 def csv_header(key: str) -> str:

@@ -39,7 +39,7 @@ from sys import intern
 
 import numpy as np
 
-from .._io import atomic_path, check_output_folder, write_text
+from .._io import atomic_path, write_text
 from ..errors import ParameterError
 from .config import (
     SCHEMA,
@@ -432,13 +432,27 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
     engine starts and each chunk's batch runs while the next is planned; otherwise (a resumed
     or an invalid sweep) every case is planned before anything starts.
     """
-    from .pipeline import folder_name, package_version
+    from .pipeline import folder_name, result_folder, source_of
 
     t0 = time.perf_counter()
     data, source, grid_d, rows_in = _sweep_inputs(base, grid, table)
     name = str(data.get("name") or "sweep")
     folder = Path(out) if out else Path("homlimit-out") / folder_name(name) / "sweep"
-    check_output_folder(folder, SWEEP_NAMES)   # a new folder or a sweep's, before any work
+    # one result set: sweep.json and the table staged, replacing the previous sweep's together
+    # at the end (records/ and report/, nested sets, are kept); checked before any work
+    with result_folder(folder, "sweep", **source_of(base), base_name=name) as staging:
+        return _sweep_into(staging, folder, t0, data, source, grid_d, rows_in, table,
+                           workers=workers, scheduler=scheduler, resume=resume,
+                           retry_failed=retry_failed, progress=progress, engine=engine)
+
+
+def _sweep_into(staging: Path, folder: Path, t0: float, data: dict, source: str, grid_d: dict,
+                rows_in: list[dict], table, *, workers, scheduler, resume, retry_failed,
+                progress, engine) -> SweepResult:
+    """The body of ``sweep``: records in ``folder``/records/, sweep.json and the table written
+    into ``staging`` (the result set that replaces ``folder``)."""
+    from .pipeline import package_version
+
     store = RecordStore(folder / "records")
     if not resume:
         store.clear()
@@ -462,7 +476,7 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
         swept = list(dict.fromkeys(
             [f"inputs.{k}" if "." in k else "case" for k in grid_d]
             + [f"inputs.{k}" if "." in k else "case" for c in cases for k in c.overrides]))
-        write_text(folder / "sweep.json", json_text({
+        write_text(staging / "sweep.json", json_text({
             "homlimit_version": package_version(), "base": source, "base_case": data,
             "grid": grid_d, "table": None if table is None or isinstance(table, list)
             else str(table), "swept": swept, "n_cases": len(cases),
@@ -503,7 +517,7 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
         log.info("resumed: %d distinct cases were already recorded in %s", n_resumed,
                  store.folder)
     rows = _rows(cases, records, flat)
-    files = write_table(folder, rows, swept)
+    files = {k: folder / p.name for k, p in write_table(staging, rows, swept).items()}
     files.update({"sweep_json": folder / "sweep.json", "records": store.folder})
     n_failed = sum(1 for r in rows if r["status"] != "ok")
     return SweepResult(folder, rows, swept, len(rows) - n_failed, n_failed, n_resumed,

@@ -15,6 +15,7 @@ Only cases with status "ok" are drawn. Every picture is written atomically.
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -70,7 +71,8 @@ def report(results: str | Path, out: str | Path | None = None) -> dict[str, Path
     out = Path(out) if out else folder / "report"
     from .pipeline import result_folder
 
-    with result_folder(out, "sweep report", results=str(results)) as staging:
+    with result_folder(out, "sweep report", results=str(results),
+                       source=os.path.abspath(folder)) as staging:
         files = _draw(rows, ok, swept, staging)
     return {k: out / p.name for k, p in files.items()}
 
