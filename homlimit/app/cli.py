@@ -33,6 +33,7 @@ from typing import Annotated
 
 import typer
 
+from .._version import package_version
 from ..errors import (
     HomlimitError,
     MeshError,
@@ -101,8 +102,6 @@ def _logging(verbose: bool = False, quiet: bool = False, as_json: bool = False):
 
 def _version(value: bool):
     if value:
-        from .pipeline import package_version
-
         print(f"homlimit {package_version()}")
         raise typer.Exit()
 
