@@ -20,9 +20,9 @@ import pytest
 import homlimit
 
 ROOT = Path(__file__).resolve().parents[1]
-# the heavy required packages (and the command line's) that `import homlimit` must not load
+# the required packages (and the command line's) that `import homlimit` must not load
 HEAVY = ["cvxpy", "clarabel", "scipy", "skfem", "gmsh", "meshio", "dask", "distributed",
-         "matplotlib", "pyarrow", "h5py"]
+         "matplotlib", "pyarrow", "h5py", "numpy"]
 CLI = ["typer", "click", "rich"]
 SHOW = "import json, sys; print(json.dumps(sorted(m for m in {mods!r} if m in sys.modules)))"
 
@@ -40,7 +40,7 @@ def test_import_loads_no_heavy_package():
 
 def test_version_answers_before_typer():
     """`python -m homlimit --version` (and the console script, the same `__main__.main`)
-    prints the version without loading typer, rich or any computing package."""
+    prints the version without loading typer, rich, numpy or any computing package."""
     code = ("import runpy, sys; sys.argv = ['homlimit', '--version']; "
             "runpy.run_module('homlimit', run_name='__main__'); " + SHOW.format(mods=HEAVY + CLI))
     out = _python("-c", code)
@@ -50,8 +50,9 @@ def test_version_answers_before_typer():
 
 def test_lazy_names():
     from homlimit.app.pipeline import run
+    from homlimit.closed_form.mechanisms import mechanism_I
 
-    assert homlimit.run is run
+    assert homlimit.run is run and homlimit.mechanism_I is mechanism_I
     assert homlimit.__version__ == importlib.metadata.version("homlimit")
     assert {"run", "__version__", "Case"} <= set(dir(homlimit))
     with pytest.raises(AttributeError, match="no attribute 'nope'"):
