@@ -41,11 +41,16 @@ def test_import_loads_no_heavy_package():
 def test_version_answers_before_typer():
     """`python -m homlimit --version` (and the console script, the same `__main__.main`)
     prints the version without loading typer, rich, numpy or any computing package."""
+    version = f"homlimit {importlib.metadata.version('homlimit')}"
     code = ("import runpy, sys; sys.argv = ['homlimit', '--version']; "
             "runpy.run_module('homlimit', run_name='__main__'); " + SHOW.format(mods=HEAVY + CLI))
     out = _python("-c", code)
-    assert out[0] == f"homlimit {importlib.metadata.version('homlimit')}"
-    assert json.loads(out[-1]) == []
+    assert out == [version, "[]"]
+    # the console script imports main, then calls it: the import itself runs nothing
+    code = ("import sys; sys.argv = ['homlimit', '--version']; "
+            "from homlimit.__main__ import main; print('imported'); main(); "
+            + SHOW.format(mods=HEAVY + CLI))
+    assert _python("-c", code) == ["imported", version, "[]"]
 
 
 def test_lazy_names():
