@@ -9,14 +9,24 @@ energy-based impulse criterion that turns any mechanism into a collapse ground v
 ...                      homlimit.Masonry(a=0.3, c=0.2, f=0.6))
 >>> round(homlimit.mechanism_I(case).vg, 3), round(homlimit.mechanism_II(case).vg, 3)
 (0.819, 1.094)
+
+Start-up: this is the one place where the dependencies are deferred. ``import homlimit`` loads
+the parameters and the errors (pure Python); the closed forms (numpy), ``run`` (cvxpy, Clarabel,
+scikit-fem, gmsh, meshio, scipy, matplotlib, dask and pyarrow, through ``app.pipeline``) and
+``__version__`` are imported on first use by the module ``__getattr__`` below (PEP 562). The
+command line defers the same way: ``homlimit --version`` answers in ``__main__`` before typer is
+imported, and each command of ``app.cli`` imports the pipeline when it runs. Every other module
+imports at its top.
 """
 
-from .app.pipeline import package_version, run
-from .closed_form.mechanisms import mechanism_I, mechanism_II
+from typing import TYPE_CHECKING
+
 from .errors import HomlimitError, MeshError, ParameterError, SolverError
 from .params import Case, Masonry, Wall
 
-__version__ = package_version()
+if TYPE_CHECKING:  # the deferred names, for type checkers and editors
+    from .app.pipeline import run
+    from .closed_form.mechanisms import mechanism_I, mechanism_II
 
 __all__ = [
     "__version__",
@@ -31,3 +41,25 @@ __all__ = [
     "mechanism_II",
     "run",
 ]
+
+
+def __getattr__(name: str):
+    """The deferred names, imported on first use (PEP 562)."""
+    if name == "__version__":
+        from ._version import package_version
+
+        value = package_version()
+    elif name == "run":
+        from .app.pipeline import run as value
+    elif name in ("mechanism_I", "mechanism_II"):
+        from .closed_form import mechanisms
+
+        value = getattr(mechanisms, name)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value  # later look-ups skip __getattr__
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

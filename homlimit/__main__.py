@@ -1,5 +1,24 @@
-"""``python -m homlimit ...`` ≡ the ``homlimit`` console script."""
+"""The ``homlimit`` console script and ``python -m homlimit ...``.
 
-from .app.cli import main
+``homlimit --version`` is answered here, before typer, rich and the computing packages are
+imported (``import homlimit`` is light, see its docstring); everything else goes to the typer
+application in ``app.cli``.
+"""
 
-main()
+import sys
+
+
+def main():
+    """Console-script entry point (``homlimit``, ``python -m homlimit``)."""
+    if sys.argv[1:] == ["--version"]:
+        from ._version import package_version
+
+        print(f"homlimit {package_version()}")
+        return
+    from .app.cli import main as cli_main
+
+    cli_main()
+
+
+if __name__ == "__main__":
+    main()

@@ -35,6 +35,7 @@ from typing import Annotated
 
 import typer
 
+from .._version import package_version
 from ..errors import (
     HomlimitError,
     MeshError,
@@ -51,7 +52,11 @@ __all__ = ["app", "main"]
 EXIT_BAD_INPUT = 2
 EXIT_SOLVER = 3
 
+# plain help (click's formatter), as wide as the terminal up to 120 columns: typer's Rich
+# markup would eat bracketed words such as the case file's "[pulse]" and "[m]", and its Rich
+# panels show a "<bool>" value after each flag
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  rich_markup_mode=None, context_settings={"max_content_width": 120},
                   help="Out-of-plane collapse of masonry façades bonded to transversal walls: "
                        "closed-form mechanisms, homogenised FE limit analysis, impulse "
                        "criterion.")
@@ -65,7 +70,7 @@ def _out(default: str):
     return Annotated[Path | None, typer.Option(
         "--out", "-o", show_default=False,
         help=f"Output folder: the new result set replaces the one there, if it is this "
-             f"command's on this case \\[default: {default}].")]
+             f"command's on this case [default: {default}].")]
 
 
 _NAME = ("NAME the case name, with a hash of its inputs when --set changed them")
@@ -107,8 +112,6 @@ def _logging(verbose: bool = False, quiet: bool = False, as_json: bool = False):
 
 def _version(value: bool):
     if value:
-        from .pipeline import package_version
-
         print(f"homlimit {package_version()}")
         raise typer.Exit()
 
@@ -200,8 +203,10 @@ def _guarded(fn):
 
 @contextmanager
 def _stdout_quiet(enabled: bool):
-    """Under --json, send everything written to stdout (Python or native libraries: gmsh,
-    Clarabel) to stderr, so that stdout carries the JSON document only. Yields the real stdout."""
+    """Under --json or -v, send everything written to stdout during the computation to stderr
+    (Python or native libraries: gmsh, and Clarabel's log, which its Rust core prints to file
+    descriptor 1), so that stdout carries the JSON document or the result table only. Yields
+    the real stdout."""
     real = sys.stdout
     if not enabled:
         yield real
@@ -220,6 +225,7 @@ def _stdout_quiet(enabled: bool):
         yield real
     finally:
         sys.stdout.flush()
+        real.flush()  # what a library wrote to the real stream meanwhile goes to stderr too
         sys.stdout = real
         if saved_fd is not None:
             os.dup2(saved_fd, fd)
@@ -251,7 +257,7 @@ def _run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
     from .pipeline import run
 
     _logging(verbose, quiet, as_json)
-    with _stdout_quiet(as_json) as stdout:
+    with _stdout_quiet(as_json or verbose) as stdout:
         result = run(case, out=out, write=True, overrides=overrides, command=command)
     if as_json:
         _emit_json(stdout, result.to_dict())
@@ -287,7 +293,7 @@ def table1(as_json: JsonOpt = False, out: _out(
            fe: Annotated[bool, typer.Option("--fe", help="Add the finite-element body's "
                                             "columns (slow: one scan over h per wall).")]
            = False,
-           mesh_size: Annotated[float, typer.Option(help="FE mesh size \\[m] (with --fe).")]
+           mesh_size: Annotated[float, typer.Option(help="FE mesh size [m] (with --fe).")]
            = 0.25,
            heights: Annotated[int, typer.Option(help="Starting heights of the FE scan, from "
                                                 "one course to H, refined around its "
@@ -296,7 +302,7 @@ def table1(as_json: JsonOpt = False, out: _out(
                                                "or homogenised (with --fe).")] = "bedjoints",
            test: Annotated[list[str] | None, typer.Option(
                "--test", "-t", show_default=False,
-               help="Only this Table 1 test, e.g. B1 (repeatable) \\[default: all 12].")]
+               help="Only this Table 1 test, e.g. B1 (repeatable) [default: all 12].")]
            = None,
            max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES,
            mesher: MesherOpt = MESHER_DEFAULT,
@@ -318,7 +324,8 @@ def table1(as_json: JsonOpt = False, out: _out(
                  source="embedded:table1" + (f":{','.join(tests)}" if tests else ""))
     _logging(verbose, quiet, as_json)
     if blocks:
-        with _stdout_quiet(as_json) as stdout, result_folder(out, **owner) as staging:
+        with _stdout_quiet(as_json or verbose) as stdout, \
+                result_folder(out, **owner) as staging:
             rows, ratios = table1_blocks_records(test, facade=blocks_facade)
             report.write(staging / "table1_blocks.csv", rows)
             report.write(staging / "table1_blocks_ratios.json", ratios)
@@ -332,7 +339,8 @@ def table1(as_json: JsonOpt = False, out: _out(
         return
     kw = dict(fe=fe, mesh_size=mesh_size, heights=heights, tests=test, facade=facade,
               max_triangles=max_triangles, mesher=mesher)
-    with _stdout_quiet(as_json) as stdout, result_folder(out, **owner) as staging:
+    with _stdout_quiet(as_json or verbose) as stdout, \
+            result_folder(out, **owner) as staging:
         if fe:  # validated before any work, then every height of every wall a Dask task
             table1_records(**kw, fe_results=lambda *args: [])
             with _engine(workers, scheduler, not (quiet or as_json)) as engine:
@@ -385,22 +393,22 @@ def figure2(as_json: JsonOpt = False, out: _out("homlimit-out/figure2/") = None)
 @_guarded
 def crack_study(as_json: JsonOpt = False, out: _out("homlimit-out/crack-study/") = None,
                 verbose: VerboseOpt = False, quiet: QuietOpt = False,
-                mesh_size: Annotated[float, typer.Option(help="FE mesh size \\[m].")] = 0.5,
-                finer: Annotated[float, typer.Option(help="A second, finer mesh size \\[m] "
+                mesh_size: Annotated[float, typer.Option(help="FE mesh size [m].")] = 0.5,
+                finer: Annotated[float, typer.Option(help="A second, finer mesh size [m] "
                                                      "(0: none).")] = 0.25,
                 quick: Annotated[bool, typer.Option(help="A small grid (c/a 0.5, 1, 3; f 0.3, "
                                                     "0.9), one mesh.")] = False,
                 c_over_a: Annotated[list[float] | None, typer.Option(
                     "--c-over-a", show_default=False,
-                    help="Block proportion c/a \\[-] (repeat for several) \\[default: 0.5, "
+                    help="Block proportion c/a [-] (repeat for several) [default: 0.5, "
                          "0.75, 1, 1.5, 2, 3].")] = None,
                 friction: Annotated[list[float] | None, typer.Option(
                     "--friction", show_default=False,
-                    help="Joint friction f \\[-] (repeat for several) \\[default: 0.3, 0.6, "
+                    help="Joint friction f [-] (repeat for several) [default: 0.3, 0.6, "
                          "0.9].")] = None,
                 facade: Annotated[list[str] | None, typer.Option(
                     show_default=False, help="Façade model: homogenised or bedjoints (repeat "
-                                             "for both) \\[default: both].")] = None,
+                                             "for both) [default: both].")] = None,
                 max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES,
                 mesher: MesherOpt = MESHER_DEFAULT,
                 workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
@@ -418,7 +426,7 @@ def crack_study(as_json: JsonOpt = False, out: _out("homlimit-out/crack-study/")
                 frictions=friction, facades=facade, max_triangles=max_triangles,
                 mesher=mesher)
     store = RecordStore(out / "records")   # a nested set: kept when the set is replaced
-    with _stdout_quiet(as_json) as stdout, _interruptible(store.folder), \
+    with _stdout_quiet(as_json or verbose) as stdout, _interruptible(store.folder), \
             result_folder(out, "crack-study") as staging:
         crack_study_records(**grid, map=lambda fn, points: [])   # validate before any work
         if not resume:
@@ -450,7 +458,7 @@ def pulse(case: CaseArg = None, as_json: JsonOpt = False,
     from .pipeline import announce, output_dir, pulse_records, result_folder, source_of
 
     _logging(verbose, quiet, as_json)
-    with _stdout_quiet(as_json) as stdout:
+    with _stdout_quiet(as_json or verbose) as stdout:
         config = load_case(case, overrides)
         announce(config)
         out = out or output_dir(config) / "pulse"
@@ -494,7 +502,7 @@ def mesh(case: CaseArg = None, as_json: JsonOpt = False,
 
 # ----------------------------------------------------------------------------- sweeps (Dask)
 WorkersOpt = Annotated[int | None, typer.Option(
-    "--workers", "-w", help="Embedded Dask worker processes, one thread each \\[default: one "
+    "--workers", "-w", help="Embedded Dask worker processes, one thread each [default: one "
                             "per core].")]
 SchedulerOpt = Annotated[str | None, typer.Option(
     "--scheduler", help="Address of a running Dask scheduler (e.g. tcp://127.0.0.1:8786) to "
@@ -542,7 +550,7 @@ def sweep_run(
         base: CaseArg = None, as_json: JsonOpt = False, verbose: VerboseOpt = False,
         quiet: QuietOpt = False,
         out: Annotated[Path | None, typer.Option("--out", "-o", help="Sweep folder "
-                                                 "\\[default: homlimit-out/NAME/sweep/].")] = None,
+                                                 "[default: homlimit-out/NAME/sweep/].")] = None,
         grid: Annotated[list[str] | None, typer.Option(
             "--grid", "-g", help="A swept key and its values, e.g. --grid wall.l=3,6,9 "
                                  "(repeatable: every combination).")] = None,
@@ -599,7 +607,7 @@ def sweep_report_cmd(
         results: Annotated[Path, typer.Argument(help="A sweep folder, or its results.parquet "
                                                      "/ results.csv.")],
         out: Annotated[Path | None, typer.Option("--out", "-o", help="Folder of the "
-                                                 "plots \\[default: RESULTS/report/].")] = None,
+                                                 "plots [default: RESULTS/report/].")] = None,
         as_json: JsonOpt = False):
     """Draw a sweep's standard plots: vg/sqrt(gb) against each swept key, the critical
     mechanism map, measured against predicted tan psi, the histogram of vg."""
