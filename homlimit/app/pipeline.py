@@ -24,7 +24,6 @@ commands' work is here too: ``table1_records``, ``crack_study_records``, ``mesh_
 from __future__ import annotations
 
 import dataclasses
-import functools
 import hashlib
 import logging
 import math
@@ -32,13 +31,13 @@ import time
 import unicodedata
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .. import _io
+from .._io import package_version  # the version every output carries
 from ..closed_form import mechanisms as mech
 from ..closed_form.paper import DemResult, dem_row, table1, table1_rows
 from ..errors import ParameterError, ResultError, check_choice, check_range
@@ -52,15 +51,6 @@ __all__ = ["Result", "crack_study_records", "figure2_curves", "folder_name", "me
            "table1_blocks_records", "table1_records"]
 
 log = logging.getLogger(__name__)
-
-
-@functools.cache  # importlib.metadata reads the install's files: ~5 ms a call
-def package_version() -> str:
-    """The installed package's version (``importlib.metadata``)."""
-    try:
-        return version("homlimit")
-    except PackageNotFoundError:  # running from a source tree that was never installed
-        return "0+unknown"
 
 
 @contextmanager

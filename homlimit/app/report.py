@@ -5,10 +5,14 @@ one writer per file format.
 records, a meshio mesh (.vtu, .xdmf, .msh) or a picture (a function that draws to a path).
 Every writer is whole-or-nothing (``homlimit._io``).
 
-Units: ``UNITS`` gives every quantity a result file carries its SI unit, once. CSV headers carry
-it as ``name [unit]`` (``vg [m/s]``, ``lam [-]``; text columns plain, ``mechanism``), the way the
-terminal tables do; ``read_csv`` reads such a file back into plain keys and numbers; the JSON
-summary gets a ``units`` table (``units_table``).
+Units: ``UNITS`` gives every quantity a result file carries its SI unit, once. JSON and CSV
+go through the one writer ``_io.write_output``: every JSON file starts with ``schema_version``
+and ``homlimit_version`` and ends with a ``units`` map (summary.json's by section,
+``units_table``; other files by key, ``units_of``); CSV headers carry the unit as
+``name [unit]`` (``vg [m/s]``, ``lam [-]``; text columns plain, ``mechanism``), the way the
+terminal tables do, and the sidecar ``NAME.csv.json`` gives the schema version and the units
+by header; floats are written to 15 significant digits. ``read_csv`` reads such a CSV back into
+plain keys and numbers.
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._io import write_csv, write_json
+from .._io import write_output
 from ..errors import ParameterError
 from ..fe import mesh as fe_mesh
 
@@ -43,7 +47,7 @@ _TEXT = ("name test mechanism mechanism_fe critical_mechanism vg_method facade p
 #: the SI unit of every quantity in a result file ("-": dimensionless, "": text or a flag)
 UNITS: dict[str, str] = {
     **dict.fromkeys(_DIMENSIONLESS, "-"), **dict.fromkeys(_TEXT, ""),
-    **dict.fromkeys("h h_part h_v h_min mesh_size hinge hinge_z fan_z0 wedge_z0 x_G z_G"
+    **dict.fromkeys("b h h_part h_v h_min mesh_size hinge hinge_z fan_z0 wedge_z0 x_G z_G"
                     .split(), "m"),
     **dict.fromkeys("vg vg_fe vg_eq7 vg_body pgv".split(), "m/s"),
     **dict.fromkeys("pga a_uplift".split(), "m/s^2"),
@@ -61,6 +65,7 @@ OUTPUT_NAMES = ("summary.json", "vg_lambda.png", "mesh.png", "mechanism.png", "s
                 "blocks_contacts.vtu", "blocks_contacts.csv", "blocks_mechanism.png",
                 "blocks_whole.png", "blocks_scan.csv", "table1_blocks.csv",
                 "table1_blocks_ratios.json")
+OUTPUT_NAMES += tuple(n + ".json" for n in OUTPUT_NAMES if n.endswith(".csv"))  # sidecars
 
 
 def csv_header(key: str) -> str:
@@ -88,8 +93,16 @@ def _write_csv(path: Path, records: Iterable[Mapping], columns: list[str] | None
         columns = list(dict.fromkeys(k for r in records for k in r))
     _unknown_units(columns)
     head = {k: csv_header(k) if k in UNITS else f"{k} [?]" for k in columns}
-    return write_csv(path, [{head[k]: v for k, v in r.items()} for r in records],
-                     [head[k] for k in columns])
+    return write_output(path, [{head[k]: v for k, v in r.items()} for r in records],
+                        units={head[k]: UNITS.get(k) for k in columns},
+                        columns=[head[k] for k in columns])
+
+
+def _write_json(path: Path, data) -> Path:
+    """JSON data with its units: the ``units`` table ``data`` carries (summary.json's, by
+    section), else the unit of every key it holds (``units_of``)."""
+    units = data["units"] if isinstance(data, Mapping) and "units" in data else units_of(data)
+    return write_output(path, data, units=units)
 
 
 _UNIT_SUFFIX = re.compile(r"^(.*?) \[[^\]]*\]$")
@@ -123,7 +136,7 @@ def column_unit(path: str) -> str | None:
     if parts[0] == "timings_s":
         return "s"
     if parts[0] == "inputs" and len(parts) >= 2:
-        units = _input_units()
+        units = input_units()
         u = units.get(parts[1])
         return u.get(parts[2]) if isinstance(u, dict) and len(parts) > 2 else \
             (u if isinstance(u, str) else None)
@@ -132,7 +145,7 @@ def column_unit(path: str) -> str | None:
 
 
 @functools.cache
-def _input_units() -> dict:
+def input_units() -> dict:
     """The unit of every case-file key, by section (the schema's, fixed)."""
     from .config import SCHEMA, TOP_LEVEL
 
@@ -145,10 +158,9 @@ def _input_units() -> dict:
     return inputs
 
 
-def units_table(summary: Mapping) -> dict:
-    """The ``units`` table of summary.json: the unit of every case-file key (by section) and of
-    every result quantity the summary holds (by name; "-" dimensionless, "" text)."""
-    inputs = {sec: dict(u) if isinstance(u, dict) else u for sec, u in _input_units().items()}
+def _leaf_keys(x) -> set[str]:
+    """The keys of the values of nested mappings and lists of mappings that are not
+    themselves mappings or lists of mappings (the quantities a JSON result holds)."""
     found: set[str] = set()
 
     def mapping(v):
@@ -168,15 +180,32 @@ def units_table(summary: Mapping) -> dict:
             for v in x:
                 walk(v)
 
+    walk(x)
+    return found
+
+
+def units_of(data) -> dict:
+    """The unit of every quantity (leaf key) of JSON data, by name (``UNITS``; None and a
+    logged warning where none is registered)."""
+    found = _leaf_keys(data)
+    _unknown_units(found)
+    return {k: UNITS.get(k) for k in sorted(found)}
+
+
+def units_table(summary: Mapping) -> dict:
+    """The ``units`` table of summary.json: the unit of every case-file key (by section) and of
+    every result quantity the summary holds (by name; "-" dimensionless, "" text)."""
+    inputs = {sec: dict(u) if isinstance(u, dict) else u for sec, u in input_units().items()}
+    found: set[str] = set()
     for k in ("derived", "mechanisms", "hinges", "fe", "critical", "dem_table1"):
-        walk(summary.get(k))
+        found |= _leaf_keys(summary.get(k))
     _unknown_units(found)
     return {"inputs": inputs, "results": {k: UNITS.get(k) for k in sorted(found)},
             "timings_s": "s"}
 
 
 WRITERS: dict[str, Callable] = {
-    ".json": write_json, ".csv": _write_csv, ".png": lambda path, draw: draw(path),
+    ".json": _write_json, ".csv": _write_csv, ".png": lambda path, draw: draw(path),
     **dict.fromkeys((".vtu", ".xdmf", ".msh"), lambda path, mesh: fe_mesh.write(mesh, path))}
 
 
