@@ -510,8 +510,9 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     assert [float(r["h_part [m]"]) for r in scan] == [r["h_part"] for r in fe["scan"]]
     mech = meshio.read(files["mechanism_vtu"])
     assert mech.point_data["velocity"].shape == (len(mech.points), 3)
-    for key in ("dissipation", "intensity", "region", "participation", "label", "crack"):
+    for key in ("intensity", "region", "participation", "label", "crack", "stress"):
         assert key in mech.cell_data, key
+    assert "dissipation" not in mech.cell_data      # zero in theory: a note says so instead
     tri = next(c.data for c in mech.cells if c.type == "triangle")
     assert len(tri) == fe["n_triangles"]
     # the lower-bound stress field rides along: eq. 15 holds on every triangle (mean stress)

@@ -221,7 +221,7 @@ def _stdout_quiet(enabled: bool):
 
 
 def _emit_json(stream, data):
-    from .._io import rounded   # floats to 15 digits, as in the files (_io.write_output)
+    from .._io import rounded  # floats to 15 digits, as in the files (_io.write_output)
 
     stream.write(json.dumps(rounded(data), indent=2, ensure_ascii=False) + "\n")
     stream.flush()
