@@ -14,6 +14,27 @@ TINY = {"name": "tiny", "wall": {"H": 9.0, "L": 6.0, "s": 0.5, "b": 0.5, "l": 6.
         "mesh": {"size": 1.0, "part_divisions": 4},
         "analysis": {"heights": 2, "facade": "homogenised", "hinge_check": False},
         "output": {"png": False}}
+TINY_TOML = """name = "tiny"
+[wall]
+H = 9.0
+L = 6.0
+s = 0.5
+b = 0.5
+l = 6.0
+[masonry]
+a = 0.3
+c = 0.2
+f = 0.6
+[mesh]
+size = 1.0
+part_divisions = 4
+[output]
+png = false
+[analysis]
+heights = 2
+facade = "homogenised"
+hinge_check = false
+"""
 
 
 @pytest.fixture
@@ -106,3 +127,41 @@ def test_interface_dissipation_is_written_where_it_is_not_zero():
     out = report._interface_cells(m, dry, sol, scale, notes)
     assert "interface_dissipation" not in out.cell_data
     assert notes["interface_dissipation"].startswith("not written")
+
+
+def test_pulse_reads_the_fe_result_run_cached_and_never_trusts_a_corrupt_entry(tmp_path,
+                                                                                cache):
+    """`run` leaves the FE path's critical mechanism in the cache; `pulse` reads it from
+    there, with the numbers the FE path gives when computed again; a tampered entry (its
+    checksum fails) is not trusted, a corrupt one is computed again and rewritten; the CLI
+    says where the FE result came from."""
+    from typer.testing import CliRunner
+
+    import homlimit
+    from homlimit.app.cli import app
+    from homlimit.app.config import load_case
+    from homlimit.app.pipeline import fe_cache_path, pulse_records, read_fe_cache
+
+    toml = tmp_path / "tiny.toml"
+    toml.write_text(TINY_TOML + "static = false\n[pulse]\nmechanisms = ['FE']\n"
+                    "kinds = ['rectangular']\nperiods = [0.5]\npolarities = [1]\n")
+    cfg = load_case(toml)
+    path = fe_cache_path(cfg)
+    assert path.parent == cache and not path.exists()
+    homlimit.run(cfg, out=tmp_path / "o")
+    assert path.is_file()
+    pts, fe = pulse_records(cfg)                       # read: no FE solve
+    assert fe.from_cache and fe.cache == path
+    entry = json.loads(path.read_text())               # tampered: a valid JSON, a new number
+    entry["impulse"]["M"] *= 1.01
+    path.write_text(json.dumps(entry))
+    assert read_fe_cache(cfg) is None                  # never trusted
+    path.write_bytes(b"\x00garbage{")                  # corrupt: computed again, rewritten
+    again, fresh = pulse_records(cfg)
+    assert not fresh.from_cache and fresh.cache == path
+    assert fresh.impulse == fe.impulse and (fresh.h, fresh.vg) == (fe.h, fe.vg)
+    assert [p.as_dict() for p in again] == [p.as_dict() for p in pts]   # identical numbers
+    assert read_fe_cache(cfg) == dataclasses.replace(fresh, from_cache=True)
+    res = CliRunner().invoke(app, ["pulse", str(toml), "--out", str(tmp_path / "p")])
+    assert res.exit_code == 0, res.output
+    assert f"FE result read from cache {path}" in res.stdout
