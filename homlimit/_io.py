@@ -191,6 +191,30 @@ def rounded(obj):
     return walk(obj)
 
 
+def round_array(a) -> np.ndarray:
+    """``_round`` of every element of a float array, the same doubles, 20x faster: with
+    k = DIGITS − 1 − ⌊log10|x|⌋ in 0..22 (10^k exact), n = round(x·10^k) is the significand
+    and n / 10^k the nearest double to it, as ``float(f"{x:.15g}")`` gives, unless x·10^k
+    (exact to 0.07) lies within 0.1 of a half, or n does not have DIGITS digits: those
+    values (and the tiny, huge and non-finite ones) are rounded one by one."""
+    a = np.asarray(a, float)
+    out = a.copy()
+    idx = np.flatnonzero(np.isfinite(a) & (a != 0))
+    x = a[idx]
+    with np.errstate(all="ignore"):
+        k = (DIGITS - 1) - np.floor(np.log10(np.abs(x)))
+        ok = (k >= 0) & (k <= 22)
+        scale = 10.0 ** np.where(ok, k, 0)
+        y = x * scale
+        n = np.round(y)
+        ok &= np.abs(np.abs(y - np.trunc(y)) - 0.5) > 0.1
+        ok &= (np.abs(n) >= 10.0 ** (DIGITS - 1)) & (np.abs(n) < 10.0 ** DIGITS)
+        r = n / scale
+    r[~ok] = [_round(v) for v in x[~ok].tolist()]
+    out[idx] = r
+    return out
+
+
 def _rounded_table(table):
     """A pyarrow Table with its floating-point columns rounded as ``rounded`` (nulls kept)."""
     import pyarrow as pa
@@ -198,8 +222,9 @@ def _rounded_table(table):
     cols = []
     for col in table.columns:
         if pa.types.is_floating(col.type):
-            col = pa.array([None if v is None else _round(v) for v in col.to_pylist()],
-                           type=col.type)
+            values = col.to_numpy(zero_copy_only=False)      # nulls: NaN, masked again
+            col = pa.array(round_array(values), type=col.type, mask=col.is_null().to_numpy(
+                zero_copy_only=False))
         cols.append(col)
     return pa.Table.from_arrays(cols, schema=table.schema)
 

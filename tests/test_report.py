@@ -226,3 +226,16 @@ def test_crack_study_picture(tmp_path):
             for fac in ("homogenised", "bed-joints")]
     p = plots.plot_crack_study(tmp_path / "study.png", recs)
     assert_png(p, (7 * plots.DPI, 6 * plots.DPI))
+
+
+def test_vectorised_rounding_gives_the_doubles_of_the_15_digit_format():
+    """``_io.round_array`` (the sweep's CSV columns) equals float(f"{x:.15g}") one by one, on
+    every magnitude, halves near the 15th digit, signed zeros, subnormals and non-finite."""
+    rng = np.random.default_rng(7)
+    x = rng.random(20000) * 10.0 ** rng.integers(-320, 308, 20000)
+    x = np.r_[x, -x[:5000], 0.1 * 6, 1 / 3, 123456789012345.5, 999999999999999.5, 1e15 - 0.4,
+              0.0, -0.0, 5e-324, 1.7e308, math.nan, math.inf, -math.inf]
+    exact = [float(f"{v:.15g}") if math.isfinite(v) else v for v in x.tolist()]
+    got = _io.round_array(x)
+    assert all(a == b or (math.isnan(a) and math.isnan(b)) for a, b in zip(got.tolist(), exact))
+    assert np.array_equal(np.signbit(got), np.signbit(np.array(exact)))
