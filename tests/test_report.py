@@ -37,7 +37,8 @@ def test_json_round_trip_with_numpy_and_non_finite(tmp_path):
                     "flag": True, "nested": [{"x": [1, 2]}]}
     assert head["schema_version"] == _io.SCHEMA_VERSION == 1
     assert head["homlimit_version"] == _io.package_version()
-    assert head["units"] == dict.fromkeys(["a", "bad", "flag", "n", "nan", "v", "x"])  # none
+    assert head["units"] == {**dict.fromkeys(["a", "bad", "flag", "n", "nan", "v"]),  # none
+                             "x": "m"}
 
 
 def test_every_output_carries_units_schema_and_15_digits(tmp_path):

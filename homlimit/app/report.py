@@ -56,6 +56,18 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("psi_fe_deg psi_alpha_deg psi_f_deg psi_c_over_a_deg".split(), "deg"),
     "W_m": "J", "m": "kg", "I_O": "kg m^2", "omega": "1/s", "p": "rad/s", "period": "s",
     "solve_time": "s", "duration": "s",
+    # the rigid-block model's files (blocks_scan.csv, blocks_contacts.csv, table1_blocks.csv)
+    **dict.fromkeys("z0 z_base x_O z_O h_dem h_whole z0_crit h_blocks h_na x z".split(), "m"),
+    **dict.fromkeys("n_moving n_open n_sliding n_body blocks vnorm_rigid W_rest_share "
+                    "W_friction_share M_rest_share multiplier_whole vnorm_whole "
+                    "multiplier_crit lam_blocks vnorm_blocks vnorm_blocks_rigid "
+                    "ratio_blocks_dem multiplier_na vnorm_na na_band W_friction_share_na "
+                    "n_x n_z".split(), "-"),
+    **dict.fromkeys("friction method na_converged interface end block_a block_b state"
+                    .split(), ""),
+    "vg_rigid": "m/s", "m_body": "kg", "time": "s",
+    "N": "N", "T": "N",              # contact forces per slab of thickness s (blocks.limit)
+    "opening": "m/s", "slip": "m/s",  # velocity jumps of the normalised mechanism
 }
 #: every file name a homlimit command writes (result sets written before manifests existed
 #: are recognised by these, ``_io.is_result_set``)
