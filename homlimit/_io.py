@@ -31,10 +31,11 @@ from pathlib import Path
 import numpy as np
 import orjson
 
+from ._version import package_version
 from .errors import OutputError
 
-__all__ = ["atomic_path", "to_jsonable", "write_csv", "write_figure", "write_json",
-           "write_text"]
+__all__ = ["SCHEMA_VERSION", "atomic_path", "package_version", "rounded", "to_jsonable",
+           "write_csv", "write_figure", "write_json", "write_output", "write_text"]
 
 
 def _new_file(folder: Path, prefix: str, suffix: str) -> Path:
@@ -148,6 +149,144 @@ def write_figure(path: str | Path, draw: Callable[[Path], None]) -> Path:
     with atomic_path(path) as tmp:
         draw(tmp)
     return Path(path)
+
+
+# ----------------------------------------------------------------------------- result files
+#: the version of the layout of homlimit's result files (JSON keys, CSV columns, the Parquet
+#: metadata), written into every one by ``write_output``; raised when a layout changes in a
+#: way a reader of the previous one would misread
+SCHEMA_VERSION = 1
+#: significant digits of a float in a result file: the 16th and 17th digits of a double are
+#: noise of the arithmetic (alpha2 = 0.6000000000000001), not information
+DIGITS = 15
+
+
+def _round(x: float) -> float:
+    return float(f"{x:.{DIGITS}g}")
+
+
+def rounded(obj):
+    """``to_jsonable(obj)`` with every finite float rounded to ``DIGITS`` significant digits
+    (``float(f"{x:.15g}")``: 0.6000000000000001 becomes 0.6)."""
+    obj = to_jsonable(obj)
+
+    def walk(x):
+        kind = type(x)
+        if kind is float:
+            return _round(x)
+        if kind is dict:
+            return {k: walk(v) for k, v in x.items()}
+        if kind is list:
+            return [walk(v) for v in x]
+        return x
+
+    return walk(obj)
+
+
+def round_array(a) -> np.ndarray:
+    """``_round`` of every element of a float array, the same doubles, 20x faster: with
+    k = DIGITS − 1 − ⌊log10|x|⌋ in 0..22 (10^k exact), n = round(x·10^k) is the significand
+    and n / 10^k the nearest double to it, as ``float(f"{x:.15g}")`` gives, unless x·10^k
+    (exact to 0.07) lies within 0.1 of a half, or n does not have DIGITS digits: those
+    values (and the tiny, huge and non-finite ones) are rounded one by one."""
+    a = np.asarray(a, float)
+    out = a.copy()
+    idx = np.flatnonzero(np.isfinite(a) & (a != 0))
+    x = a[idx]
+    with np.errstate(all="ignore"):
+        k = (DIGITS - 1) - np.floor(np.log10(np.abs(x)))
+        ok = (k >= 0) & (k <= 22)
+        scale = 10.0 ** np.where(ok, k, 0)
+        y = x * scale
+        n = np.round(y)
+        ok &= np.abs(np.abs(y - np.trunc(y)) - 0.5) > 0.1
+        ok &= (np.abs(n) >= 10.0 ** (DIGITS - 1)) & (np.abs(n) < 10.0 ** DIGITS)
+        r = n / scale
+    r[~ok] = [_round(v) for v in x[~ok].tolist()]
+    out[idx] = r
+    return out
+
+
+def _rounded_table(table):
+    """A pyarrow Table with its floating-point columns rounded as ``rounded`` (nulls kept)."""
+    import pyarrow as pa
+
+    cols = []
+    for col in table.columns:
+        if pa.types.is_floating(col.type):
+            values = col.to_numpy(zero_copy_only=False)      # nulls: NaN, masked again
+            col = pa.array(round_array(values), type=col.type, mask=col.is_null().to_numpy(
+                zero_copy_only=False))
+        cols.append(col)
+    return pa.Table.from_arrays(cols, schema=table.schema)
+
+
+def sidecar(path: str | Path) -> Path:
+    """The JSON description of a CSV result file: ``NAME.csv.json`` beside ``NAME.csv``."""
+    path = Path(path)
+    return path.with_name(path.name + ".json")
+
+
+def write_output(path: str | Path, data, *, units: Mapping, version: str | None = None,
+                 schema: int = SCHEMA_VERSION, columns: list[str] | None = None) -> Path:
+    """Write one result file with its units and schema version, atomically: THE writer of
+    homlimit's JSON, CSV and Parquet outputs (``report.write`` calls it with the units of
+    ``report.UNITS``). Floats in text (JSON, CSV) are rounded to ``DIGITS`` significant digits
+    (``rounded``); Parquet keeps its binary doubles exact (the values of the sweep's records).
+
+    - ``.json``: ``data`` (a mapping; a list is kept under ``"rows"``) as indented JSON, led by
+      ``schema_version`` and ``homlimit_version`` and ended by ``units`` (replacing keys of
+      those names in ``data``);
+    - ``.csv``: ``data`` (records: flat mappings, keyed by the column headers; or a pyarrow
+      Table) as CSV with one header row, and beside it ``sidecar(path)`` (``NAME.csv.json``):
+      ``schema_version``, ``homlimit_version``, ``file``, ``columns`` (the headers in order)
+      and ``units`` (header → unit). The CSV itself stays plain, for any CSV reader; written in
+      the same result set, the two are replaced together;
+    - ``.parquet``: ``data`` (a pyarrow Table), with ``units`` (JSON), ``schema_version`` and
+      ``homlimit_version`` in the schema metadata.
+
+    ``units``: the unit of each quantity ("-": dimensionless, "": text or a flag, None: none
+    registered), by key (JSON, Parquet) or header (CSV); ``version``: the package's version
+    (default ``package_version()``); ``columns``: the CSV columns in order (default: the
+    records' keys in first-seen order).
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    head = {"schema_version": int(schema),
+            "homlimit_version": package_version() if version is None else version}
+    units = to_jsonable(dict(units))
+    if suffix == ".json":
+        body = rounded(data if isinstance(data, Mapping) else {"rows": data})
+        body = {**head, **{k: v for k, v in body.items() if k not in (*head, "units")},
+                "units": units}
+        return write_text(path, json.dumps(body, indent=2, ensure_ascii=False) + "\n")
+    if suffix == ".parquet":
+        import pyarrow.parquet as pq
+
+        meta = dict(data.schema.metadata or {})
+        meta.update({b"units": json_bytes(units), b"schema_version": str(schema).encode(),
+                     b"homlimit_version": head["homlimit_version"].encode()})
+        table = data.replace_schema_metadata(meta)    # binary doubles: kept exact
+        with atomic_path(path) as tmp:
+            pq.write_table(table, tmp)
+        return path
+    if suffix == ".csv":
+        if hasattr(data, "schema") and hasattr(data, "column_names"):   # a pyarrow Table
+            import pyarrow.csv as pcsv
+
+            columns = list(data.column_names)
+            with atomic_path(path) as tmp:
+                pcsv.write_csv(_rounded_table(data), tmp)
+        else:
+            records = [rounded(r) for r in data]
+            if columns is None:
+                columns = list(dict.fromkeys(k for r in records for k in r))
+            write_csv(path, records, columns)
+        write_text(sidecar(path), json.dumps(
+            {**head, "file": path.name, "columns": columns,
+             "units": {c: units.get(c) for c in columns}}, indent=2, ensure_ascii=False) + "\n")
+        return path
+    raise ValueError(f"write_output: no writer for {path.name} (allowed .json, .csv, .parquet)")
 
 
 # ----------------------------------------------------------------------------- result sets

@@ -196,7 +196,7 @@ def test_demo_embedded_case_console_script(tmp_path, ref_B1, dem):
     assert s["fe"]["multiplier"] > 0 and len(s["fe"]["scan"]) >= 2
     assert s["inputs"]["analysis"]["facade"] == "bedjoints"          # the default façade
     assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == [
-        ".homlimit-set.json", "fe_scan.csv", "summary.json"]
+        ".homlimit-set.json", "fe_scan.csv", "fe_scan.csv.json", "summary.json"]
     # `table1 --fe` for B1 with the same mesh and scan gives the same FE columns
     res = CliRunner().invoke(app, ["table1", "--fe", "-t", "B1", "--mesh-size", "0.8",
                                    "--heights", "2", "--json", "--out", str(tmp_path / "t")])
@@ -354,9 +354,19 @@ def test_table1_json(tmp_path, dem):
     for k in ("vnorm_I", "vnorm_II", "lam_II"):
         assert row["B1"][k] == pytest.approx(ref[k], rel=2e-5), k
     assert row["B1"]["lam_I"] == pytest.approx(ref["lam_I"], rel=2e-3)
-    assert json.loads((tmp_path / "table1.json").read_text()) == rows
+    saved = json.loads((tmp_path / "table1.json").read_text())
+    assert list(saved)[:2] == ["schema_version", "homlimit_version"] and saved["rows"] == rows
+    assert saved["schema_version"] == 1 and saved["units"]["vnorm_I"] == "-"
+    # floats to 15 significant digits: B2's α² is 0.6, not 0.6000000000000001
+    assert [r["alpha2"] for r in rows if r["test"] in ("B2", "B3")] == [0.6, 0.8]
+    assert all(float(f"{v:.15g}") == v for r in rows for v in r.values()
+               if isinstance(v, float))
     head = (tmp_path / "table1.csv").read_text().splitlines()[0].split(",")
     assert head[:4] == ["test", "rho [-]", "alpha2 [-]", "beta [-]"]          # units in headers
+    side = json.loads((tmp_path / "table1.csv.json").read_text())            # and the sidecar
+    assert side["schema_version"] == 1 and side["file"] == "table1.csv"
+    assert side["columns"][:2] == ["test", "rho [-]"]
+    assert side["units"]["test"] == "" and side["units"]["rho [-]"] == "-"
     from homlimit.app.report import read_csv
 
     back = read_csv(tmp_path / "table1.csv")
@@ -379,7 +389,13 @@ def test_figure2_png(tmp_path):
     ref = reference(*B1_ARGS)
     assert curve["vnorm_I"][k] == pytest.approx(ref["vnorm_I"], rel=2e-5)
     assert curve["vnorm_II"][k] == pytest.approx(ref["vnorm_II"], rel=2e-5)
-    assert json.loads((tmp_path / "figure2.json").read_text()) == data["curves"]
+    saved = json.loads((tmp_path / "figure2.json").read_text())
+    assert {k: v for k, v in saved.items()
+            if k not in ("schema_version", "homlimit_version", "units")} == data["curves"]
+    assert saved["schema_version"] == 1
+    assert saved["units"] == {"alpha2": "-", "b": "m", "beta": "-", "lam": "-", "lam_I": "-",
+                              "lam_II": "-", "rho": "-", "test": "", "vnorm": "-",
+                              "vnorm_I": "-", "vnorm_II": "-"}
 
 
 @pytest.mark.slow
@@ -494,8 +510,9 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     assert [float(r["h_part [m]"]) for r in scan] == [r["h_part"] for r in fe["scan"]]
     mech = meshio.read(files["mechanism_vtu"])
     assert mech.point_data["velocity"].shape == (len(mech.points), 3)
-    for key in ("dissipation", "intensity", "region", "participation", "label", "crack"):
+    for key in ("intensity", "region", "participation", "label", "crack", "stress"):
         assert key in mech.cell_data, key
+    assert "dissipation" not in mech.cell_data      # zero in theory: a note says so instead
     tri = next(c.data for c in mech.cells if c.type == "triangle")
     assert len(tri) == fe["n_triangles"]
     # the lower-bound stress field rides along: eq. 15 holds on every triangle (mean stress)
@@ -584,7 +601,7 @@ def test_pulse_command_spectra(tmp_path):
     assert res.exit_code == 0, res.stderr
     data = json.loads(res.stdout)
     assert sorted(p.name for p in tmp_path.iterdir()) == [".homlimit-set.json", "spectra.csv",
-                                                          "spectra.png"]
+                                                          "spectra.csv.json", "spectra.png"]
     m1, m2 = homlimit.mechanism_I(homlimit.Case()), homlimit.mechanism_II(homlimit.Case())
     short = {p["mechanism"]: p for p in data["points"] if p["period"] == 0.005}
     assert short["I"]["pgv"] == pytest.approx(m1.vg, rel=0.01)

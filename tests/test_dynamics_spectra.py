@@ -109,7 +109,7 @@ def test_csv_round_trip_and_plot(spectra, tmp_path):
     assert list(back[0]) == SPECTRUM_COLUMNS and back[0]["pgv"] == spectra[0].pgv
     png = plot_spectra(tmp_path / "out" / "spectra.png", spectra, dem_vnorm=0.377, title="B1")
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert sorted(x.name for x in (tmp_path / "out").iterdir()) == ["spectra.csv",
-                                                                     "spectra.png"]
+    assert sorted(x.name for x in (tmp_path / "out").iterdir()) == [
+        "spectra.csv", "spectra.csv.json", "spectra.png"]
     text = report.format_spectra(spectra)
     assert "one-sine" in text and "pgv/vg(eq.7)" in text

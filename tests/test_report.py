@@ -32,16 +32,59 @@ def test_json_round_trip_with_numpy_and_non_finite(tmp_path):
             "nan": float("nan"), "flag": np.bool_(True), "nested": [{"x": (1, 2)}]}
     p = report.write(tmp_path / "sub" / "r.json", data)
     back = json.loads(p.read_text())
+    head = {k: back.pop(k) for k in ("schema_version", "homlimit_version", "units")}
     assert back == {"a": 1.5, "n": 3, "v": [0.0, 1.0, 2.0], "bad": None, "nan": None,
                     "flag": True, "nested": [{"x": [1, 2]}]}
+    assert head["schema_version"] == _io.SCHEMA_VERSION == 1
+    assert head["homlimit_version"] == _io.package_version()
+    assert head["units"] == {**dict.fromkeys(["a", "bad", "flag", "n", "nan", "v"]),  # none
+                             "x": "m"}
+
+
+def test_every_output_carries_units_schema_and_15_digits(tmp_path):
+    """JSON: schema_version and homlimit_version first, units last; CSV: a plain table with
+    units in its headers and the sidecar NAME.csv.json (schema, units by header); Parquet:
+    the same in its schema metadata; floats in text to 15 significant digits."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    noisy = 0.1 * 6                               # 0.6000000000000001
+    assert repr(noisy) == "0.6000000000000001"
+    back = json.loads(report.write(tmp_path / "t.json", {"alpha2": noisy, "rows": [
+        {"h": 1 / 3, "vg": -2e-310}]}).read_text())
+    assert list(back) == ["schema_version", "homlimit_version", "alpha2", "rows", "units"]
+    assert back["alpha2"] == 0.6 and back["rows"] == [{"h": 0.333333333333333, "vg": -2e-310}]
+    assert back["units"] == {"alpha2": "-", "h": "m", "vg": "m/s"}
+    rows = json.loads(report.write(tmp_path / "r.json", [{"lam": noisy}]).read_text())
+    assert rows["rows"] == [{"lam": 0.6}] and rows["units"] == {"lam": "-"}
+
+    report.write(tmp_path / "t.csv", [{"alpha2": noisy, "vg": 0.5, "mechanism": "I"}])
+    assert (tmp_path / "t.csv").read_text() == "alpha2 [-],vg [m/s],mechanism\n0.6,0.5,I\n"
+    side = json.loads((tmp_path / "t.csv.json").read_text())
+    assert side == {"schema_version": 1, "homlimit_version": _io.package_version(),
+                    "file": "t.csv", "columns": ["alpha2 [-]", "vg [m/s]", "mechanism"],
+                    "units": {"alpha2 [-]": "-", "vg [m/s]": "m/s", "mechanism": ""}}
+
+    table = pa.table({"derived.alpha2": [noisy, None], "case": ["a", "b"]})
+    _io.write_output(tmp_path / "t.parquet", table, units={"derived.alpha2": "-"})
+    back = pq.read_table(tmp_path / "t.parquet")
+    meta = back.schema.metadata
+    assert meta[b"schema_version"] == b"1" and json.loads(meta[b"units"]) == {
+        "derived.alpha2": "-"}
+    assert back.column("derived.alpha2").to_pylist() == [noisy, None]     # binary: exact
+    _io.write_output(tmp_path / "t2.csv", table, units={"derived.alpha2": "-", "case": ""})
+    assert (tmp_path / "t2.csv").read_text().splitlines()[1:] == ['0.6,"a"', ',"b"']
+    assert json.loads((tmp_path / "t2.csv.json").read_text())["units"] == {
+        "derived.alpha2": "-", "case": ""}
 
 
 def test_writes_are_whole_or_absent(tmp_path):
     p = tmp_path / "r.json"
     report.write(p, {"ok": 1})
+    before = p.read_text()
     with pytest.raises(TypeError):
         report.write(p, {"bad": object()})   # fails while serialising
-    assert json.loads(p.read_text()) == {"ok": 1}  # the previous file is untouched
+    assert p.read_text() == before and json.loads(before)["ok"] == 1  # the previous file kept
 
     def crash(tmp):
         tmp.write_bytes(b"half a picture")
@@ -184,3 +227,16 @@ def test_crack_study_picture(tmp_path):
             for fac in ("homogenised", "bed-joints")]
     p = plots.plot_crack_study(tmp_path / "study.png", recs)
     assert_png(p, (7 * plots.DPI, 6 * plots.DPI))
+
+
+def test_vectorised_rounding_gives_the_doubles_of_the_15_digit_format():
+    """``_io.round_array`` (the sweep's CSV columns) equals float(f"{x:.15g}") one by one, on
+    every magnitude, halves near the 15th digit, signed zeros, subnormals and non-finite."""
+    rng = np.random.default_rng(7)
+    x = rng.random(20000) * 10.0 ** rng.integers(-320, 308, 20000)
+    x = np.r_[x, -x[:5000], 0.1 * 6, 1 / 3, 123456789012345.5, 999999999999999.5, 1e15 - 0.4,
+              0.0, -0.0, 5e-324, 1.7e308, math.nan, math.inf, -math.inf]
+    exact = [float(f"{v:.15g}") if math.isfinite(v) else v for v in x.tolist()]
+    got = _io.round_array(x)
+    assert all(a == b or (math.isnan(a) and math.isnan(b)) for a, b in zip(got.tolist(), exact))
+    assert np.array_equal(np.signbit(got), np.signbit(np.array(exact)))

@@ -233,9 +233,9 @@ def _stdout_quiet(enabled: bool):
 
 
 def _emit_json(stream, data):
-    from .._io import to_jsonable
+    from .._io import rounded  # floats to 15 digits, as in the files (_io.write_output)
 
-    stream.write(json.dumps(to_jsonable(data), indent=2, ensure_ascii=False) + "\n")
+    stream.write(json.dumps(rounded(data), indent=2, ensure_ascii=False) + "\n")
     stream.flush()
 
 
@@ -463,18 +463,22 @@ def pulse(case: CaseArg = None, as_json: JsonOpt = False,
         announce(config)
         out = out or output_dir(config) / "pulse"
         with result_folder(out, "pulse", case=config.name, **source_of(config)) as staging:
-            points, _ = pulse_records(config)
+            points, fe = pulse_records(config)
             dem = dem_row(config.case)
             report.write(staging / "spectra.csv", [p.as_dict() for p in points])
             plots.plot_spectra(staging / "spectra.png", points,
                                dem_vnorm=None if dem is None else dem.vg_norm,
                                title=f"case {config.name}: critical pulses")
     files = [out / "spectra.csv", out / "spectra.png"]
+    cache = None if fe is None else {"path": fe.cache, "read": fe.from_cache}
     if as_json:
-        _emit_json(stdout, {"points": [p.as_dict() for p in points], "files": files})
+        _emit_json(stdout, {"points": [p.as_dict() for p in points], "files": files,
+                            "fe_cache": cache})
         return
     print(report.format_spectra(points, title=f"case {config.name}: overturning spectra "
                                               "(pgv/vg(eq.7): over the ideal impulse)"))
+    if fe is not None and fe.cache is not None:
+        print(f"\nFE result {'read from' if fe.from_cache else 'written to'} cache {fe.cache}")
     print("\nfiles: " + ", ".join(map(str, files)))
 
 

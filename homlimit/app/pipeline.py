@@ -24,7 +24,9 @@ commands' work is here too: ``table1_records``, ``crack_study_records``, ``mesh_
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
+import json
 import logging
 import math
 import os
@@ -41,15 +43,16 @@ from .. import _io
 from .._version import package_version
 from ..closed_form import mechanisms as mech
 from ..closed_form.paper import DemResult, dem_row, table1, table1_rows
-from ..errors import ParameterError, ResultError, check_choice, check_range
+from ..errors import OutputError, ParameterError, ResultError, check_choice, check_range
 from ..mechanism.analysis import FEResult, fe_result
 from ..params import FACADE_DEFAULT, FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case
 from . import budget, report
 from .config import CaseConfig, check_mesh, load_case
 
-__all__ = ["Result", "crack_study_records", "figure2_curves", "folder_name", "mesh_case",
-           "output_dir", "package_version", "pulse_records", "result_folder", "run",
-           "source_of", "table1_blocks_records", "table1_records"]
+__all__ = ["FERocker", "Result", "crack_study_records", "fe_cache_path", "fe_rocker",
+           "figure2_curves", "folder_name", "mesh_case", "output_dir", "package_version",
+           "pulse_records", "result_folder", "run", "source_of", "table1_blocks_records",
+           "table1_records"]
 
 log = logging.getLogger(__name__)
 
@@ -425,15 +428,149 @@ def mesh_case(config: CaseConfig, out: Path) -> dict:
             "files": {k: str(v) for k, v in files.items()}}
 
 
-def pulse_records(config: CaseConfig) -> tuple[list, FEResult | None]:
+# ----------------------------------------------------------------------------- the FE cache
+FE_CACHE_FORMAT = "homlimit FE rocker 1"
+
+
+@dataclass(frozen=True)
+class FERocker:
+    """What the pulse spectra need of the FE path (``dynamics.case_rockers``' ``fe_body``):
+    the critical mechanism's one-DOF impulse (``fe_impulse.GeneralisedImpulse``), its height
+    h [m] and v̄_g [m/s]; ``cache``: its entry in the FE cache, ``from_cache``: read from it
+    (rather than computed now)."""
+
+    impulse: Any
+    h: float
+    vg: float
+    cache: Path | None = None
+    from_cache: bool = False
+
+
+@functools.cache
+def _fe_code_digest() -> str:
+    """SHA-256 of the source of every module the FE path runs (fe, mechanism, impulse,
+    params): a cache entry made by other code is never read, whatever the version says."""
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256()
+    for path in sorted([*root.joinpath("fe").rglob("*.py"), *root.joinpath("mechanism")
+                        .rglob("*.py"), *root.joinpath("impulse").rglob("*.py"),
+                        root / "params.py"]):
+        h.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
+    return h.hexdigest()
+
+
+def fe_cache_inputs(config: CaseConfig) -> dict:
+    """Every input the FE path of ``config`` depends on: the case's wall, masonry, mesh and
+    analysis sections, the solver settings, the package version and its FE source code."""
+    opts = dataclasses.asdict(_solver_options(config.analysis.tol))
+    opts.pop("verbose")                       # the solver log changes no number
+    d = config.as_dict()
+    return {"format": FE_CACHE_FORMAT, **{k: d[k] for k in ("wall", "masonry", "mesh",
+                                                            "analysis")},
+            "solver": opts, "homlimit_version": package_version(), "code": _fe_code_digest()}
+
+
+def fe_cache_path(config: CaseConfig) -> Path:
+    """The FE cache entry of ``config``: ``fe-<hash of fe_cache_inputs>.json`` in the
+    package's cache folder (``fe.mesh.cache_dir()``, ``$HOMLIMIT_MESH_CACHE``)."""
+    from ..fe.mesh import cache_dir
+
+    text = _io.json_bytes(fe_cache_inputs(config), sort_keys=True)
+    return cache_dir() / f"fe-{hashlib.sha256(text).hexdigest()[:24]}.json"
+
+
+def _checksum(entry: dict) -> str:
+    return hashlib.sha256(_io.json_bytes({k: v for k, v in entry.items() if k != "sha256"},
+                                         sort_keys=True)).hexdigest()
+
+
+def write_fe_cache(config: CaseConfig, fe: FEResult) -> Path | None:
+    """Keep the critical FE mechanism's one-DOF impulse of ``fe`` (the FE path of ``config``)
+    in the FE cache, atomically, with its inputs and a checksum; None (and a warning) when
+    the cache folder cannot be written, which fails nothing else."""
+    crit = fe.critical
+    if crit is None or crit.impulse is None:
+        return None
+    gi = crit.impulse
+    entry = {"inputs": fe_cache_inputs(config),
+             "impulse": {**{k: getattr(gi, k) for k in ("M", "Pi", "W_m", "q_m", "vg",
+                                                        "lift_rest", "M_rest_share",
+                                                        "W_rest_share")},
+                         "block": dataclasses.asdict(gi.block)},
+             "h": crit.h, "vg": crit.vg, "scan": [m.record() for m in fe.scan]}
+    entry["sha256"] = _checksum(entry)
+    path = fe_cache_path(config)
+    try:      # the exact floats: json writes the shortest repr that reads back the same
+        _io.write_text(path, json.dumps(_io.to_jsonable(entry), indent=1) + "\n")
+    except (OSError, OutputError) as exc:
+        log.warning("warning: FE cache %s not written: %s", path, exc)
+        return None
+    return path
+
+
+def read_fe_cache(config: CaseConfig) -> FERocker | None:
+    """The FE cache entry of ``config`` (``fe_cache_path``) if there is one and it is sound:
+    its checksum holds, its inputs are ``config``'s, its impulse a valid one. A corrupt or
+    foreign entry is never trusted: None (and a warning), so that the caller computes the
+    FE path again and rewrites it."""
+    from ..impulse import RigidBody
+    from ..mechanism.fe_impulse import GeneralisedImpulse
+
+    path = fe_cache_path(config)
+    if not path.is_file():
+        return None
+    try:
+        entry = json.loads(path.read_text(encoding="utf-8"))
+        if entry.get("sha256") != _checksum(entry):
+            raise ValueError("checksum mismatch")
+        if entry["inputs"] != json.loads(_io.json_bytes(fe_cache_inputs(config))):
+            raise ValueError("inputs differ")
+        imp = dict(entry["impulse"])
+        gi = GeneralisedImpulse(block=RigidBody(**imp.pop("block")),
+                                **{k: float(v) for k, v in imp.items()})
+        if not all(math.isfinite(getattr(gi, k)) and getattr(gi, k) > 0
+                   for k in ("M", "Pi", "W_m", "vg")):
+            raise ValueError("impulse not positive and finite")
+        return FERocker(gi, float(entry["h"]), float(entry["vg"]), path, True)
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, ParameterError) as exc:
+        log.warning("warning: FE cache entry %s ignored (%s): computing the FE path again",
+                    path, exc)
+        return None
+
+
+def fe_rocker(config: CaseConfig) -> FERocker:
+    """The FE path's critical mechanism for the pulse spectra: read from the FE cache (which
+    ``run`` fills) when the entry is sound, else computed (``fe_result``, as ``run`` without
+    the static bound) and written to the cache."""
+    cached = read_fe_cache(config)
+    if cached is not None:
+        log.info("FE result read from cache %s", cached.cache)
+        return cached
+    case, an = config.case, config.analysis
+    with _stage({}, "FE path for the FE rocker"):
+        fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
+                       heights=an.heights, divisions=config.mesh.part_divisions,
+                       mesher=config.mesh.mesher)
+    if fe.critical is None:
+        raise ParameterError("[pulse] mechanisms = 'FE': the FE scan found no mechanism "
+                             "with a v̄_g (see fe_scan's vg_method)")
+    path = write_fe_cache(config, fe)
+    if path is not None:
+        log.info("FE result written to cache %s", path)
+    return FERocker(fe.critical.impulse, fe.critical.h, fe.critical.vg, path, False)
+
+
+def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
     """The overturning spectra of ``[pulse]`` (``homlimit.dynamics``): every pulse kind ×
     mechanism × polarity × period, and the critical scale of ``[pulse] record`` if given.
-    Mechanism "FE" runs the FE path first (as ``run``, without the static bound). Returns the
-    spectrum points and the FE result (None without "FE")."""
+    Mechanism "FE" takes the FE path's critical mechanism from the FE cache, or runs the FE
+    path (as ``run``, without the static bound) and caches it (``fe_rocker``). Returns the
+    spectrum points and the FE rocker (None without "FE"), which says whether it came from
+    the cache."""
     from ..dynamics import RecordPulse, case_rockers, overturning_spectrum
     from ..dynamics.spectra import record_thresholds
 
-    case, pc, an = config.case, config.pulse, config.analysis
+    case, pc = config.case, config.pulse
     w = case.wall
     record = None
     if pc.record:
@@ -449,17 +586,8 @@ def pulse_records(config: CaseConfig) -> tuple[list, FEResult | None]:
             raise ParameterError(f"[pulse] record = {pc.record!r} is not UTF-8 text (byte "
                                  f"0x{e.object[e.start]:02x} at offset {e.start}): allowed a "
                                  "two-column CSV t [s], a_g [m/s^2]") from None
-    fe = None
-    if "FE" in pc.mechanisms:
-        with _stage({}, "FE path for the FE rocker"):
-            fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
-                           heights=an.heights, divisions=config.mesh.part_divisions,
-                           mesher=config.mesh.mesher)
-        if fe.critical is None:
-            raise ParameterError("[pulse] mechanisms = 'FE': the FE scan found no mechanism "
-                                 "with a v̄_g (see fe_scan's vg_method)")
-    rockers = case_rockers(case, [m for m in pc.mechanisms if m != "FE"],
-                           fe_body=None if fe is None else fe.critical,
+    fe = fe_rocker(config) if "FE" in pc.mechanisms else None
+    rockers = case_rockers(case, [m for m in pc.mechanisms if m != "FE"], fe_body=fe,
                            gravity_I=pc.gravity_I, restitution=pc.restitution)
     kw = dict(b=w.b, g=w.g, rtol=pc.rtol, scan_ratio=pc.scan_ratio)
     points = []
@@ -639,4 +767,6 @@ def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
     with result_folder(target, command, case=config.name, **source_of(config)) as staging:
         result = compute(config)
         result.files = _write(result, staging, target)
+    if result.fe is not None:       # for `homlimit pulse` on this case (``fe_rocker``)
+        write_fe_cache(config, result.fe)
     return result

@@ -315,7 +315,8 @@ def figure2(path: str | Path, data: dict) -> Path:
 
 def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) -> Path:
     """The lower-bound stress field: the most compressive principal stress σ₂ per triangle
-    (colour, Pa) and its direction (short lines, length ∝ |σ₂|): the compression paths.
+    (colour, kPa or MPa by its size) and its direction (short lines, length ∝ |σ₂|): the
+    compression paths.
 
     ``static`` is a ``homlimit.fe.static.StaticSolution``; at most ``n_ticks`` direction lines are
     drawn (the most compressed triangles first); rigid bodies (no stress field) are grey. The
@@ -325,20 +326,27 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     plt = pyplot()
     m = static.mesh
     _, s2, theta = static.principal()
-    fig, ax = plt.subplots(figsize=(7.0, 6.0))
+    # constrained layout keeps the title, the axes and the colour bar apart
+    fig, ax = plt.subplots(figsize=(7.0, 6.0), layout="constrained")
     from matplotlib.colors import PowerNorm
 
     rigid = np.isnan(s2)  # rigid bodies carry no stress field: drawn grey
     comp = np.where(rigid, 0.0, np.maximum(-s2, 0.0))
+    # the colour bar in kPa or MPa with plain tick labels: matplotlib's "1e7" offset label
+    # would sit over the title
+    unit, per = ("MPa", 1e6) if comp.max() >= 1e6 else ("kPa", 1e3)
+    shown = comp / per
     # a power-law colour scale so that the wall's weak compression shows beside the façade's
-    tpc = ax.tripcolor(m.p[0], m.p[1], m.t.T[~rigid], facecolors=comp[~rigid], cmap="magma_r",
-                       norm=PowerNorm(STRESS_GAMMA, vmin=0.0, vmax=max(comp.max(), 1e-30)),
+    tpc = ax.tripcolor(m.p[0], m.p[1], m.t.T[~rigid], facecolors=shown[~rigid], cmap="magma_r",
+                       norm=PowerNorm(STRESS_GAMMA, vmin=0.0, vmax=max(shown.max(), 1e-30)),
                        edgecolors="none")
     if rigid.any():
         ax.tripcolor(m.p[0], m.p[1], m.t.T[rigid], facecolors=np.zeros(rigid.sum()),
                      cmap="Greys", vmin=-1.0, vmax=3.0, edgecolors="none")
-    fig.colorbar(tpc, ax=ax, label="compression −σ₂ (most compressive principal stress) [Pa]"
-                                   f"\nnon-linear colour scale: colour ∝ (−σ₂)^{STRESS_GAMMA:g}")
+    bar = fig.colorbar(tpc, ax=ax, label=f"compression −σ₂ (most compressive principal "
+                                         f"stress) [{unit}]\nnon-linear colour scale: colour ∝ "
+                                         f"(−σ₂)^{STRESS_GAMMA:g}")
+    bar.ax.ticklabel_format(useOffset=False, style="plain")
     c = m.p[:, m.t].mean(axis=1)
     if comp.max() > 0:
         pick = np.argsort(-comp)[:n_ticks]

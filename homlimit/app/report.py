@@ -5,15 +5,20 @@ one writer per file format.
 records, a meshio mesh (.vtu, .xdmf, .msh) or a picture (a function that draws to a path).
 Every writer is whole-or-nothing (``homlimit._io``).
 
-Units: ``UNITS`` gives every quantity a result file carries its SI unit, once. CSV headers carry
-it as ``name [unit]`` (``vg [m/s]``, ``lam [-]``; text columns plain, ``mechanism``), the way the
-terminal tables do; ``read_csv`` reads such a file back into plain keys and numbers; the JSON
-summary gets a ``units`` table (``units_table``).
+Units: ``UNITS`` gives every quantity a result file carries its SI unit, once. JSON and CSV
+go through the one writer ``_io.write_output``: every JSON file starts with ``schema_version``
+and ``homlimit_version`` and ends with a ``units`` map (summary.json's by section,
+``units_table``; other files by key, ``units_of``); CSV headers carry the unit as
+``name [unit]`` (``vg [m/s]``, ``lam [-]``; text columns plain, ``mechanism``), the way the
+terminal tables do, and the sidecar ``NAME.csv.json`` gives the schema version and the units
+by header; floats are written to 15 significant digits. ``read_csv`` reads such a CSV back into
+plain keys and numbers.
 """
 
 from __future__ import annotations
 
 import functools
+import json
 import logging
 import math
 import re
@@ -22,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._io import write_csv, write_json
+from .._io import write_output
 from ..errors import ParameterError
 from ..fe import mesh as fe_mesh
 
@@ -43,7 +48,7 @@ _TEXT = ("name test mechanism mechanism_fe critical_mechanism vg_method facade p
 #: the SI unit of every quantity in a result file ("-": dimensionless, "": text or a flag)
 UNITS: dict[str, str] = {
     **dict.fromkeys(_DIMENSIONLESS, "-"), **dict.fromkeys(_TEXT, ""),
-    **dict.fromkeys("h h_part h_v h_min mesh_size hinge hinge_z fan_z0 wedge_z0 x_G z_G"
+    **dict.fromkeys("b h h_part h_v h_min mesh_size hinge hinge_z fan_z0 wedge_z0 x_G z_G"
                     .split(), "m"),
     **dict.fromkeys("vg vg_fe vg_eq7 vg_body pgv".split(), "m/s"),
     **dict.fromkeys("pga a_uplift".split(), "m/s^2"),
@@ -51,6 +56,18 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("psi_fe_deg psi_alpha_deg psi_f_deg psi_c_over_a_deg".split(), "deg"),
     "W_m": "J", "m": "kg", "I_O": "kg m^2", "omega": "1/s", "p": "rad/s", "period": "s",
     "solve_time": "s", "duration": "s",
+    # the rigid-block model's files (blocks_scan.csv, blocks_contacts.csv, table1_blocks.csv)
+    **dict.fromkeys("z0 z_base x_O z_O h_dem h_whole z0_crit h_blocks h_na x z".split(), "m"),
+    **dict.fromkeys("n_moving n_open n_sliding n_body blocks vnorm_rigid W_rest_share "
+                    "W_friction_share M_rest_share multiplier_whole vnorm_whole "
+                    "multiplier_crit lam_blocks vnorm_blocks vnorm_blocks_rigid "
+                    "ratio_blocks_dem multiplier_na vnorm_na na_band W_friction_share_na "
+                    "n_x n_z".split(), "-"),
+    **dict.fromkeys("friction method na_converged interface end block_a block_b state"
+                    .split(), ""),
+    "vg_rigid": "m/s", "m_body": "kg", "time": "s",
+    "N": "N", "T": "N",              # contact forces per slab of thickness s (blocks.limit)
+    "opening": "m/s", "slip": "m/s",  # velocity jumps of the normalised mechanism
 }
 #: every file name a homlimit command writes (result sets written before manifests existed
 #: are recognised by these, ``_io.is_result_set``)
@@ -62,6 +79,7 @@ OUTPUT_NAMES = ("summary.json", "vg_lambda.png", "mesh.png", "mechanism.png", "s
                 "blocks_whole.png", "blocks_scan.csv", "table1_blocks.csv",
                 "table1_blocks_ratios.json", "sweep.json", "results.parquet", "results.csv",
                 "vnorm_swept.png", "critical_map.png", "tanpsi.png", "vg_histogram.png")
+OUTPUT_NAMES += tuple(n + ".json" for n in OUTPUT_NAMES if n.endswith(".csv"))  # sidecars
 
 
 def csv_header(key: str) -> str:
@@ -89,8 +107,16 @@ def _write_csv(path: Path, records: Iterable[Mapping], columns: list[str] | None
         columns = list(dict.fromkeys(k for r in records for k in r))
     _unknown_units(columns)
     head = {k: csv_header(k) if k in UNITS else f"{k} [?]" for k in columns}
-    return write_csv(path, [{head[k]: v for k, v in r.items()} for r in records],
-                     [head[k] for k in columns])
+    return write_output(path, [{head[k]: v for k, v in r.items()} for r in records],
+                        units={head[k]: UNITS.get(k) for k in columns},
+                        columns=[head[k] for k in columns])
+
+
+def _write_json(path: Path, data) -> Path:
+    """JSON data with its units: the ``units`` table ``data`` carries (summary.json's, by
+    section), else the unit of every key it holds (``units_of``)."""
+    units = data["units"] if isinstance(data, Mapping) and "units" in data else units_of(data)
+    return write_output(path, data, units=units)
 
 
 _UNIT_SUFFIX = re.compile(r"^(.*?) \[[^\]]*\]$")
@@ -124,7 +150,7 @@ def column_unit(path: str) -> str | None:
     if parts[0] == "timings_s":
         return "s"
     if parts[0] == "inputs" and len(parts) >= 2:
-        units = _input_units()
+        units = input_units()
         u = units.get(parts[1])
         return u.get(parts[2]) if isinstance(u, dict) and len(parts) > 2 else \
             (u if isinstance(u, str) else None)
@@ -133,7 +159,7 @@ def column_unit(path: str) -> str | None:
 
 
 @functools.cache
-def _input_units() -> dict:
+def input_units() -> dict:
     """The unit of every case-file key, by section (the schema's, fixed)."""
     from .config import SCHEMA, TOP_LEVEL
 
@@ -146,10 +172,9 @@ def _input_units() -> dict:
     return inputs
 
 
-def units_table(summary: Mapping) -> dict:
-    """The ``units`` table of summary.json: the unit of every case-file key (by section) and of
-    every result quantity the summary holds (by name; "-" dimensionless, "" text)."""
-    inputs = {sec: dict(u) if isinstance(u, dict) else u for sec, u in _input_units().items()}
+def _leaf_keys(x) -> set[str]:
+    """The keys of the values of nested mappings and lists of mappings that are not
+    themselves mappings or lists of mappings (the quantities a JSON result holds)."""
     found: set[str] = set()
 
     def mapping(v):
@@ -169,15 +194,32 @@ def units_table(summary: Mapping) -> dict:
             for v in x:
                 walk(v)
 
+    walk(x)
+    return found
+
+
+def units_of(data) -> dict:
+    """The unit of every quantity (leaf key) of JSON data, by name (``UNITS``; None and a
+    logged warning where none is registered)."""
+    found = _leaf_keys(data)
+    _unknown_units(found)
+    return {k: UNITS.get(k) for k in sorted(found)}
+
+
+def units_table(summary: Mapping) -> dict:
+    """The ``units`` table of summary.json: the unit of every case-file key (by section) and of
+    every result quantity the summary holds (by name; "-" dimensionless, "" text)."""
+    inputs = {sec: dict(u) if isinstance(u, dict) else u for sec, u in input_units().items()}
+    found: set[str] = set()
     for k in ("derived", "mechanisms", "hinges", "fe", "critical", "dem_table1"):
-        walk(summary.get(k))
+        found |= _leaf_keys(summary.get(k))
     _unknown_units(found)
     return {"inputs": inputs, "results": {k: UNITS.get(k) for k in sorted(found)},
             "timings_s": "s"}
 
 
 WRITERS: dict[str, Callable] = {
-    ".json": write_json, ".csv": _write_csv, ".png": lambda path, draw: draw(path),
+    ".json": _write_json, ".csv": _write_csv, ".png": lambda path, draw: draw(path),
     **dict.fromkeys((".vtu", ".xdmf", ".msh"), lambda path, mesh: fe_mesh.write(mesh, path))}
 
 
@@ -312,39 +354,83 @@ def _hinge_lines(result, f: float) -> str:
 
 
 # ----------------------------------------------------------------------------- result meshes
+#: the unit of every field of mechanism.vtu ("-": dimensionless, "": a tag or a flag). The
+#: mechanism's amplitude is arbitrary: velocity is v / velocity_scale, and the fields linear in
+#: it are divided by velocity_scale [m/s] too: intensity [1/s] / [m/s] = 1/m, dissipation
+#: [W/m] / [m/s] = N/m (per unit thickness, per triangle or per interface facet)
+MECHANISM_UNITS: dict[str, str] = {
+    "velocity": "-", "velocity_scale": "m/s", "intensity": "1/m", "dissipation": "N/m",
+    "interface_dissipation": "N/m", "region": "", "stress": "Pa", "participation": "-",
+    "label": "", "crack": "", "body": "", "density": "kg/m^2", "interface": "",
+    **dict.fromkeys(("static_sigma_x", "static_sigma_z", "static_tau_xz", "static_sigma_1",
+                     "static_sigma_2"), "Pa"),
+    "static_compression_angle": "rad", "static_active_facet": "", "bracket_gap": "-"}
+
+#: why a dissipation field is left out of mechanism.vtu (field data "notes")
+NO_DISSIPATION = (
+    "not written: every region's strength domain is a cone with its apex at 0 (eq. 15 without "
+    "cohesion, dry bed joints, rigid), whose support function is 0 wherever it is finite "
+    "(fe.strength.dissipation_free), so an admissible mechanism dissipates nothing there and "
+    "the multiplier comes from gravity alone")
+NO_INTERFACE_DISSIPATION = (
+    "not written: every interface is a dry joint (no cohesion), whose support function is 0 "
+    "wherever it is finite (fe.strength.dissipation_free)")
+
+
 def mechanism_mesh(fe):
     """The whole wall's mechanism as a meshio mesh for ParaView: the solution's fields
-    (velocity, dissipation, intensity, region, stress estimate), the block participation and
-    label per triangle, the detected crack (the 50 % line) as a line block, the failing body
-    (inside the 50 % line) as a triangle block of its own (cell fields ``body`` = 1 and its
-    ``density`` [kg/m²]) and, with the static bound, its stress field (``static_*``) and each
-    triangle's share of the bracket's gap.
+    (velocity, intensity, region, stress estimate, dissipation where not zero in theory), the
+    block participation and label per triangle, the detected crack (the 50 % line) as a line
+    block, the failing body (inside the 50 % line) as a triangle block of its own (cell fields
+    ``body`` = 1 and its ``density`` [kg/m²]) and, with the static bound, its stress field
+    (``static_*``) and each triangle's share of the bracket's gap.
+
+    The section plane is the file's X–Y plane (X = x, Y = z, Z out of plane). ``stress`` is
+    the mean per triangle of the stress read from the kinematic program's duals as a 3×3
+    tensor [Pa] (9 components; ParaView reads it as a tensor), the out-of-plane components 0.
 
     A mechanism's amplitude is arbitrary (the solver normalises the live load's power to 1,
     which leaves velocities of order 1e-6 m/s): the velocity is divided by its largest
     magnitude, so max |v| = 1 and ParaView's "Warp By Vector" works at scale factors of the
-    order of the wall; ``dissipation`` and ``intensity``, linear in the velocity, are divided
-    by the same number, kept as field data ``velocity_scale`` [m/s]. ``dissipation`` is zero
-    on every triangle for cohesionless masonry (eq. 15's support function vanishes on its
-    admissible cone, so an admissible mechanism dissipates nothing; the multiplier comes from
-    gravity alone). ``participation`` (1 on the block, 0 at rest) is clipped to [0, 1]: near
-    the hinge the ratio of the FE to the rigid velocity is ill-conditioned and its raw
-    centroid values stray outside (NaN: at the hinge itself)."""
+    order of the wall; ``intensity`` and ``dissipation``, linear in the velocity, are divided
+    by the same number, kept as field data ``velocity_scale`` [m/s].
+
+    Dissipation (``fe.strength.dissipation_free``): the per-triangle ``dissipation`` is written
+    only when some region's strength domain dissipates (cohesion); for cohesionless masonry
+    eq. 15's support function vanishes on its admissible cone, an admissible mechanism
+    dissipates nothing, and the field is left out with a note. Interfaces to a fixed ground
+    (``Problem.interfaces``) that dissipate get line cells (``interface`` = 1) with their
+    per-facet ``interface_dissipation``. ``participation`` (1 on the block, 0 at rest) is
+    clipped to [0, 1]: near the hinge the ratio of the FE to the rigid velocity is
+    ill-conditioned and its raw centroid values stray outside (NaN: at the hinge itself).
+
+    Field data: ``velocity_scale``, ``units`` (JSON: field → unit, ``MECHANISM_UNITS``) and
+    ``notes`` (JSON: field → why it is absent or how to read it); text field data is stored
+    as its UTF-8 bytes (``fe.mesh.write``)."""
     import meshio
 
     from ..fe.bracket import gap_contributions
     from ..fe.static import attach_cell_fields
+    from ..fe.strength import dissipation_free
 
     full = fe.whole
-    m = full.solution.to_meshio()
+    sol, prob = full.solution, full.problem
+    m = sol.to_meshio()
     crack = full.drawing()["crack"]
     cells = [meshio.CellBlock("triangle", m.cells[0].data)]
     data = {k: [np.asarray(v[0], float)] for k, v in m.cell_data.items()}
     vel = np.asarray(m.point_data["velocity"], float)
     scale = float(np.max(np.linalg.norm(vel, axis=1), initial=0.0)) or 1.0
     m.point_data["velocity"] = vel / scale
+    notes = {"velocity": "v / velocity_scale (max |v| = 1); the mechanism's amplitude is "
+                         "arbitrary",
+             "frame": "the section plane is X-Y: X = x (from the outer face into the wall), "
+                      "Y = z (height); Z is out of plane"}
     for k in ("dissipation", "intensity"):
         data[k] = [data[k][0] / scale]
+    if all(dissipation_free(d) for d in prob.domains.values()):
+        del data["dissipation"]
+        notes["dissipation"] = NO_DISSIPATION
     data["participation"] = [np.clip(np.asarray(full.measures.participation, float), 0, 1)]
     data["label"] = [np.asarray(full.measures.label, float)]
     pts = m.points
@@ -372,5 +458,39 @@ def mechanism_mesh(fe):
         gap = gap_contributions(fe.static, full.solution)  # share of λ⁺ − λ⁻ (virtual power)
         out.cell_data["bracket_gap"] = [gap] + [np.full(len(b.data), np.nan)
                                                 for b in out.cells[1:]]
-    out.field_data = {"velocity_scale": np.array([scale])}
+    out = _interface_cells(out, prob, sol, scale, notes)
+    fields = [*out.point_data, *out.cell_data, "velocity_scale"]
+    units = {k: MECHANISM_UNITS.get(k) for k in fields}
+    _unknown_units(k for k, u in units.items() if u is None)
+    out.field_data = {"velocity_scale": np.array([scale]),
+                      "units": json.dumps(units, ensure_ascii=False),
+                      "notes": json.dumps(notes, ensure_ascii=False)}
     return out
+
+
+def _interface_cells(out, prob, sol, scale: float, notes: dict):
+    """``out`` with a line block per dissipating interface of ``prob`` (its facets, in the
+    solution's facet order): cell fields ``interface`` = 1 and ``interface_dissipation`` (per
+    facet, divided by ``scale``); a note for dry interfaces, which dissipate nothing."""
+    import meshio
+
+    from ..fe.strength import dissipation_free
+
+    wet = [k for k, d in prob.interfaces.items() if not dissipation_free(d)]
+    if prob.interfaces and not wet:
+        notes["interface_dissipation"] = NO_INTERFACE_DISSIPATION
+    if not wet:
+        return out
+    mesh = sol.mesh
+    nodes = [mesh.facets[:, np.asarray(mesh.boundaries[k])].T for k in wet]
+    values = [np.asarray(sol.interface_dissipation[k], float) / scale for k in wet]
+    cells = list(out.cells) + [meshio.CellBlock("line", n) for n in nodes]
+    data = {}
+    for key, blocks in out.cell_data.items():
+        fill = 0.0 if key in ("crack", "body") else np.nan
+        data[key] = list(blocks) + [np.full((len(n),) + np.shape(blocks[0])[1:], fill)
+                                    for n in nodes]
+    data["interface"] = [np.zeros(len(c.data)) for c in out.cells] + [np.ones(len(n))
+                                                                       for n in nodes]
+    data["interface_dissipation"] = [np.full(len(c.data), np.nan) for c in out.cells] + values
+    return meshio.Mesh(out.points, cells, point_data=dict(out.point_data), cell_data=data)

@@ -39,7 +39,7 @@ from sys import intern
 
 import numpy as np
 
-from .._io import atomic_path, write_text
+from .._io import sidecar, write_output
 from ..errors import ParameterError
 from .config import (
     SCHEMA,
@@ -49,7 +49,7 @@ from .config import (
     _default_data,
     load_case_inputs,
 )
-from .engine import Engine, RecordStore, batch_json, cpu_count, json_text, record_key
+from .engine import Engine, RecordStore, batch_json, cpu_count, record_key
 
 __all__ = ["SweepCase", "SweepResult", "batch_closed_form", "flatten", "parse_grid",
            "plan_sweep", "read_table", "run_case", "sweep", "write_table"]
@@ -57,7 +57,7 @@ __all__ = ["SweepCase", "SweepResult", "batch_closed_form", "flatten", "parse_gr
 log = logging.getLogger(__name__)
 
 #: the files a sweep folder holds beside its records/ and report/ (nested sets)
-SWEEP_NAMES = ("sweep.json", "results.parquet", "results.csv")
+SWEEP_NAMES = ("sweep.json", "results.parquet", "results.csv", sidecar("results.csv").name)
 
 #: closed-form cases per vectorised task at most
 BATCH = 2500
@@ -386,10 +386,9 @@ def _column(values: list):
 
 def write_table(folder: Path, rows: list[dict], swept: list[str]) -> dict[str, Path]:
     """results.parquet and results.csv: one row per case, META, the swept inputs, the rest;
-    the unit of every column (``report.column_unit``) as the Parquet metadata "units" (JSON)."""
+    the unit of every column (``report.column_unit``) and the schema version as the Parquet
+    metadata and in the CSV's sidecar results.csv.json (``_io.write_output``)."""
     import pyarrow as pa
-    import pyarrow.csv as pcsv
-    import pyarrow.parquet as pq
 
     from .report import column_unit
 
@@ -398,13 +397,10 @@ def write_table(folder: Path, rows: list[dict], swept: list[str]) -> dict[str, P
         seen.update(r)
     cols = list(dict.fromkeys(META + swept + list(seen)))
     table = pa.table({c: _column([r.get(c) for r in rows]) for c in cols})
-    table = table.replace_schema_metadata({"units": json_text(
-        {c: column_unit(c) for c in cols if c not in META})})
+    units = {c: column_unit(c) for c in cols if c not in META}
     files = {"parquet": folder / "results.parquet", "csv": folder / "results.csv"}
-    with atomic_path(files["parquet"]) as tmp:
-        pq.write_table(table, tmp)
-    with atomic_path(files["csv"]) as tmp:
-        pcsv.write_csv(table, tmp)
+    for path in files.values():       # units and schema version: metadata, CSV's sidecar
+        write_output(path, table, units=units)
     return files
 
 
@@ -473,15 +469,18 @@ def _sweep_into(staging: Path, folder: Path, t0: float, data: dict, source: str,
         _check_some_valid(cases, errors)
 
     def write_meta():                    # sweep.json, once every case is planned
+        from .report import input_units
+
         swept = list(dict.fromkeys(
             [f"inputs.{k}" if "." in k else "case" for k in grid_d]
             + [f"inputs.{k}" if "." in k else "case" for c in cases for k in c.overrides]))
-        write_text(staging / "sweep.json", json_text({
+        write_output(staging / "sweep.json", {
             "homlimit_version": package_version(), "base": source, "base_case": data,
             "grid": grid_d, "table": None if table is None or isinstance(table, list)
             else str(table), "swept": swept, "n_cases": len(cases),
             "cases": [{"index": c.index, "key": c.key, "overrides": c.overrides,
-                       "valid": c.config is not None} for c in cases]}, indent=True))
+                       "valid": c.config is not None} for c in cases]},
+            units={"inputs": input_units()})
         return swept
 
     recorded = set(records)

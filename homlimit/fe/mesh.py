@@ -121,7 +121,9 @@ def region_tags(mesh) -> tuple[list[np.ndarray], list[str]]:
 def write(m: meshio.Mesh, path: str | os.PathLike) -> Path:
     """Write ``m`` to ``path`` (format from the suffix) whole or not at all, without modifying
     ``m``. Point and cell data are kept; named sets become gmsh physical groups (.msh) or 0/1
-    cell data "set:<name>" plus an integer cell field "region" (``region_tags``; .vtu, .xdmf)."""
+    cell data "set:<name>" plus an integer cell field "region" (``region_tags``; .vtu, .xdmf).
+    A .vtu gets ``m.field_data`` as VTK field data (``_vtu_field_data``: numbers, and text as
+    its UTF-8 bytes), which meshio's VTU writer would drop; .xdmf keeps its numeric entries."""
     path = Path(path)
     suffix = path.suffix.lower()
     sets = _sets(m)
@@ -139,17 +141,54 @@ def write(m: meshio.Mesh, path: str | os.PathLike) -> Path:
                 a[np.asarray(i, int)] = 1
                 cols.append(a)
             data[_SET + name] = cols
+        numeric = {k: np.asarray(v) for k, v in m.field_data.items() if not isinstance(v, str)}
         out = meshio.Mesh(m.points, m.cells, point_data=dict(m.point_data), cell_data=data,
-                          field_data=dict(m.field_data))
+                          field_data={} if suffix == ".vtu" else numeric)
         kw = {"data_format": "XML"} if suffix == ".xdmf" else {}
     try:
         with atomic_path(path) as tmp:
             meshio.write(tmp, out, **kw)
+            if suffix == ".vtu" and m.field_data:
+                _vtu_field_data(tmp, m.field_data)
     except Exception as exc:
         if isinstance(exc, HomlimitError):  # MeshError, or OutputError (disk full, EFBIG)
             raise
         raise MeshError(f"could not write mesh to {path}: {exc}") from exc
     return path
+
+
+def _vtu_field_data(path: Path, field_data: dict):
+    """Put ``field_data`` into the .vtu at ``path`` as the grid's FieldData (VTK XML, ascii
+    arrays, which ParaView shows under "Field Data" and ``meshio.read`` returns as
+    ``field_data``). Numbers become Float64 or Int64 arrays; a string becomes a UInt8 array of
+    its UTF-8 bytes (read it back with ``bytes(a).decode()``: meshio reads no VTK String
+    arrays), repeated as plain text in an XML comment for a reader of the file itself."""
+    arrays, notes = [], []
+    for name, value in field_data.items():
+        if isinstance(value, str):
+            raw = np.frombuffer(value.encode("utf-8"), np.uint8)
+            kind, text = "UInt8", " ".join(map(str, raw.tolist()))
+            notes.append(f"{name}: {value}".replace("--", "- -"))
+        else:
+            a = np.asarray(value).ravel()
+            kind = "Float64" if a.dtype.kind == "f" else "Int64"
+            text = " ".join(repr(float(x)) if kind == "Float64" else str(int(x)) for x in a)
+            raw = a
+        arrays.append(f'<DataArray type="{kind}" Name="{_xml_attr(name)}" '
+                      f'NumberOfTuples="{len(raw)}" format="ascii">{text}</DataArray>')
+    comment = "".join(f"\n<!-- {n} -->" for n in notes)
+    block = f"\n<FieldData>{comment}\n" + "\n".join(arrays) + "\n</FieldData>"
+    body = path.read_bytes()
+    tag = b"<UnstructuredGrid>"
+    if body.count(tag) != 1:  # pragma: no cover - meshio's layout changed
+        raise MeshError(f"cannot add field data to {path.name}: no single {tag.decode()}")
+    path.write_bytes(body.replace(tag, tag + block.encode("utf-8"), 1))
+
+
+def _xml_attr(text: str) -> str:
+    from xml.sax.saxutils import escape
+
+    return escape(text, {'"': "&quot;"})
 
 
 def _with_physical(m: meshio.Mesh, sets) -> meshio.Mesh:

@@ -6,7 +6,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["KinematicSolution"]
+__all__ = ["KinematicSolution", "stress_tensor"]
+
+
+def stress_tensor(sigma: np.ndarray) -> np.ndarray:
+    """Plane stress vectors (σ_x, σ_z, τ_xz), shape (n, 3), as 3×3 tensors in the frame
+    (x, z, out of plane), flattened row by row to shape (n, 9): [[σ_x, τ_xz, 0],
+    [τ_xz, σ_z, 0], [0, 0, 0]] (symmetric; the out-of-plane components 0)."""
+    sigma = np.asarray(sigma, float)
+    t = np.zeros((len(sigma), 3, 3))
+    t[:, 0, 0], t[:, 1, 1] = sigma[:, 0], sigma[:, 1]
+    t[:, 0, 1] = t[:, 1, 0] = sigma[:, 2]
+    return t.reshape(-1, 9)
 
 
 @dataclass(frozen=True)
@@ -57,7 +68,10 @@ class KinematicSolution:
 
     def to_meshio(self):
         """meshio.Mesh (triangles) with point data "velocity" and cell data "dissipation",
-        "intensity", "region" (index into sorted region names) and "stress" (mean per triangle)."""
+        "intensity", "region" (index into sorted region names) and "stress": the mean per
+        triangle as a 3×3 tensor [Pa], 9 components row by row, which ParaView reads as a
+        tensor. The section plane is the file's X–Y plane (X = x, Y = z, Z out of plane), so
+        the tensor is [[σ_x, τ_xz, 0], [τ_xz, σ_z, 0], [0, 0, 0]] (plane, out-of-plane 0)."""
         import meshio
 
         m = self.mesh
@@ -69,6 +83,6 @@ class KinematicSolution:
         cell_data = {"dissipation": [self.dissipation], "intensity": [self.intensity],
                      "region": [region]}
         if self.stress is not None:
-            cell_data["stress"] = [self.stress.mean(axis=1)]
+            cell_data["stress"] = [stress_tensor(self.stress.mean(axis=1))]
         return meshio.Mesh(pts, [("triangle", m.t.T)], point_data={"velocity": vel},
                            cell_data=cell_data)

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..errors import check_range
 
-__all__ = ["ConicBlock", "StrengthDomain", "jump_strain"]
+__all__ = ["ConicBlock", "StrengthDomain", "dissipation_free", "jump_strain"]
 
 
 @dataclass(frozen=True)
@@ -70,6 +70,15 @@ class ConicBlock:
     @property
     def n_rows(self) -> int:
         return self.A.shape[0]
+
+
+def dissipation_free(domain) -> bool:
+    """True when ``domain``'s support function π is 0 wherever it is finite: its kinematic
+    cone has no cost (cx = 0, cy = 0). So for every cone G with its apex at 0: eq. 15 without
+    cohesion (the homogenised masonry), dry bed joints, a rigid region. A mechanism admissible
+    there dissipates nothing, whatever its shape."""
+    blk = domain.kinematic_cone()
+    return not (np.any(blk.cx) or np.any(blk.cy))
 
 
 def jump_strain(v: np.ndarray, n: np.ndarray) -> np.ndarray:
