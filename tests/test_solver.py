@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from homlimit.errors import SolverError
+from homlimit.errors import ParameterError, SolverError
 from homlimit.fe.conic import stack
 from homlimit.fe.solver import (
     FAER_ABOVE,
@@ -105,3 +105,37 @@ def test_statuses_read_as_duals_of_each_other():
     with pytest.raises(SolverError, match="2 attempt"):
         check_status("static", "AlmostSolved", "CLARABEL",
                      [({}, "AlmostSolved", 3), ({}, "AlmostSolved", 4)])
+
+
+def test_one_chain_for_the_three_programs():
+    """The rigid-block LP takes the kinematic LP's settings and rungs, and faer on one thread
+    above FAER_ABOVE unknowns like the static program (the FE kinematic LP keeps qdldl); a
+    status reads by the program: cvxpy's "unbounded" on the static program (λ unbounded) is
+    the kinematic program's "infeasible"."""
+    kin = SolverOptions().ladder("kinematic", 1000, conic=False)
+    blk = SolverOptions().ladder("blocks", 1000, conic=False)
+    assert blk == kin
+    assert SolverOptions().ladder("blocks", FAER_ABOVE + 1, False)[0][1]["direct_solve_method"] \
+        == "faer"
+    assert SolverOptions().ladder("blocks", FAER_ABOVE + 1, False)[0][1]["max_threads"] == 1
+    assert SolverOptions().ladder("blocks", FAER_ABOVE, False)[0][1]["direct_solve_method"] \
+        == "qdldl"
+    big_kin = SolverOptions().ladder("kinematic", FAER_ABOVE + 1, False)[0][1]
+    assert big_kin["direct_solve_method"] == "qdldl" and "max_threads" not in big_kin
+    chosen = SolverOptions(direct_solve_method="qdldl").ladder("blocks", FAER_ABOVE + 1, False)
+    assert chosen[0][1]["direct_solve_method"] == "qdldl"
+    with pytest.raises(ParameterError, match="program = 'dem'"):
+        SolverOptions().ladder("dem", 10, False)
+    msgs = {}
+    for program, status in (("kinematic", "infeasible"), ("blocks", "infeasible"),
+                            ("static", "unbounded"), ("static", "DualInfeasible"),
+                            ("blocks", "unbounded"), ("static", "infeasible")):
+        with pytest.raises(SolverError) as exc:
+            check_status(program, status, "CLARABEL")
+        msgs[program, status] = str(exc.value).split(": ", 1)[1]
+    assert (msgs["kinematic", "infeasible"] == msgs["blocks", "infeasible"]
+            == msgs["static", "unbounded"] == msgs["static", "DualInfeasible"])
+    assert msgs["blocks", "unbounded"] == msgs["static", "infeasible"]
+    assert "dead loads" in msgs["blocks", "unbounded"]
+    with pytest.raises(SolverError, match="^rigid-block limit analysis ended"):
+        check_status("blocks", "user_limit", "CLARABEL")

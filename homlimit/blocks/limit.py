@@ -43,27 +43,20 @@ record keeps λ per iteration (``history``) and the flag ``converged``.
 from __future__ import annotations
 
 import time
-import warnings
 from dataclasses import dataclass, field
 
 import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import ParameterError, SolverError, check_range
-from ..fe.solver import SolverOptions
+from ..errors import ParameterError, check_range
+from ..fe.solver import SolverOptions, solve_cvxpy
 from .geometry import FACADE, TOOTHING, Assembly, block_speed, vertex_velocity
 
 __all__ = ["contact_operator", "loads", "BlockLimitResult", "RigidFit", "solve_blocks",
-           "equilibrium_residual", "clarabel_settings", "check_result", "FRICTION_MODELS",
-           "FAER_ABOVE"]
+           "equilibrium_residual", "check_result", "FRICTION_MODELS"]
 
 FRICTION_MODELS = ("associative", "non-associative")
-# Above FAER_ABOVE unknowns Clarabel's faer factorisation on one thread beats qdldl on the
-# block LP (measured, benchmarks/bench_blocks.py, CPU seconds: 11 400 blocks = 34 200 unknowns
-# qdldl 43 s, faer 49 s; 19 012 blocks = 57 036 unknowns qdldl 119 s, faer 88 s; 7 320 blocks
-# qdldl 19 s, faer 29 s). Used when the options ask for the default "qdldl".
-FAER_ABOVE = 45_000
 _CLOSED, _OPEN, _SLIDING = 0, 1, 2
 STATE_NAMES = {_CLOSED: "closed", _OPEN: "open", _SLIDING: "sliding"}
 
@@ -203,60 +196,13 @@ def check_result(assembly: Assembly, result: BlockLimitResult):
                              f"{assembly.n_blocks}: allowed the result of this assembly")
 
 
-def clarabel_settings(options: SolverOptions, n_unknowns: int) -> dict:
-    """Clarabel settings of the block LP from ``options`` (read by attribute only: tol,
-    direct_solve_method, max_iter, equilibrate, iterative_refinement): tolerance 1e-9 by
-    default (gap and feasibility); the factorisation "qdldl" (or unset) becomes faer on one
-    thread above FAER_ABOVE unknowns; iterative refinement off up to 100 000 unknowns unless
-    asked for (the kinematic program's rule; no block LP has stalled without it)."""
-    tol = getattr(options, "tol", None) or 1e-9
-    method = getattr(options, "direct_solve_method", None) or "qdldl"
-    refine = getattr(options, "iterative_refinement", None)
-    out = {"tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
-           "max_iter": int(getattr(options, "max_iter", None) or 400),
-           "equilibrate_enable": bool(getattr(options, "equilibrate", True)),
-           "iterative_refinement_enable": bool(refine if refine is not None
-                                               else n_unknowns > 100_000),
-           "direct_solve_method": method}
-    if method == "qdldl" and n_unknowns > FAER_ABOVE:
-        out.update(direct_solve_method="faer", max_threads=1)
-    return out
-
-
 def _solve(prob: cp.Problem, options: SolverOptions, n_free: int):
-    """Compile, solve and unpack ``prob`` with Clarabel (faer on one thread above FAER_ABOVE
-    unknowns); returns (raw solution, times, iterations)."""
-    times = {}
-    t0 = time.perf_counter()
-    data, chain, inv = prob.get_problem_data(cp.CLARABEL)
-    times["build"] = time.perf_counter() - t0
-    opts = clarabel_settings(options, n_free)
-    if hasattr(inv[-1], "solver_options"):
-        inv[-1].solver_options = dict(opts)
-    t0 = time.perf_counter()
-    try:
-        raw = chain.solve_via_data(prob, data, warm_start=False, verbose=options.verbose,
-                                   solver_opts=dict(opts))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", UserWarning)
-            prob.unpack_results(raw, chain, inv)
-    except cp.error.SolverError as exc:
-        raise SolverError(f"CLARABEL failed on the block program: {exc}",
-                          status="solver_error") from exc
-    times["solve"] = time.perf_counter() - t0
-    if prob.status != cp.OPTIMAL:
-        cause = {
-            "infeasible": "no admissible mechanism has unit live-load power: the contacts "
-                          "lock every free block (or the live load does no work)",
-            "unbounded": "the self-weight does unbounded work on an admissible mechanism: "
-                         "some block is not supported (unstable under gravity alone)",
-            "optimal_inaccurate": "the solver stalled before the requested accuracy (try a "
-                                  "looser tol or another direct_solve_method)",
-        }.get(prob.status, "numerical trouble or iteration limit")
-        raise SolverError(f"CLARABEL ended with status {prob.status!r} on the block program: "
-                          f"{cause}", status=prob.status)
-    stats = prob.solver_stats
-    return raw, times, int(stats.num_iters or 0)
+    """``prob`` through the one solve chain (``fe.solver.solve_cvxpy``, program "blocks": the
+    kinematic LP's settings and ladder, faer on one thread above ``fe.solver.FAER_ABOVE``
+    unknowns); returns (the chain's ``Solved``, times: "build" cvxpy's compilation, "solve"
+    the solves down the ladder with their unpacking)."""
+    run = solve_cvxpy(prob, options, "blocks", n_free, conic=False)
+    return run, {"build": run.times["compile"], "solve": run.times["solve"] + run.times["wrap"]}
 
 
 def _rigid_fit(assembly: Assembly, q: np.ndarray, moving: np.ndarray) -> RigidFit:
@@ -340,7 +286,7 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
                              f"{FRICTION_MODELS}")
     if not isinstance(options, SolverOptions) or options.solver != "CLARABEL":
         raise ParameterError(f"options = {options!r} is out of range: allowed a "
-                             "homlimit.kinematic.SolverOptions with solver='CLARABEL'")
+                             "homlimit.fe.solver.SolverOptions with solver='CLARABEL'")
     if f is None:
         if "f" not in assembly.meta:
             raise ParameterError("f = None is out of range: give the friction coefficient "
@@ -378,7 +324,8 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
     cone = C @ x >= 0
     norm = l_vec @ x == 1.0
     prob = cp.Problem(cp.Minimize(c_obj @ x), [norm, cone])
-    raw, times, iters = _solve(prob, options, free.size)
+    run, times = _solve(prob, options, free.size)
+    raw, iters = run.raw, run.iterations
     times["assembly"] = t_asm
     lam = float(prob.value)
     P = rows.size
@@ -391,7 +338,7 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
     sizes = {"blocks": assembly.n_blocks, "free_blocks": int(free_blk.sum()),
              "interfaces": jt.count, "contact_points": int(P), "unknowns": int(free.size),
              "rows": int(C.shape[0]), "nnz": int(C.nnz),
-             "factorisation": clarabel_settings(options, free.size)["direct_solve_method"]}
+             "factorisation": run.settings["direct_solve_method"], "attempts": run.attempts}
     xv = np.asarray(x.value, float)
     history = [lam]
     converged = True
@@ -433,8 +380,9 @@ def _non_associative(Dnf, Dtf, rows, c_obj, l_vec, kappa, f, N0, options, n_free
     Np, Tp = np.zeros(2 * K), np.zeros(2 * K)
     for _ in range(max_iter):
         cap.value = f * N_prev / kappa
-        raw, _, it = _solve(prob, options, n_free)
-        iters += it
+        run, _ = _solve(prob, options, n_free)
+        raw = run.raw
+        iters += run.iterations
         lam = float(prob.value)
         N = kappa * np.asarray(c_open.dual_value, float).ravel()
         T = kappa * (np.asarray(c_p.dual_value, float).ravel()

@@ -18,7 +18,6 @@ upper bound of the collapse multiplier of the continuum (for the chosen loads an
 from __future__ import annotations
 
 import time
-import warnings
 from dataclasses import dataclass, field
 
 import cvxpy as cp
@@ -29,7 +28,7 @@ from . import operators as ops
 from .conic import Stack, stack
 from .problems import Problem
 from .solution import KinematicSolution
-from .solver import SolverOptions, check_inputs, check_status, run_ladder, solver_failed
+from .solver import SolverOptions, check_inputs, solve_cvxpy
 
 __all__ = ["Discretisation", "discretise", "solve_kinematic"]
 
@@ -169,25 +168,13 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
         cost_y = cost_y + c_y
     normalise = (disc.F_live[free] / kappa) @ x == 1.0
     prob = cp.Problem(cp.Minimize(c_u @ x + cost_y), [normalise, *cons])
-    data, chain, inv = prob.get_problem_data(options.solver)
-    times["build"] = time.perf_counter() - t0
-
-    t0 = time.perf_counter()
-    times["solve"] = 0.0
-    raws = []
-
-    def attempt(opts):
-        t1 = time.perf_counter()
-        raws.append(_solve(prob, data, chain, inv, opts, options))
-        times["solve"] += float(prob.solver_stats.solve_time or time.perf_counter() - t1)
-        return prob.status, prob.solver_stats.num_iters or 0
-
-    # without iterative refinement the LP can stall on large meshes: solve again with it
-    ladder = options.ladder("kinematic", free.size, conic)
-    status, attempts = run_ladder(attempt, ladder)
-    raw, stats = raws[-1], prob.solver_stats
-    times["wrap"] = time.perf_counter() - t0 - times["solve"]   # cvxpy's hand-over
-    check_status("kinematic", status, options.solver)
+    # compiled once, solved down the ladder: without iterative refinement the LP can stall on
+    # large meshes, and is solved again with it (solver.SolverOptions.ladder)
+    run = solve_cvxpy(prob, options, "kinematic", free.size, conic)
+    times["build"] = time.perf_counter() - t0 - run.times["solve"] - run.times["wrap"]
+    times["solve"] = run.times["solve"]
+    times["wrap"] = run.times["wrap"]                  # cvxpy's hand-over
+    raw, stats, data, attempts = run.raw, prob.solver_stats, run.data, run.attempts
 
     t0 = time.perf_counter()
     u = np.zeros(disc.basis.N)
@@ -224,7 +211,7 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
              "variables": int(data["A"].shape[1]), "rows": int(data["A"].shape[0]),
              "nnz": int(data["A"].nnz), "iterations": int(stats.num_iters or 0),
              "retried": int(len(attempts) > 1), "attempts": attempts,
-             "tol": ladder[len(attempts) - 1][1].get("tol_gap_rel")}
+             "tol": run.settings.get("tol_gap_rel")}
     return KinematicSolution(
         multiplier=primal, u=u, velocity=u[disc.basis.nodal_dofs].T.copy(),
         dissipation=dissip_pt.reshape(nel, 3).sum(axis=1), interface_dissipation=idis,
@@ -234,17 +221,3 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
         status=prob.status, solver=options.solver, times=times, sizes=sizes, mesh=mesh,
         regions={k: np.asarray(v) for k, v in (mesh.subdomains or {}).items()})
 
-
-def _solve(prob, data, chain, inv, opts: dict, options: SolverOptions):
-    """Run the solver on the compiled data and unpack into ``prob``; returns the raw solution."""
-    if hasattr(inv[-1], "solver_options"):
-        inv[-1].solver_options = dict(opts)          # what prob.solve() would have recorded
-    try:
-        raw = chain.solve_via_data(prob, data, warm_start=False, verbose=options.verbose,
-                                   solver_opts=dict(opts))
-        with warnings.catch_warnings():     # an inaccurate status raises in check_status
-            warnings.simplefilter("ignore", UserWarning)
-            prob.unpack_results(raw, chain, inv)
-    except cp.error.SolverError as exc:
-        raise solver_failed("kinematic", options.solver, exc) from exc
-    return raw

@@ -1,29 +1,49 @@
-"""Solver settings of both bounds, their retry ladder, and the cause of a failed solve.
+"""The one solve chain of homlimit's conic programs: settings, retry ladder, solve, status.
 
-The kinematic (upper-bound) program is compiled by cvxpy and solved by Clarabel or HiGHS; the
-static (lower-bound) program goes to Clarabel directly (or through cvxpy). One ``SolverOptions``
-configures both; ``SolverOptions.ladder`` lists the settings tried in turn, ``run_ladder`` tries
-them until a solve does not stall, and ``check_status`` turns a final status into a
-``SolverError`` naming its likely cause. Statuses keep their solver's names: cvxpy's
-("optimal", "optimal_inaccurate", ...) for the kinematic bound, Clarabel's ("Solved",
-"AlmostSolved", ...) for the static one.
+Three programs go through it: the FE kinematic (upper-bound) program and the rigid-block
+program (``blocks.limit``), both kinematic linear or conic programs compiled by cvxpy and solved
+by Clarabel or HiGHS (``solve_cvxpy``), and the FE static (lower-bound) program, handed to
+Clarabel directly (``solve_clarabel``) or through cvxpy. One ``SolverOptions`` configures all
+three; ``SolverOptions.ladder`` lists the settings tried in turn, ``run_ladder`` tries them
+until a solve does not stall, and ``check_status`` turns a final status into a ``SolverError``
+naming its likely cause from one table (``_CAUSES``). Statuses keep their solver's names:
+cvxpy's ("optimal", "optimal_inaccurate", ...) through cvxpy, Clarabel's ("Solved",
+"AlmostSolved", ...) for the direct static solve.
 """
 
 from __future__ import annotations
 
+import time
+import warnings
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+import numpy as np
 
 from ..errors import ParameterError, SolverError, check_choice, check_range
 from .problems import Problem
 
-__all__ = ["SolverOptions", "run_ladder", "check_status", "check_inputs", "solver_failed",
-           "FAER_ABOVE", "REFINE_ABOVE", "STATIC_RETRIES"]
+__all__ = ["SolverOptions", "Solved", "solve_cvxpy", "solve_clarabel", "run_ladder",
+           "check_status", "check_inputs", "solver_failed", "PROGRAMS", "FAER_ABOVE",
+           "REFINE_ABOVE", "STATIC_RETRIES"]
 
 SOLVERS = ("CLARABEL", "HIGHS")
 DIRECT_METHODS = ("qdldl", "faer", "auto")
 BACKENDS = ("direct", "cvxpy")
-MAX_ITER = {"kinematic": 400, "static": 300}
+#: the programs of the chain: what names them in a message, their interior-point iteration
+#: limit, whether an unset factorisation becomes faer on one thread above FAER_ABOVE
+#: unknowns (not for the FE kinematic LP: "auto" → faer cost 6x the CPU of qdldl there,
+#: docs/kinematic.md), the remedy a stalled solve suggests, and whether the program is the
+#: static one (a maximum over stress fields, whose infeasibility is the kinematic program's
+#: unboundedness)
+PROGRAMS = {
+    "kinematic": {"title": "kinematic limit analysis", "max_iter": 400, "faer": False,
+                  "remedy": "scale_rows=True", "static": False},
+    "blocks": {"title": "rigid-block limit analysis", "max_iter": 400, "faer": True,
+               "remedy": "", "static": False},
+    "static": {"title": "static limit analysis", "max_iter": 300, "faer": True,
+               "remedy": "another stress_scale or mesh", "static": True},
+}
 # kinematic LPs with more free unknowns than this keep Clarabel's iterative refinement: without
 # it the 131k-unknown T-section stalled at primal residual 7e-9 (the 60k one did not)
 REFINE_ABOVE = 100_000
@@ -37,14 +57,16 @@ FAER_ABOVE = 30_000
 # Clarabel's defaults
 STATIC_RETRIES = ({"static_regularization_constant": 1e-7},
                   {"static_regularization_constant": 1e-6}, "other factorisation", {})
+# a solve that stopped short, in Clarabel's names and cvxpy's (cvxpy reports Clarabel's
+# MaxIterations as "user_limit"): tried again down the ladder
 STALLED = ("optimal_inaccurate", "AlmostSolved", "NumericalError", "InsufficientProgress",
-           "MaxIterations")
+           "MaxIterations", "user_limit")
 
 
 @dataclass(frozen=True)
 class SolverOptions:
-    """Settings of the conic solve of either bound (defaults measured in benchmarks/, see
-    docs/kinematic.md and docs/static.md).
+    """Settings of the conic solve of every program of ``PROGRAMS`` (defaults measured in
+    benchmarks/, see docs/kinematic.md, docs/static.md and docs/blocks.md).
 
     solver               "CLARABEL" (default; LP and SOC) or "HIGHS" (LP only, through cvxpy:
                          interior point without crossover for the kinematic bound, HiGHS's
@@ -54,18 +76,20 @@ class SolverOptions:
                          Mohr–Coulomb footing: degenerate duals at the apex)
     direct_solve_method  Clarabel's KKT factorisation "qdldl", "faer" or "auto"; None: "qdldl"
                          ("auto" picks faer on large kinematic LPs at 6x the CPU of qdldl),
-                         except static programs above FAER_ABOVE unknowns: faer on one thread
-    max_iter             interior-point iteration limit; None: 400 (kinematic), 300 (static)
+                         except static and rigid-block programs above FAER_ABOVE unknowns:
+                         faer on one thread
+    max_iter             interior-point iteration limit; None: 400 (kinematic, blocks), 300
+                         (static)
     equilibrate          Clarabel's Ruiz equilibration (indispensable for the kinematic LP)
-    scale_rows           kinematic bound: scale each point's cone rows by its triangle's size
+    scale_rows           FE kinematic bound: scale each point's cone rows by its triangle's size
                          (makes B = O(1))
     iterative_refinement Clarabel's iterative refinement of each KKT solve; None: Clarabel's
-                         default (on) for the static bound; for the kinematic bound off for a
-                         linear program of up to REFINE_ABOVE free unknowns (1.75x faster on the
-                         15k-triangle T-section, same λ to 1e-7), solved again with it if that
-                         run stalls; on for larger LPs (the 33k-triangle T-section stalls
-                         without it) and with second-order cones (without it the Mohr–Coulomb
-                         footing stalls and the vertical cut ends 8e-4 higher)
+                         default (on) for the static bound; for the kinematic and rigid-block
+                         programs off for a linear program of up to REFINE_ABOVE free unknowns
+                         (1.75x faster on the 15k-triangle T-section, same λ to 1e-7), solved
+                         again with it if that run stalls; on for larger LPs (the 33k-triangle
+                         T-section stalls without it) and with second-order cones (without it
+                         the Mohr–Coulomb footing stalls and the vertical cut ends 8e-4 higher)
     verbose              print the solver log
     retries              a stalled solve is tried again down ``ladder``
     settings             raw solver settings applied last to every attempt (Clarabel settings,
@@ -116,24 +140,31 @@ class SolverOptions:
             raise ParameterError("solver = 'HIGHS' is out of range: HiGHS solves linear programs "
                                  "only, and this problem has second-order cones; use 'CLARABEL'")
 
-    def ladder(self, bound: str, n_unknowns: int, conic: bool) -> list[tuple[dict, dict]]:
+    def ladder(self, program: str, n_unknowns: int, conic: bool) -> list[tuple[dict, dict]]:
         """The solver settings tried in turn, as [(rung, settings)], ``rung`` being what sets the
-        attempt apart. Kinematic: one run, then, if it stalls with iterative refinement off by
-        default, the same with it on. Static: the rungs of ``STATIC_RETRIES``. HiGHS: one run.
+        attempt apart; ``program`` one of ``PROGRAMS``. Kinematic and blocks: one run, then, if
+        it stalls with iterative refinement off by default, the same with it on, then (default
+        tolerance, LP) with 1e-7. Static: the rungs of ``STATIC_RETRIES``. HiGHS: one run.
         Without ``retries`` only the first; ``settings`` is applied last to every rung.
         """
+        check_choice("program", program, tuple(PROGRAMS))
+        prog = PROGRAMS[program]
         raw = dict(self.settings or {})
         if self.solver == "HIGHS":
             ipm = {"highs_options": {"solver": "ipm", "run_crossover": "off"}}
-            return [({}, {**(ipm if bound == "kinematic" else {}), **raw})]
+            return [({}, {**(ipm if not prog["static"] else {}), **raw})]
         tol = self.tol if self.tol is not None else (1e-7 if conic else 1e-9)
         first = {"tol_gap_abs": tol, "tol_gap_rel": tol, "tol_feas": tol,
-                 "max_iter": int(self.max_iter or MAX_ITER[bound])}
-        if bound == "kinematic":
+                 "max_iter": int(self.max_iter or prog["max_iter"])}
+        method = self.direct_solve_method or (
+            "faer" if prog["faer"] and n_unknowns > FAER_ABOVE else "qdldl")
+        first["direct_solve_method"] = method
+        if self.direct_solve_method is None and method == "faer":
+            first["max_threads"] = 1
+        if not prog["static"]:
             refine = (self.iterative_refinement if self.iterative_refinement is not None
                       else conic or n_unknowns > REFINE_ABOVE)
             first.update(iterative_refinement_enable=bool(refine),
-                         direct_solve_method=self.direct_solve_method or "qdldl",
                          equilibrate_enable=self.equilibrate)
             rungs = [{}] + ([{"iterative_refinement_enable": True}]
                             if self.iterative_refinement is None and not refine else [])
@@ -141,10 +172,6 @@ class SolverOptions:
                 rungs.append({"iterative_refinement_enable": True, "tol_gap_abs": 1e-7,
                               "tol_gap_rel": 1e-7, "tol_feas": 1e-7})
         else:
-            method = self.direct_solve_method or ("faer" if n_unknowns > FAER_ABOVE else "qdldl")
-            first["direct_solve_method"] = method
-            if self.direct_solve_method is None and method == "faer":
-                first["max_threads"] = 1
             if not self.equilibrate:
                 first["equilibrate_enable"] = False
             if self.iterative_refinement is not None:
@@ -168,45 +195,148 @@ def run_ladder(attempt: Callable[[dict], tuple[str, int]], ladder) -> tuple[str,
     return status, attempts
 
 
+@dataclass
+class Solved:
+    """The end of a solve down the ladder (its status checked: optimal).
+
+    status       the last attempt's status (the solver's own name)
+    attempts     [(rung, status, iterations)] as from ``run_ladder``
+    settings     the last attempt's solver settings
+    raw          the solver's raw solution of the last attempt (cvxpy: unpacked into the
+                 problem; direct Clarabel: its ``DefaultSolution``)
+    iterations   interior-point iterations of the last attempt
+    times        [s] "compile" (cvxpy's problem data), "solve" (the solver's own time, summed
+                 over the attempts), "wrap" (the rest: hand-over and unpacking)
+    data         cvxpy's problem data (None for direct Clarabel)
+    """
+
+    status: str
+    attempts: list
+    settings: dict
+    raw: object
+    iterations: int
+    times: dict = field(default_factory=dict)
+    data: dict | None = None
+
+
+def solve_cvxpy(prob, options: SolverOptions, program: str, n_unknowns: int,
+                conic: bool) -> Solved:
+    """Compile the cvxpy problem ``prob`` once for ``options.solver``, solve it down
+    ``options.ladder(program, n_unknowns, conic)``, unpack every attempt into ``prob`` (its
+    variables and duals hold the last one) and ``check_status`` the last: a SolverError
+    naming the likely cause unless it is optimal."""
+    import cvxpy as cp
+
+    t0 = time.perf_counter()
+    data, chain, inv = prob.get_problem_data(options.solver)
+    times = {"compile": time.perf_counter() - t0, "solve": 0.0}
+    raws = []
+
+    def attempt(opts):
+        if hasattr(inv[-1], "solver_options"):
+            inv[-1].solver_options = dict(opts)      # what prob.solve() would have recorded
+        t1 = time.perf_counter()
+        try:
+            raw = chain.solve_via_data(prob, data, warm_start=False, verbose=options.verbose,
+                                       solver_opts=dict(opts))
+            with warnings.catch_warnings():    # an inaccurate status raises in check_status
+                warnings.simplefilter("ignore", UserWarning)
+                prob.unpack_results(raw, chain, inv)
+        except cp.error.SolverError as exc:
+            raise solver_failed(program, options.solver, exc) from exc
+        times["solve"] += float(prob.solver_stats.solve_time or time.perf_counter() - t1)
+        raws.append(raw)
+        return prob.status, prob.solver_stats.num_iters or 0
+
+    t0 = time.perf_counter()
+    ladder = options.ladder(program, n_unknowns, conic)
+    status, attempts = run_ladder(attempt, ladder)
+    times["wrap"] = time.perf_counter() - t0 - times["solve"]
+    check_status(program, status, options.solver, attempts)
+    return Solved(status=status, attempts=attempts, settings=ladder[len(attempts) - 1][1],
+                  raw=raws[-1], iterations=int(prob.solver_stats.num_iters or 0),
+                  times=times, data=data)
+
+
+def solve_clarabel(q: np.ndarray, A, b: np.ndarray, cones: list, options: SolverOptions,
+                   program: str, conic: bool) -> Solved:
+    """Clarabel directly on min qᵀx s.t. A x + s = b, s ∈ ``cones`` (Clarabel cone objects),
+    down ``options.ladder(program, q.size, conic)``; ``check_status`` as ``solve_cvxpy``."""
+    import clarabel
+    import scipy.sparse as sp
+
+    P = sp.csc_matrix((q.size, q.size))
+    sols = []
+    times = {"compile": 0.0, "solve": 0.0}
+
+    def attempt(opts):
+        settings = clarabel.DefaultSettings()
+        settings.verbose = bool(options.verbose)
+        for key, val in opts.items():
+            setattr(settings, key, val)
+        sol = clarabel.DefaultSolver(P, q, A, b, cones, settings).solve()
+        times["solve"] += float(sol.solve_time)
+        sols.append(sol)
+        return str(sol.status).split(".")[-1], sol.iterations
+
+    t0 = time.perf_counter()
+    ladder = options.ladder(program, q.size, conic)
+    status, attempts = run_ladder(attempt, ladder)
+    times["wrap"] = time.perf_counter() - t0 - times["solve"]
+    check_status(program, status, options.solver, attempts)
+    return Solved(status=status, attempts=attempts, settings=ladder[len(attempts) - 1][1],
+                  raw=sols[-1], iterations=int(sols[-1].iterations), times=times)
+
+
 _NO_MECHANISM = ("no admissible mechanism has unit live-load power, so λ is unbounded: the "
-                 "supports and strength domains lock the body, or the live load does no work "
-                 "(check the supports and the live load's direction)")
+                 "supports, strength domains or contacts lock the body, or the live load does "
+                 "no work (check the supports and the live load's direction)")
 _DEAD_LOADS = ("the dead loads alone drive an admissible mechanism, so no admissible stress field "
-               "carries them: a support or a strength condition is missing (without tension a "
-               "load needs a compressive path to a support)")
-# the kinematic program is the dual of the static one: its infeasibility is the static
-# program's unboundedness and vice versa
-_CAUSES = {"infeasible": _NO_MECHANISM, "DualInfeasible": _NO_MECHANISM,
-           "unbounded": _DEAD_LOADS, "PrimalInfeasible": _DEAD_LOADS}
-_CAUSES.update({k: f"probably: {_CAUSES[v]} (inaccurate certificate)" for k, v in (
-    ("infeasible_inaccurate", "infeasible"), ("AlmostDualInfeasible", "DualInfeasible"),
-    ("unbounded_inaccurate", "unbounded"), ("AlmostPrimalInfeasible", "PrimalInfeasible"))})
+               "carries them: a support, a strength condition or a contact is missing (without "
+               "tension a load needs a compressive path to a support)")
+# what a status says in either solver's names: the program (as posed, a minimum) has no
+# feasible point ("infeasible") or no lower bound ("unbounded"), with an accurate certificate
+# or not
+_VERDICT = {"infeasible": ("infeasible", True), "PrimalInfeasible": ("infeasible", True),
+            "unbounded": ("unbounded", True), "DualInfeasible": ("unbounded", True),
+            "infeasible_inaccurate": ("infeasible", False),
+            "AlmostPrimalInfeasible": ("infeasible", False),
+            "unbounded_inaccurate": ("unbounded", False),
+            "AlmostDualInfeasible": ("unbounded", False)}
+# the one table of causes, by (static program?, verdict): the kinematic program is the dual of
+# the static one, its infeasibility is the static program's unboundedness and vice versa
+_CAUSES = {(False, "infeasible"): _NO_MECHANISM, (True, "unbounded"): _NO_MECHANISM,
+           (False, "unbounded"): _DEAD_LOADS, (True, "infeasible"): _DEAD_LOADS}
 
 
-def _remedy(bound: str) -> str:
-    extra = "scale_rows=True" if bound == "kinematic" else "another stress_scale or mesh"
-    return f"try a looser tol, another direct_solve_method, {extra}"
+def _remedy(program: str) -> str:
+    extra = PROGRAMS[program]["remedy"]
+    return "try a looser tol or another direct_solve_method" + (f", {extra}" if extra else "")
 
 
-def check_status(bound: str, status: str, solver: str, attempts=()) -> None:
+def check_status(program: str, status: str, solver: str, attempts=()) -> None:
     """Raise a SolverError naming the likely cause unless ``status`` is optimal ("optimal",
-    "Solved"); ``bound`` is "kinematic" or "static", ``attempts`` as from ``run_ladder``."""
+    "Solved"); ``program`` one of ``PROGRAMS``, ``attempts`` as from ``run_ladder``."""
     if status in ("optimal", "Solved"):
         return
-    cause = _CAUSES.get(status)
-    if cause is None:
+    if status in _VERDICT:
+        verdict, accurate = _VERDICT[status]
+        cause = _CAUSES[PROGRAMS[program]["static"], verdict]
+        if not accurate:
+            cause = f"probably: {cause} (inaccurate certificate)"
+    else:
         tried = (f" after {len(attempts)} attempt(s) {[a[1] for a in attempts]}"
                  if attempts else "")
         cause = (f"numerical trouble or the iteration limit: the solver stopped before the "
-                 f"requested accuracy{tried} ({_remedy(bound)})")
-    raise SolverError(f"{bound} limit analysis ended with {solver} status {status!r}: {cause}",
-                      status=status)
+                 f"requested accuracy{tried} ({_remedy(program)})")
+    raise SolverError(f"{PROGRAMS[program]['title']} ended with {solver} status {status!r}: "
+                      f"{cause}", status=status)
 
 
-def solver_failed(bound: str, solver: str, exc: Exception) -> SolverError:
+def solver_failed(program: str, solver: str, exc: Exception) -> SolverError:
     """The SolverError for a solver that raised (cvxpy's SolverError) instead of ending."""
-    return SolverError(f"{bound} limit analysis: {solver} failed: {exc} (numerical trouble: "
-                       f"{_remedy(bound)})", status="solver_error")
+    return SolverError(f"{PROGRAMS[program]['title']}: {solver} failed: {exc} (numerical "
+                       f"trouble: {_remedy(program)})", status="solver_error")
 
 
 def check_inputs(problem, options) -> None:

@@ -8,7 +8,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ...errors import SolverError, check_range
-from ..solver import SolverOptions, check_inputs, check_status, run_ladder, solver_failed
+from ..solver import SolverOptions, check_inputs, solve_clarabel, solve_cvxpy
 from .assembly import Assembly
 from .solution import StaticSolution
 
@@ -56,10 +56,10 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
     q = np.zeros(prog.n_var)
     q[prog.lam] = -1.0
     direct = options.backend == "direct" and options.solver == "CLARABEL"
+    # the one solve chain (fe.solver): the ladder, then a SolverError naming the cause
     res, status, attempts = (_solve_direct if direct else _solve_cvxpy)(M, e, q[live], layout,
                                                                          options)
     timings["solve"] = time.perf_counter() - t1
-    check_status("static", status, options.solver, attempts)
     x = np.zeros(prog.n_var)
     x[live] = res["x"]
     # the dropped rows must hold too (they do unless prescribed tractions contradict at a node)
@@ -111,26 +111,15 @@ def _solve_direct(M, e, q, layout, options: SolverOptions):
     n_zero, n_lin, socs = layout
     cones = ([clarabel.ZeroConeT(n_zero)] + ([clarabel.NonnegativeConeT(n_lin)] if n_lin else [])
              + [clarabel.SecondOrderConeT(d) for d in socs])
-    P = sp.csc_matrix((q.size, q.size))
-    res = {}
-
-    def attempt(opts):
-        settings = clarabel.DefaultSettings()
-        settings.verbose = bool(options.verbose)
-        for key, val in opts.items():
-            setattr(settings, key, val)
-        sol = clarabel.DefaultSolver(P, q, -M, e, cones, settings).solve()
-        res.update(x=np.asarray(sol.x), obj=float(sol.obj_val), obj_dual=float(sol.obj_val_dual),
-                   iterations=int(sol.iterations))
-        return str(sol.status).split(".")[-1], sol.iterations
-
-    status, attempts = run_ladder(attempt, options.ladder("static", q.size, bool(socs)))
-    return res, status, attempts
+    run = solve_clarabel(q, -M, e, cones, options, "static", bool(socs))
+    sol = run.raw
+    res = {"x": np.asarray(sol.x), "obj": float(sol.obj_val), "obj_dual": float(sol.obj_val_dual),
+           "iterations": run.iterations}
+    return res, run.status, run.attempts
 
 
-_CVXPY_STATUS = {"optimal": "Solved", "optimal_inaccurate": "AlmostSolved",
-                 "infeasible": "PrimalInfeasible", "infeasible_inaccurate": "PrimalInfeasible",
-                 "unbounded": "DualInfeasible", "unbounded_inaccurate": "DualInfeasible"}
+# cvxpy's statuses in Clarabel's names (the static solution reports Clarabel's)
+_CVXPY_STATUS = {"optimal": "Solved", "optimal_inaccurate": "AlmostSolved"}
 
 
 def _solve_cvxpy(M, e, q, layout, options: SolverOptions):
@@ -152,16 +141,7 @@ def _solve_cvxpy(M, e, q, layout, options: SolverOptions):
         X = cp.vstack([M[rows[:, j]] @ x + e[rows[:, j]] for j in range(1, d)])
         cons.append(cp.SOC(t, X, axis=0))
     prob = cp.Problem(cp.Minimize(q @ x), cons)
-    res = {"obj_dual": np.nan}
-
-    def attempt(opts):
-        try:
-            prob.solve(solver=options.solver, verbose=bool(options.verbose), **opts)
-        except cp.error.SolverError as exc:
-            raise solver_failed("static", options.solver, exc) from exc
-        res.update(x=x.value, obj=float(prob.value), iterations=int(prob.solver_stats.num_iters
-                                                                    or 0))
-        return _CVXPY_STATUS.get(prob.status, str(prob.status)), res["iterations"]
-
-    status, attempts = run_ladder(attempt, options.ladder("static", q.size, bool(socs)))
-    return res, status, attempts
+    run = solve_cvxpy(prob, options, "static", q.size, bool(socs))
+    res = {"x": x.value, "obj": float(prob.value), "obj_dual": np.nan,
+           "iterations": run.iterations}
+    return res, _CVXPY_STATUS.get(run.status, run.status), run.attempts
