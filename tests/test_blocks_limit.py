@@ -13,6 +13,7 @@ from homlimit.blocks.geometry import from_rectangles, running_bond_panel, stack,
 from homlimit.blocks.limit import equilibrium_residual, solve_blocks
 from homlimit.errors import ParameterError, SolverError
 from homlimit.fe.kinematic import SolverOptions
+from homlimit.mechanism.rigidfit import RigidFit
 from homlimit.params import Case, Masonry, Wall
 
 REL = 1e-7          # solver precision (Clarabel, tol 1e-9 on the normalised program)
@@ -27,6 +28,11 @@ def test_single_block_overturns_at_b_over_h(x_left):
     assert r.multiplier == pytest.approx(1.0 / 2.5, rel=REL)
     assert r.dual_objective == pytest.approx(r.multiplier, rel=REL)
     assert r.rigid and r.fit.O == pytest.approx((x_left, 0.0), abs=1e-7)
+    # the FE path's record of the fit, with blocks for nodes: one rigid body, no misfit, the
+    # fastest vertex the far top corner at |ω| √(1 + 2.5²) from the toe
+    assert isinstance(r.fit, RigidFit) and list(r.fit.block) == [False, True]
+    assert r.fit.rms == pytest.approx(0.0, abs=1e-7 * r.fit.vmax)
+    assert r.fit.vmax == pytest.approx(abs(r.fit.omega) * np.hypot(1.0, 2.5), rel=1e-9)
     assert r.state[0] == 1                       # open, no slip
     # static dual: the whole weight and the live load at the toe
     W = 1800.0 * 2.5 * 9.81

@@ -41,9 +41,9 @@ import numpy as np
 from ..errors import ParameterError, check_range
 from ..impulse import RigidBody
 from .geometry import Assembly
-from .limit import BlockLimitResult, check_result
+from .limit import BlockLimitResult, check_result, fit_rotation
 
-__all__ = ["BlockImpulse", "failing_body", "block_impulse"]
+__all__ = ["BlockImpulse", "failing_body", "block_impulse", "participation"]
 
 
 @dataclass(frozen=True)
@@ -99,25 +99,12 @@ def _rotation(assembly: Assembly, O, omega: float) -> np.ndarray:  # noqa: E741 
                  np.full(G.shape[0], omega)]
 
 
-def _fit(assembly: Assembly, q: np.ndarray, sel: np.ndarray):
-    """Kinetic-energy-weighted least squares of q on the blocks ``sel`` by a rotation ω about
-    O: unknowns (ω, ω x_O, ω z_O). Returns (O, ω)."""
-    G = assembly.centroid[sel]
-    m = assembly.mass[sel]
-    r = np.sqrt(assembly.inertia[sel] / np.maximum(m, 1e-300))   # radius of gyration
-    k = m.size
-    Mx = np.zeros((3 * k, 3))
-    Mx[:k, 0], Mx[:k, 1] = -G[:, 1], 1.0                 # u = −ω z_G + ω z_O
-    Mx[k:2 * k, 0], Mx[k:2 * k, 2] = G[:, 0], -1.0       # w = ω x_G − ω x_O
-    Mx[2 * k:, 0] = r                                    # r ω_i = r ω
-    rhs = np.r_[q[sel, 0], q[sel, 1], r * q[sel, 2]]
-    wt = np.sqrt(np.r_[m, m, m])
-    sol, *_ = np.linalg.lstsq(Mx * wt[:, None], rhs * wt, rcond=None)
-    omega, a, b = sol
-    if omega == 0:
-        raise ParameterError("the mechanism's fastest blocks do not rotate (ω = 0): a "
-                             "translation has no tipping angle, allowed a rotating body")
-    return (b / omega, a / omega), float(omega)
+def participation(assembly: Assembly, q: np.ndarray, O, omega: float) -> np.ndarray:  # noqa: E741
+    """Per block, p_i = ⟨q_i, q_R,i⟩ / ⟨q_R,i, q_R,i⟩ in the kinetic-energy inner product, q_R
+    the rotation ω about O (module docstring); 0 where q_R vanishes."""
+    qR = _rotation(assembly, O, omega)
+    den = _energy_inner(assembly, qR, qR)
+    return np.where(den > 0, _energy_inner(assembly, q, qR) / np.maximum(den, 1e-300), 0.0)
 
 
 def failing_body(assembly: Assembly, result: BlockLimitResult, level: float = 0.5,
@@ -133,10 +120,12 @@ def failing_body(assembly: Assembly, result: BlockLimitResult, level: float = 0.
     speed = result.speed(assembly)
     body = moving & (speed >= 0.5 * speed[moving].max())
     for _ in range(max_iter):
-        O, omega = _fit(assembly, q, body)  # noqa: E741 (the paper's O)
-        qR = _rotation(assembly, O, omega)
-        den = _energy_inner(assembly, qR, qR)
-        p = np.where(den > 0, _energy_inner(assembly, q, qR) / np.maximum(den, 1e-300), 0.0)
+        fit = fit_rotation(assembly, q, body, at_rest=~moving)
+        O, omega = fit.O, fit.omega  # noqa: E741 (the paper's O)
+        if not math.isfinite(O[0]):
+            raise ParameterError("the mechanism's fastest blocks do not rotate (ω = 0): a "
+                                 "translation has no tipping angle, allowed a rotating body")
+        p = participation(assembly, q, O, omega)
         new = moving & (p >= level)
         if not np.any(new) or np.array_equal(new, body):
             break

@@ -42,6 +42,7 @@ record keeps λ per iteration (``history``) and the flag ``converged``.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -51,9 +52,10 @@ import scipy.sparse as sp
 
 from ..errors import ParameterError, check_range
 from ..fe.solver import SolverOptions, solve_cvxpy
+from ..mechanism.rigidfit import RigidFit
 from .geometry import FACADE, TOOTHING, Assembly, block_speed, vertex_velocity
 
-__all__ = ["contact_operator", "loads", "BlockLimitResult", "RigidFit", "solve_blocks",
+__all__ = ["contact_operator", "loads", "BlockLimitResult", "fit_rotation", "solve_blocks",
            "equilibrium_residual", "check_result", "FRICTION_MODELS"]
 
 FRICTION_MODELS = ("associative", "non-associative")
@@ -108,19 +110,6 @@ def loads(assembly: Assembly):
 
 
 @dataclass(frozen=True)
-class RigidFit:
-    """Least-squares fit of the moving blocks' velocities by one rotation ω about O:
-    u_i = −ω (z_Gi − z_O), w_i = ω (x_Gi − x_O), ω_i = ω (mass-weighted).
-
-    O (x_O, z_O) [m]; omega [1/s] of the normalised mechanism; residual: the rms misfit over
-    the rms velocity of the moving blocks (0 for one rigid body)."""
-
-    O: tuple  # noqa: E741 (the paper's O)
-    omega: float
-    residual: float
-
-
-@dataclass(frozen=True)
 class BlockLimitResult:
     """The collapse multiplier and mechanism of a rigid-block assembly, with its static dual.
 
@@ -139,7 +128,9 @@ class BlockLimitResult:
     h               height of the failing part: top of the wall minus the lowest base of a
                     moving façade block (or of any moving block, if no façade block moves) [m]
     z_base          that lowest base [m]
-    fit             ``RigidFit`` of the moving blocks; rigid: the failing set moves as one body
+    fit             the rotation fitted to the moving blocks (``fit_rotation``, a
+                    ``mechanism.rigidfit.RigidFit``); rigid: the failing set moves as one body
+                    (the fit's rms misfit below 1e-3 × the blocks' rms speed)
     friction        "associative" or "non-associative"; f the friction coefficient
     primal_objective, dual_objective, status, iterations, times [s], sizes
     history         non-associative loop: λ per iteration (associative start first)
@@ -205,14 +196,25 @@ def _solve(prob: cp.Problem, options: SolverOptions, n_free: int):
     return run, {"build": run.times["compile"], "solve": run.times["solve"] + run.times["wrap"]}
 
 
-def _rigid_fit(assembly: Assembly, q: np.ndarray, moving: np.ndarray) -> RigidFit:
-    """Mass-weighted least squares for (ω, ω x_O, ω z_O) over the moving blocks."""
-    if not np.any(moving):
-        return RigidFit((float("nan"), float("nan")), 0.0, float("nan"))
-    G = assembly.centroid[moving]
-    m = assembly.mass[moving]
-    ell = np.sqrt(np.maximum(assembly.inertia[moving] / np.maximum(m, 1e-300), 0.0))
-    u, w, om = q[moving, 0], q[moving, 1], q[moving, 2]
+def fit_rotation(assembly: Assembly, q: np.ndarray, sel: np.ndarray,
+                 at_rest: np.ndarray | None = None) -> RigidFit:
+    """The rotation ω about O that best fits the block velocities q (n, 3) = (u, w, ω) on the
+    blocks ``sel``: u_i = −ω (z_Gi − z_O), w_i = ω (x_Gi − x_O), ω_i = ω, least squares in the
+    blocks' kinetic-energy norm (m |Δv_G|² + I_G Δω²), unknowns (ω, ω x_O, ω z_O).
+
+    Returns the FE path's record (``mechanism.rigidfit.RigidFit``) with blocks for nodes:
+    block = ``sel``, fixed = ``at_rest`` (default: the blocks not in ``sel``), rms the misfit
+    √(Σ m|Δv_G|² + I_G Δω²) / Σ m) [m/s], vmax the fastest vertex of ``sel``, n_iter 1.
+    O = (NaN, NaN) when ``sel`` is empty or ω vanishes (a translation)."""
+    sel = np.asarray(sel, bool)
+    fixed = ~sel if at_rest is None else np.asarray(at_rest, bool)
+    nan = (float("nan"), float("nan"))
+    if not np.any(sel):
+        return RigidFit(nan, 0.0, sel, fixed, float("nan"), 0.0, 0)
+    G = assembly.centroid[sel]
+    m = assembly.mass[sel]
+    ell = np.sqrt(np.maximum(assembly.inertia[sel] / np.maximum(m, 1e-300), 0.0))  # gyration
+    u, w, om = q[sel, 0], q[sel, 1], q[sel, 2]
     k = m.size
     # unknowns (ω, a = ω z_O, b = ω x_O): u = −ω z_G + a, w = ω x_G − b, ℓ ω_i = ℓ ω
     M = np.zeros((3 * k, 3))
@@ -223,10 +225,11 @@ def _rigid_fit(assembly: Assembly, q: np.ndarray, moving: np.ndarray) -> RigidFi
     wt = np.sqrt(np.r_[m, m, m])
     sol, *_ = np.linalg.lstsq(M * wt[:, None], rhs * wt, rcond=None)
     omega, a, b = sol
-    res = np.linalg.norm((M @ sol - rhs) * wt) / max(np.linalg.norm(rhs * wt), 1e-300)
-    if abs(omega) < 1e-12 * max(np.abs(rhs).max(), 1e-300):
-        return RigidFit((float("nan"), float("nan")), float(omega), float(res))
-    return RigidFit((float(b / omega), float(a / omega)), float(omega), float(res))
+    rms = float(np.linalg.norm((M @ sol - rhs) * wt) / math.sqrt(m.sum()))
+    vmax = float(block_speed(assembly, q)[sel].max())
+    O = nan if abs(omega) < 1e-12 * max(np.abs(rhs).max(), 1e-300) else (  # noqa: E741
+        float(b / omega), float(a / omega))
+    return RigidFit(O, float(omega), sel, fixed, rms, vmax, 1)
 
 
 def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, raw, iters, times, friction, f,
@@ -253,11 +256,13 @@ def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, raw, iters, times, fricti
     base_set = fac if np.any(fac) else moving
     z_top = float(assembly.meta.get("H", bb[:, 3].max()))
     z_base = float(bb[base_set, 1].min()) if np.any(base_set) else float("nan")
-    fit = _rigid_fit(assembly, q, moving)
+    fit = fit_rotation(assembly, q, moving, at_rest=~moving)
+    e = assembly.mass * (q[:, 0] ** 2 + q[:, 1] ** 2) + assembly.inertia * q[:, 2] ** 2
+    rms_speed = math.sqrt(e[moving].sum() / assembly.mass[moving].sum()) if fit.n_iter else 0.0
     return BlockLimitResult(
         multiplier=lam, velocity=q, opening=dn, slip=dt, normal=N, shear=T, state=state,
         active=active, moving=moving, h=z_top - z_base, z_base=z_base, fit=fit,
-        rigid=bool(np.isfinite(fit.residual) and fit.residual < 1e-3), friction=friction, f=f,
+        rigid=bool(fit.rms < 1e-3 * rms_speed), friction=friction, f=f,
         primal_objective=float(getattr(raw, "obj_val", lam)),
         dual_objective=float(getattr(raw, "obj_val_dual", lam)), status="optimal",
         iterations=iters, times=times, sizes=sizes or {}, history=tuple(history),

@@ -301,16 +301,14 @@ def _mechanism_geometry(A: Assembly, r: BlockLimitResult) -> dict:
     participation p (module ``impulse``) falls to 0.9, 0.5 and 0.1: per course above O, the
     right edge of the farthest block with p >= level, at mid-course height; the median over
     the courses in the upper three quarters of the part above O."""
-    from .impulse import _energy_inner, _rotation, failing_body
+    from .impulse import failing_body, participation
 
     try:
         body, O, omega = failing_body(A, r)  # noqa: E741 (the paper's O)
     except ParameterError:
         return {"x_hinge": math.nan, "z_hinge": math.nan, "slope_90": math.nan,
                 "slope_50": math.nan, "slope_10": math.nan}
-    qR = _rotation(A, O, omega)
-    den = _energy_inner(A, qR, qR)
-    p = np.where(den > 0, _energy_inner(A, r.velocity, qR) / np.maximum(den, 1e-300), 0.0)
+    p = participation(A, r.velocity, O, omega)
     bb = A.bounds()
     zc = 0.5 * (bb[:, 1] + bb[:, 3])
     H = float(A.meta.get("H", bb[:, 3].max()))
