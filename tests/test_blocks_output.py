@@ -1,28 +1,22 @@
 """Files of a rigid-block analysis (homlimit.blocks.output, studies): VTU round trips, the
 contact-force CSV, the PNG, the front-door entry point."""
 
-import csv
 import json
 
 import meshio
 import numpy as np
 import pytest
 
+from homlimit.app import report
 from homlimit.blocks.geometry import t_section_blocks
 from homlimit.blocks.limit import solve_blocks
 from homlimit.blocks.output import (
     contact_records,
     plot_blocks_mechanism,
     write_blocks_vtu,
-    write_contacts_csv,
     write_contacts_vtu,
 )
-from homlimit.blocks.studies import (
-    analyse_blocks,
-    h_scan_blocks,
-    table1_blocks,
-    write_blocks_outputs,
-)
+from homlimit.blocks.studies import analyse_blocks, h_scan_blocks, table1_blocks
 from homlimit.errors import ParameterError
 from homlimit.params import Case, Masonry, Wall
 
@@ -52,15 +46,18 @@ def test_blocks_vtu_round_trip(solved, tmp_path):
 
 def test_contacts_csv_and_vtu_hold_the_static_dual(solved, tmp_path):
     A, r = solved
-    with open(write_contacts_csv(tmp_path / "c.csv", A, r)) as fh:
-        rows = list(csv.DictReader(fh))
+    # written by the one writer of result tables (as a run writes blocks_contacts.csv)
+    path = report.write(tmp_path / "blocks_contacts.csv", contact_records(A, r))
+    assert path.read_text().splitlines()[0] == (
+        "interface,end,block_a,block_b,x [m],z [m],n_x [-],n_z [-],N [N],T [N],"
+        "opening [m/s],slip [m/s],state")
+    rows = report.read_csv(path)
     assert len(rows) == 2 * int(r.active.sum())
     # the ground carries the whole weight: sum of N over the base joints (normal +z)
-    base = [row for row in rows if int(row["block_a"]) == 0]
-    assert sum(float(row["N"]) for row in base) == pytest.approx(A.mass.sum() * 9.81,
-                                                                  rel=1e-6)
+    base = [row for row in rows if row["block_a"] == 0]
+    assert sum(row["N"] for row in base) == pytest.approx(A.mass.sum() * 9.81, rel=1e-6)
     # and resists the live load λ m g towards −x: the force on the wall is T t, t = (−1, 0)
-    assert sum(-float(row["T"]) for row in base) == pytest.approx(
+    assert sum(-row["T"] for row in base) == pytest.approx(
         r.multiplier * A.mass.sum() * 9.81, rel=1e-6)
     assert {row["state"] for row in rows} <= {"closed", "open", "sliding"}
     m = meshio.read(write_contacts_vtu(tmp_path / "c.vtu", A, r))
@@ -85,12 +82,15 @@ def test_front_door_entry_point_writes_every_file(tmp_path):
     again = h_scan_blocks(SMALL, step=2)
     assert [r["multiplier"] for r in again] == pytest.approx([r["multiplier"] for r in an.scan],
                                                              rel=1e-9)
-    paths = write_blocks_outputs(an, tmp_path)
+    # every file through the one writer of result files, by suffix
+    paths = [report.write(tmp_path / name, data) for name, data in an.files().items()]
     names = sorted(p.name for p in paths)
     assert names == sorted(["blocks.vtu", "blocks_contacts.vtu", "blocks_contacts.csv",
-                            "blocks_mechanism.png", "blocks_whole.png", "blocks_scan.csv",
-                            "blocks_summary.json"])
-    summary = json.loads((tmp_path / "blocks_summary.json").read_text())
+                            "blocks_mechanism.png", "blocks_whole.png", "blocks_scan.csv"])
+    assert all(p.stat().st_size > 0 for p in paths)
+    side = json.loads((tmp_path / "blocks_contacts.csv.json").read_text())
+    assert side["units"]["N [N]"] == "N"
+    summary = an.summary()
     assert summary["critical"]["vnorm"] == pytest.approx(an.critical["vnorm"])
     assert summary["settings"]["facade"] == "through"
 

@@ -1,12 +1,12 @@
 """The T-section as rigid blocks: the discrete model beside the homogenised continuum (issue 17).
 
-    from homlimit.blocks import analyse_blocks, write_blocks_outputs
+    from homlimit.blocks import analyse_blocks
     an = analyse_blocks(case)                 # whole wall + h-scan + critical height
-    write_blocks_outputs(an, "out/B1")        # blocks.vtu, PNGs, contact forces, JSON
+    an.files(), an.summary()                  # name → data of its files; plain data for JSON
 
 Modules: ``geometry`` (the running-bond T-section and its interfaces), ``limit`` (one sparse
 LP through cvxpy + Clarabel, associative or non-associative friction, the static dual),
-``impulse`` (eq. 7 for the discrete mechanism), ``output`` (VTU, CSV, PNG), ``studies``
+``impulse`` (eq. 7 for the discrete mechanism), ``output`` (VTU, contact records, PNG), ``studies``
 (h-scan, homogenisation study, Table 1 with the discrete column). Write-up: docs/blocks.md.
 """
 
@@ -25,7 +25,6 @@ from .output import (
                        contact_records,
                        plot_blocks_mechanism,
                        write_blocks_vtu,
-                       write_contacts_csv,
                        write_contacts_vtu,
 )
 from .studies import (
@@ -34,7 +33,6 @@ from .studies import (
                        h_scan_blocks,
                        homogenisation_study,
                        table1_blocks,
-                       write_blocks_outputs,
 )
 
 __all__ = [
@@ -42,8 +40,7 @@ __all__ = [
     "stack", "t_section_blocks",
     "BlockLimitResult", "solve_blocks", "equilibrium_residual",
     "BlockImpulse", "block_impulse", "failing_body",
-    "contact_records", "plot_blocks_mechanism", "write_blocks_vtu", "write_contacts_csv",
-    "write_contacts_vtu",
+    "contact_records", "plot_blocks_mechanism", "write_blocks_vtu", "write_contacts_vtu",
     "BlocksAnalysis", "analyse_blocks", "h_scan_blocks", "homogenisation_study",
-    "table1_blocks", "write_blocks_outputs",
+    "table1_blocks",
 ]

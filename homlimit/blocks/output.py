@@ -1,8 +1,10 @@
 """Files of a rigid-block analysis: VTU of the blocks and of the contacts, the contact forces as
-CSV, and a PNG of the mechanism with its open and sliding joints.
+records, and a PNG of the mechanism with its open and sliding joints.
 
-Every file is written whole or not at all (``homlimit._io``, ``fe.mesh.write``). matplotlib
-is imported lazily with the Agg backend.
+Every file is written whole or not at all (``homlimit._io``, ``fe.mesh.write``). The contact
+records become blocks_contacts.csv through the one writer of result tables (the front door's
+``app.report.write``: headers with units, schema sidecar), not here. matplotlib is imported
+lazily with the Agg backend.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from .geometry import KIND_NAMES, Assembly
 from .limit import STATE_NAMES, BlockLimitResult, check_result
 
 __all__ = ["blocks_mesh", "contacts_mesh", "write_blocks_vtu", "write_contacts_vtu",
-           "contact_records", "write_contacts_csv", "plot_blocks_mechanism"]
+           "contact_records", "plot_blocks_mechanism"]
 
 
 def blocks_mesh(assembly: Assembly, result: BlockLimitResult, body_mask=None):
@@ -92,7 +94,8 @@ def write_contacts_vtu(path, assembly: Assembly, result: BlockLimitResult) -> Pa
 def contact_records(assembly: Assembly, result: BlockLimitResult) -> list[dict]:
     """One record per end point of every active interface: interface, end, block_a, block_b,
     x, z [m], n_x, n_z, N, T [N per slab; force of a on b = N n + T t], opening, slip [m/s],
-    state ("closed", "open", "sliding")."""
+    state ("closed", "open", "sliding"): the rows of blocks_contacts.csv
+    (``studies.BlocksAnalysis.files``)."""
     check_result(assembly, result)
     jt = assembly.interfaces
     act = np.flatnonzero(result.active)
@@ -106,13 +109,6 @@ def contact_records(assembly: Assembly, result: BlockLimitResult) -> list[dict]:
     state = [STATE_NAMES[int(s)] for s in result.state[k]]
     return [{**{c: v[i].item() for c, v in cols.items()}, "state": state[i]}
             for i in range(k.size)]
-
-
-def write_contacts_csv(path, assembly: Assembly, result: BlockLimitResult) -> Path:
-    """``contact_records`` as CSV (the static dual of the mechanism, written out)."""
-    from .._io import write_csv
-
-    return write_csv(path, contact_records(assembly, result))
 
 
 def plot_blocks_mechanism(path, assembly: Assembly, result: BlockLimitResult, body_mask=None,

@@ -29,7 +29,7 @@ from .limit import BlockLimitResult, solve_blocks
 log = logging.getLogger(__name__)
 
 __all__ = ["scan_record", "h_scan_blocks", "BlocksAnalysis", "analyse_blocks",
-           "write_blocks_outputs", "homogenisation_study", "table1_blocks", "DEM_RATIOS"]
+           "homogenisation_study", "table1_blocks", "DEM_RATIOS"]
 
 DEM_RATIOS = {"B4/B1": 0.564 / 0.377, "B5/B2": 0.720 / 0.443, "B6/B3": 0.846 / 0.509}
 
@@ -140,10 +140,11 @@ class BlocksAnalysis:
 
     def files(self) -> dict:
         """File name → what is written there (a meshio mesh, records, or a function drawing
-        to a path): blocks.vtu (critical mechanism, polygons coloured by velocity),
-        blocks_contacts.vtu and blocks_contacts.csv (its contact forces, the static dual),
-        blocks_mechanism.png (critical height), blocks_whole.png (whole wall),
-        blocks_scan.csv (the h-scan)."""
+        to a path), for the one writer of result files (``app.report.write``, by suffix; a run
+        with ``[analysis] blocks`` writes them): blocks.vtu (critical mechanism, polygons
+        coloured by velocity), blocks_contacts.vtu and blocks_contacts.csv (its contact
+        forces, the static dual), blocks_mechanism.png (critical height), blocks_whole.png
+        (whole wall), blocks_scan.csv (the h-scan)."""
         from .output import blocks_mesh, contact_records, contacts_mesh
 
         A, r, bi = self.critical_assembly, self.critical_result, self.critical_impulse
@@ -210,25 +211,6 @@ def analyse_blocks(case: Case, facade: str = "through", friction: str = "associa
                 "boundaries, lowest v_g (h = H - z_O)"}
     return BlocksAnalysis(case, A, whole, whole_rec, scan, crit, Ac, rc, bi, na, settings,
                           times)
-
-
-def write_blocks_outputs(analysis: BlocksAnalysis, out_dir) -> list[Path]:
-    """Write ``analysis.files()`` and blocks_summary.json into ``out_dir``; return the paths."""
-    from .._io import write_csv, write_json
-    from ..fe.mesh import write
-
-    out = Path(out_dir)
-    paths = []
-    for name, data in analysis.files().items():
-        path = out / name
-        if name.endswith(".vtu"):
-            write(data, path)
-        elif name.endswith(".csv"):
-            write_csv(path, data)
-        else:
-            data(path)
-        paths.append(path)
-    return paths + [write_json(out / "blocks_summary.json", analysis.summary())]
 
 
 def _mechanism_pngs(analysis: BlocksAnalysis, path: Path, which: str) -> Path:
@@ -329,13 +311,12 @@ def _mechanism_geometry(A: Assembly, r: BlockLimitResult) -> dict:
 
 def table1_blocks(step: int = 1, facade: str = "through", non_associative_check: bool = True,
                   options: SolverOptions = SolverOptions(), tests=None,
-                  out_dir=None, figures_dir=None, figures_for=()) -> tuple[list[dict], dict]:
+                  figures_dir=None, figures_for=()) -> tuple[list[dict], dict]:
     """Table 1 with the discrete column: for every wall (or ``tests``), the closed forms I and
     II, the paper's DEM, and the rigid-block model (whole-wall λ and hinge, critical height of
     the h-scan, v̄_g/√(gb) one-DOF and rigid body, the non-associative check). Returns (rows,
     ratios) with the ratios B4/B1, B5/B2, B6/B3 of v̄_g/√(gb) for the DEM, I, II and the
-    blocks. ``out_dir``: write each wall's files there (``write_blocks_outputs``);
-    ``figures_dir``: the critical and whole-wall mechanism PNGs of the walls ``figures_for``
+    blocks. ``figures_dir``: the critical and whole-wall mechanism PNGs of the walls ``figures_for``
     as blocks_table1_<test>_critical.png, blocks_table1_<test>_whole.png."""
     from ..closed_form.mechanisms import mechanism_I, mechanism_II
     from ..closed_form.paper import table1
@@ -374,8 +355,6 @@ def table1_blocks(step: int = 1, facade: str = "through", non_associative_check:
                         "na_band": na["band_last5"],
                         "W_friction_share_na": na.get("W_friction_share", math.nan)})
         rows.append(row)
-        if out_dir is not None:
-            write_blocks_outputs(an, Path(out_dir) / t.test)
         if figures_dir is not None and t.test in figures_for:
             for which in ("critical", "whole"):
                 _mechanism_pngs(an, Path(figures_dir) / f"blocks_table1_{t.test}_{which}.png",
