@@ -7,7 +7,7 @@ run's own. Printed per size: free blocks, interfaces, contact points, LP unknown
 seconds to generate the blocks and find the interfaces, to assemble the contact operator, for
 cvxpy to build the program, for Clarabel to solve it (wall clock and CPU), interior-point
 iterations, peak memory, λ; then the fitted exponent p of solve time ∝ blocks^p (wall clock
-and CPU). Above limit.FAER_ABOVE unknowns the solve uses faer on one thread.
+and CPU). Above fe.solver.FAER_ABOVE unknowns the solve uses faer on one thread.
 
     python benchmarks/bench_blocks.py [--k 1 2 3 4 5 6.45] [--generator-only 100000]
 

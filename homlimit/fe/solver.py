@@ -47,9 +47,14 @@ PROGRAMS = {
 # kinematic LPs with more free unknowns than this keep Clarabel's iterative refinement: without
 # it the 131k-unknown T-section stalled at primal residual 7e-9 (the 60k one did not)
 REFINE_ABOVE = 100_000
-# static programs with more unknowns than this factor with faer on one thread (docs/static.md:
-# 7091 triangles 26 s against 45 s with qdldl; a tie near 4 000 triangles; two threads are
-# slower on a 2-core machine)
+# static and rigid-block programs with more unknowns than this factor with faer on one thread
+# (two threads are slower on a 2-core machine). One value serves both: CPU seconds of the
+# solve, qdldl / faer, measured on a loaded 2-core machine (docs/static.md, docs/blocks.md):
+#   static, Prandtl fan:  31 285 unknowns 11.0 / 9.3,  37 693: 18.3 / 12.3,
+#                         45 136: 24.4 / 16.0,         63 820: 51.5 / 29.4;
+#   blocks, T-section B1: 28 980 unknowns 21.7 / 22.7, 34 200: 31.8 / 29.3,
+#                         42 840: 46.1 / 36.4 (the blocks' former 45 000 lost 20 % there).
+# Not for the FE kinematic LP ("auto" → faer cost it 6x the CPU, docs/kinematic.md).
 FAER_ABOVE = 30_000
 # the static program's rungs: its equilibrium programs are degenerate (many optimal stress
 # fields away from the mechanism), so a static regularisation 1e-7 comes first (Clarabel's
