@@ -21,7 +21,7 @@ from ..operators import COMPONENTS
 from ..strength import Rigid
 from .bodies import NodalForces, rigid_bodies
 
-__all__ = ["Assembly", "triangle_gradients", "edge_tables"]
+__all__ = ["StaticProgram", "triangle_gradients", "edge_tables"]
 
 
 def triangle_gradients(p: np.ndarray, t: np.ndarray):
@@ -97,7 +97,7 @@ class _Coo:
         return M, np.concatenate(self.rhs)
 
 
-class Assembly:
+class StaticProgram:
     """The static program of a ``problems.Problem``, its rows added by the numbered steps."""
 
     def __init__(self, problem, stress_scale: float | None = None):

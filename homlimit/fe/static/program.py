@@ -9,7 +9,7 @@ import scipy.sparse as sp
 
 from ...errors import SolverError, check_range
 from ..solver import SolverOptions, check_inputs, solve_clarabel, solve_cvxpy
-from .assembly import Assembly
+from .assembly import StaticProgram
 from .solution import StaticSolution
 
 __all__ = ["solve_static"]
@@ -34,7 +34,7 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
     options.check_program(any(dom.static_cone().soc for dom in doms))
     timings = {}
     t0 = time.perf_counter()
-    prog = Assembly(problem, options.stress_scale)
+    prog = StaticProgram(problem, options.stress_scale)
     prog.equilibrium()     # 1. div σ + λ b + b⁰ = 0 in every triangle
     prog.continuity()      # 2. σ n continuous across interior edges
     prog.boundary()        # 3. σ n = λ t + t⁰ on free boundaries
@@ -82,7 +82,7 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
                           sizes=sizes, timings=timings, rigid=prog.rigid)
 
 
-def _active_facets(prog: Assembly, where: list, slack: np.ndarray, active_tol: float):
+def _active_facets(prog: StaticProgram, where: list, slack: np.ndarray, active_tol: float):
     """Active facet (nt, 3) per vertex from the slacks of each domain's rows: each linear row,
     normalised by its |A| row, is one facet, each second-order cone (t − |u|) one; −1 where
     none is within ``active_tol``."""
