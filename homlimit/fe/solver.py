@@ -27,6 +27,8 @@ MAX_ITER = {"kinematic": 400, "static": 300}
 # kinematic LPs with more free unknowns than this keep Clarabel's iterative refinement: without
 # it the 131k-unknown T-section stalled at primal residual 7e-9 (the 60k one did not)
 REFINE_ABOVE = 100_000
+STATIC_REG = 1e-6  # the kinematic LP's last rung: Clarabel's static_regularization_constant
+                   # (default 1e-8; docs/kinematic.md, "Very low friction")
 # static programs with more unknowns than this factor with faer on one thread (docs/static.md:
 # 7091 triangles 26 s against 45 s with qdldl; a tie near 4 000 triangles; two threads are
 # slower on a 2-core machine)
@@ -119,7 +121,9 @@ class SolverOptions:
     def ladder(self, bound: str, n_unknowns: int, conic: bool) -> list[tuple[dict, dict]]:
         """The solver settings tried in turn, as [(rung, settings)], ``rung`` being what sets the
         attempt apart. Kinematic: one run, then, if it stalls with iterative refinement off by
-        default, the same with it on. Static: the rungs of ``STATIC_RETRIES``. HiGHS: one run.
+        default, the same with it on; an LP at the default tolerance then at 1e-7; an LP last
+        with the static regularisation STATIC_REG (the previous rung's tolerance kept). Static: the
+        rungs of ``STATIC_RETRIES``. HiGHS: one run.
         Without ``retries`` only the first; ``settings`` is applied last to every rung.
         """
         raw = dict(self.settings or {})
@@ -140,6 +144,9 @@ class SolverOptions:
             if self.tol is None and not conic:   # last resort: 1e-7 (docs/kinematic.md)
                 rungs.append({"iterative_refinement_enable": True, "tol_gap_abs": 1e-7,
                               "tol_gap_rel": 1e-7, "tol_feas": 1e-7})
+            if not conic:   # a stiffer KKT regularisation, same tolerance: B1 at f = 0.001
+                rungs.append({**rungs[-1], "iterative_refinement_enable": True,
+                              "static_regularization_constant": STATIC_REG})
         else:
             method = self.direct_solve_method or ("faer" if n_unknowns > FAER_ABOVE else "qdldl")
             first["direct_solve_method"] = method
