@@ -93,7 +93,7 @@ def test_friction_dissipates_under_a_pulse():
 
 def test_friction_holds_the_facade_where_it_stopped():
     """At B1's critical λ the abutment friction exceeds gravity's restoring moment for
-    θ < 0.021 rad (F(0) = 79.9 kN m > R(0) = 73.0 kN m) and again for θ > 0.08 rad: a
+    θ < 0.026 rad (F(0) = 79.9 kN m > R(0) = 73.0 kN m) and again for θ > 0.080 rad: a
     sub-critical impulse of 0.6 v̄_g turns the façade to 0.019 rad, where it stops and stays,
     held by friction (0.9 v̄_g reaches 0.057 rad, where gravity wins: it falls back)."""
     rk = MechanismIRocker(B1)

@@ -82,8 +82,12 @@ def test_polarity_and_scaling():
 
 def test_record_from_csv(tmp_path):
     path = tmp_path / "rec.csv"
-    path.write_text("# a triangle\nt [s], a_g [m/s2]\n0.0, 0.0\n0.1, 2.0\n0.3, -1.0\n"
-                    "0.4, 0.0\n")
+    # the piecewise-linear a_g through (0, 0), (0.1, 2), (0.3, -1), (0.4, 0), sampled every
+    # 0.025 s (17 samples: a record needs 16)
+    ts = np.linspace(0.0, 0.4, 17)
+    ag = np.interp(ts, [0.0, 0.1, 0.3, 0.4], [0.0, 2.0, -1.0, 0.0])
+    path.write_text("# a triangle\nt [s], a_g [m/s2]\n"
+                    + "".join(f"{t!r}, {a!r}\n" for t, a in zip(ts.tolist(), ag.tolist())))
     r = RecordPulse.from_csv(path)
     assert r.name == "rec" and r.t_end == 0.4 and r.period == pytest.approx(0.4)
     assert r.a(0.05) == pytest.approx(1.0)
@@ -96,23 +100,42 @@ def test_record_from_csv(tmp_path):
     assert r.pgv == pytest.approx(0.1 + 0.4 / 3, rel=1e-12)
     s = r.with_pga(4.0)
     assert s.pga == pytest.approx(4.0) and s.pgv == pytest.approx(2 * r.pgv)
-    assert r.step_hint == pytest.approx(0.1)
+    assert r.step_hint == pytest.approx(0.025)
+    assert r.warnings == []
+
+
+def _rows(a, t0=1.0, n=16):
+    """n rows t = t0, t0 + 0.01, ... with a_g = a (padding that is itself valid)."""
+    return "".join(f"{t0 + 0.01 * k:.2f},{a}\n" for k in range(n))
 
 
 @pytest.mark.parametrize("text, match", [
-    ("0,0\n0.1,1\n0.1,2\n", r"t\[2\] = 0\.1 s is out of range"),
+    ("0,0\n0.1,1\n0.1,2\n" + _rows(1), r"t\[2\] = 0\.1 s is out of range"),
     ("0,0\n0.1,1,3\n", "3 columns"),
     ("t,a\n0,0\nx,1\n", r"rec\.csv:3"),
-    ("0,0\n0.1,0\n", "all zero"),
-    ("0,1\n", "at least 2 rows"),
-    ("-0.1,1\n0.1,1\n", r"t\[0\] = -0\.1"),
-    ("0,1\n0.1,nan\n", "non-finite"),
+    ("0,0\n0.1,0\n" + _rows(0), "all zero"),
+    ("0,1\n", "1 times and 1 accelerations: allowed .* at least 16 rows"),
+    ("0,0\n" + _rows(1, n=14), "15 times .* at least 16 rows"),
+    ("-0.1,1\n0.1,1\n" + _rows(1), r"t\[0\] = -0\.1"),
+    ("0,1\n0.1,nan\n" + _rows(1), "non-finite"),
+    ("0,1\n0.1,inf\n" + _rows(1), "non-finite"),
 ])
 def test_record_errors_name_the_problem(tmp_path, text, match):
     path = tmp_path / "rec.csv"
     path.write_text(text)
     with pytest.raises(ParameterError, match=match):
         RecordPulse.from_csv(path)
+
+
+def test_record_sampling_warnings():
+    """A step over 0.05 s or a length over 600 s is valid but warned about, naming the
+    record, the step and where it is."""
+    t = np.concatenate([np.linspace(0.0, 0.15, 16), [0.25]])
+    (w,) = RecordPulse(t, np.ones(17), name="coarse").warnings
+    assert "record 'coarse' has a time step of 0.1 s (from t = 0.15 s): over 0.05 s" in w
+    (w,) = RecordPulse(np.linspace(0.0, 700.0, 70001), np.ones(70001), name="long").warnings
+    assert "record 'long' lasts 700 s: over 600 s" in w
+    assert len(RecordPulse(np.linspace(0.0, 1e9, 16), np.ones(16)).warnings) == 2
 
 
 def test_missing_record_file(tmp_path):
@@ -129,7 +152,8 @@ def test_missing_record_file(tmp_path):
     (lambda: MavroeidisPapageorgiouPulse(1.0, 1.0, gamma=1.0), r"gamma = 1\.0 is out of range"),
     (lambda: MavroeidisPapageorgiouPulse(1.0, 1.0, nu=7.0), r"nu = 7\.0 rad is out of range"),
     (lambda: MavroeidisPapageorgiouPulse(-1.0, 1.0), r"v_p = -1\.0 m/s is out of range"),
-    (lambda: RecordPulse([0, 1], [0, 1], scale=0.0), r"scale = 0\.0 is out of range"),
+    (lambda: RecordPulse(np.arange(16.0), np.ones(16), scale=0.0),
+     r"scale = 0\.0 is out of range"),
     (lambda: make_pulse("triangle", 1.0), "pulse kind = 'triangle' is out of range"),
     (lambda: make_pulse("ricker", 1.0, gamma=2.0), "pulse option 'gamma'"),
 ])

@@ -12,6 +12,7 @@ from homlimit.fe.conic import stack
 from homlimit.fe.solver import (
     FAER_ABOVE,
     REFINE_ABOVE,
+    STATIC_REG,
     SolverOptions,
     check_status,
     run_ladder,
@@ -65,19 +66,24 @@ def test_static_ladder_is_the_measured_one():
 
 def test_kinematic_ladder_retries_a_stalled_lp_with_refinement_then_tol_1e7():
     """Kinematic: refinement off for an LP up to REFINE_ABOVE free unknowns, retried with it,
-    then with tolerance 1e-7 (default tolerance only); refinement on for larger LPs (then only
-    the 1e-7 rung follows); no retry with cones; a chosen tolerance is kept."""
+    then with tolerance 1e-7 (default tolerance only), then with static regularisation 1e-6 at the
+    previous rung's tolerance; refinement on for larger LPs (then the 1e-7 and step rungs
+    follow); no retry with cones; a chosen tolerance is kept."""
     lp = SolverOptions().ladder("kinematic", REFINE_ABOVE, conic=False)
-    assert [s["iterative_refinement_enable"] for _, s in lp] == [False, True, True]
-    assert [s["tol_gap_rel"] for _, s in lp] == [1e-9, 1e-9, 1e-7]
+    assert [s["iterative_refinement_enable"] for _, s in lp] == [False, True, True, True]
+    assert [s["tol_gap_rel"] for _, s in lp] == [1e-9, 1e-9, 1e-7, 1e-7]
+    assert [s.get("static_regularization_constant") for _, s in lp] == [None] * 3 + [1e-6]
+    assert STATIC_REG == 1e-6
     assert lp[0][1]["max_iter"] == 400 and lp[0][1]["direct_solve_method"] == "qdldl"
     big = SolverOptions().ladder("kinematic", REFINE_ABOVE + 1, conic=False)
-    assert [s["tol_gap_rel"] for _, s in big] == [1e-9, 1e-7]
+    assert [s["tol_gap_rel"] for _, s in big] == [1e-9, 1e-7, 1e-7]
     assert len(SolverOptions().ladder("kinematic", 10, conic=True)) == 1
     chosen = SolverOptions(tol=1e-8).ladder("kinematic", 10, False)   # the user's tolerance
-    assert [s["tol_gap_rel"] for _, s in chosen] == [1e-8, 1e-8]
+    assert [s["tol_gap_rel"] for _, s in chosen] == [1e-8, 1e-8, 1e-8]
+    assert chosen[-1][0] == {"iterative_refinement_enable": True,
+                             "static_regularization_constant": 1e-6}
     forced = SolverOptions(iterative_refinement=False).ladder("kinematic", 10, False)
-    assert [s["tol_gap_rel"] for _, s in forced] == [1e-9, 1e-7]
+    assert [s["tol_gap_rel"] for _, s in forced] == [1e-9, 1e-7, 1e-7]
 
 
 def test_run_ladder_stops_at_the_first_solve_that_does_not_stall():
@@ -139,3 +145,23 @@ def test_one_chain_for_the_three_programs():
     assert "dead loads" in msgs["blocks", "unbounded"]
     with pytest.raises(SolverError, match="^rigid-block limit analysis ended"):
         check_status("blocks", "user_limit", "CLARABEL")
+
+
+@pytest.mark.slow
+def test_a_very_low_friction_part_is_solved_on_the_regularised_rung():
+    """B1 at f = 0.001 (issue 27), the scan's part of 1.169 m (default mesh, h/30): Clarabel
+    stalls at primal/dual residual 1.6e-7 > tol 1e-7 with and without iterative refinement
+    (AlmostSolved), and solves with static regularisation 1e-6 at the same tolerance. The
+    collapse multiplier of a wall whose joints hardly hold is the friction coefficient (the
+    whole wall slides): 0.001 (measured 1.0000045e-3)."""
+    import dataclasses
+
+    from homlimit.mechanism.analysis import _analyse_height
+    from homlimit.params import Case
+
+    case = Case(name="B1")
+    case = dataclasses.replace(case, masonry=dataclasses.replace(case.masonry, f=0.001))
+    rec = _analyse_height(case, 0.25, "bedjoints", None, 30,
+                          float(np.geomspace(0.3, 9.0, 6)[2])).record()
+    assert rec["retries"] == 2 and rec["solver_tol"] == 1e-7
+    assert rec["multiplier"] == pytest.approx(0.001, rel=1e-4)

@@ -586,6 +586,10 @@ def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
             raise ParameterError(f"[pulse] record = {pc.record!r} is not UTF-8 text (byte "
                                  f"0x{e.object[e.start]:02x} at offset {e.start}): allowed a "
                                  "two-column CSV t [s], a_g [m/s^2]") from None
+        except ParameterError as e:         # name the key as well as the record
+            raise ParameterError(f"[pulse] record = {pc.record!r}: {e}") from None
+        for note in record.warnings:
+            log.warning("warning: [pulse] record = %r: %s", pc.record, note)
     fe = fe_rocker(config) if "FE" in pc.mechanisms else None
     rockers = case_rockers(case, [m for m in pc.mechanisms if m != "FE"], fe_body=fe,
                            gravity_I=pc.gravity_I, restitution=pc.restitution)
@@ -599,7 +603,24 @@ def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
     if record is not None:
         with _stage({}, "critical scale of the record", pc.record):
             points += record_thresholds(rockers, record, **kw)
+    _warn_implausible(points)
     return points, fe
+
+
+def _warn_implausible(points) -> None:
+    """One warning for the critical pulses beyond any recorded ground motion (kept in the
+    results, marked ``implausible``)."""
+    from ..dynamics.spectra import PLAUSIBLE_PGA_G, PLAUSIBLE_PGV
+
+    bad = [p for p in points if p.implausible]
+    if not bad:
+        return
+    shown = "; ".join(f"{p.pulse} {p.polarity:+d} T_p = {p.period:g} s, {p.mechanism}: "
+                      f"pga {p.pga_g:.3g} g, pgv {p.pgv:.3g} m/s" for p in bad[:3])
+    more = f"; and {len(bad) - 3} more" if len(bad) > 3 else ""
+    log.warning("warning: %d of %d critical pulses need pga > %g g or pgv > %g m/s, beyond "
+                "recorded ground motion (kept, column implausible = true): %s%s", len(bad),
+                len(points), PLAUSIBLE_PGA_G, PLAUSIBLE_PGV, shown, more)
 
 
 # ----------------------------------------------------------------------------- the outputs

@@ -44,7 +44,8 @@ _DIMENSIONLESS = (
     "hinge_ratio hinge_ratio_fe hinge_ratio_I hinge_ratio_II multiplier_I multiplier_II rtol "
     "ivp_rtol lam_multiplier retries solver_tol").split()
 _TEXT = ("name test mechanism mechanism_fe critical_mechanism vg_method facade pulse ivp_method "
-         "fan_admissible wedge_admissible case status critical_at critical_at_fe reason").split()
+         "fan_admissible wedge_admissible case status critical_at critical_at_fe reason "
+         "implausible").split()
 #: the SI unit of every quantity in a result file ("-": dimensionless, "": text or a flag)
 UNITS: dict[str, str] = {
     **dict.fromkeys(_DIMENSIONLESS, "-"), **dict.fromkeys(_TEXT, ""),
@@ -263,11 +264,12 @@ def format_table(header: list[str], rows: list[list], title: str | None = None) 
 
 def format_spectra(points, title: str | None = None) -> str:
     """The overturning spectra (``dynamics.SpectrumPoint``) as a text table: pulse, mechanism,
-    polarity, T_p, critical pga/g, pgv, pgv/√(gb), pgv over eq. 7's v̄_g, impacts."""
+    polarity, T_p, critical pga/g, pgv, pgv/√(gb), pgv over eq. 7's v̄_g, impacts, and the flag
+    "implausible" (pga > 3 g or pgv > 3 m/s)."""
     rows = [[p.pulse, p.mechanism, p.polarity, p.period, p.pga_g, p.pgv, p.vnorm, p.ratio,
-             p.n_impacts] for p in points]
+             p.n_impacts, "implausible" if p.implausible else ""] for p in points]
     return format_table(["pulse", "mech", "pol", "T_p [s]", "pga/g", "pgv [m/s]",
-                         "pgv/sqrt(gb)", "pgv/vg(eq.7)", "impacts"], rows, title)
+                         "pgv/sqrt(gb)", "pgv/vg(eq.7)", "impacts", "flag"], rows, title)
 
 
 # ----------------------------------------------------------------------------- the summary

@@ -44,9 +44,13 @@ from scipy.optimize import minimize_scalar
 from ..errors import ParameterError, check_range
 
 __all__ = ["Pulse", "RectangularPulse", "OneSinePulse", "OneCosinePulse", "RickerPulse",
-           "MavroeidisPapageorgiouPulse", "RecordPulse", "PULSE_KINDS", "make_pulse"]
+           "MavroeidisPapageorgiouPulse", "RecordPulse", "PULSE_KINDS", "make_pulse",
+           "RECORD_MIN_SAMPLES", "RECORD_MAX_STEP", "RECORD_MAX_DURATION"]
 
 RICKER_CUT = 1.5  # Ricker support |t − t0| <= RICKER_CUT · T_p
+RECORD_MIN_SAMPLES = 16    # fewer samples cannot describe a ground motion
+RECORD_MAX_STEP = 0.05     # s: a longer sample step gets a warning (peaks between samples lost)
+RECORD_MAX_DURATION = 600.0  # s: a longer record gets a warning (no earthquake lasts that long)
 _N_PEAK = 20001  # samples for numerically found peaks (smooth pulses: error ~ (T/N)²)
 
 
@@ -394,9 +398,11 @@ class MavroeidisPapageorgiouPulse(Pulse):
 
 @dataclass(frozen=True, eq=False)
 class RecordPulse(Pulse):
-    """A recorded or user-made ground acceleration: samples t [s] (strictly increasing,
-    t[0] >= 0) and a_g [m/s²], linear between samples, zero outside [t[0], t[-1]]; scaled by
-    ``scale`` (> 0). ``period`` is its length t[-1] − t[0]."""
+    """A recorded or user-made ground acceleration: samples t [s] (at least
+    RECORD_MIN_SAMPLES = 16, finite, strictly increasing, t[0] >= 0) and a_g [m/s²], linear
+    between samples, zero outside [t[0], t[-1]]; scaled by ``scale`` (> 0). ``period`` is its
+    length t[-1] − t[0]. ``warnings``: valid but doubtful sampling (a step over 0.05 s, a
+    length over 600 s)."""
 
     t: np.ndarray
     a_g: np.ndarray
@@ -409,9 +415,10 @@ class RecordPulse(Pulse):
     def __post_init__(self):
         t = np.asarray(self.t, dtype=float).ravel()
         a = np.asarray(self.a_g, dtype=float).ravel()
-        if t.size < 2 or t.size != a.size:
+        if t.size < RECORD_MIN_SAMPLES or t.size != a.size:
             raise ParameterError(f"record {self.name!r} has {t.size} times and {a.size} "
-                                 "accelerations: allowed two equal columns of at least 2 rows")
+                                 "accelerations: allowed two equal columns of at least "
+                                 f"{RECORD_MIN_SAMPLES} rows")
         if not (np.all(np.isfinite(t)) and np.all(np.isfinite(a))):
             raise ParameterError(f"record {self.name!r} holds non-finite values: allowed "
                                  "finite t [s] and a_g [m/s^2]")
@@ -430,6 +437,22 @@ class RecordPulse(Pulse):
         object.__setattr__(self, "scale", check_range("scale", self.scale, 0.0, lo_open=True))
         object.__setattr__(self, "polarity", _polarity(self.polarity))
         object.__setattr__(self, "_v", cumulative_trapezoid(a, t, initial=0.0))
+
+    @property
+    def warnings(self) -> list[str]:
+        """Valid but doubtful sampling: a step over RECORD_MAX_STEP, a length over
+        RECORD_MAX_DURATION (each a sentence naming the record)."""
+        out = []
+        dt = np.diff(self.t)
+        k = int(np.argmax(dt))
+        if dt[k] > RECORD_MAX_STEP:
+            out.append(f"record {self.name!r} has a time step of {float(dt[k]):.4g} s (from "
+                       f"t = {float(self.t[k]):.6g} s): over {RECORD_MAX_STEP:g} s, a_g is "
+                       "linear between samples and the peaks between them are lost")
+        if self.period > RECORD_MAX_DURATION:
+            out.append(f"record {self.name!r} lasts {self.period:.4g} s: over "
+                       f"{RECORD_MAX_DURATION:g} s, longer than any earthquake")
+        return out
 
     @classmethod
     def from_csv(cls, path: str | Path, **kwargs) -> RecordPulse:

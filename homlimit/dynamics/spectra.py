@@ -29,7 +29,8 @@ from .rocking import GeneralisedRocker, MechanismIRocker, RigidRocker, Rocker
 from .threshold import critical_pulse
 
 __all__ = ["SpectrumPoint", "DEFAULT_PERIODS", "overturning_spectrum", "case_rockers",
-           "case_spectra", "record_thresholds", "SPECTRUM_COLUMNS"]
+           "case_spectra", "record_thresholds", "SPECTRUM_COLUMNS", "PLAUSIBLE_PGA_G",
+           "PLAUSIBLE_PGV", "implausible"]
 
 DEFAULT_PERIODS = (0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0)  # s
 
@@ -45,7 +46,10 @@ class SpectrumPoint:
     n_impacts: impacts in the critical history; hinge_ratio: max |P_x|/P_z at the pivot
     during the critical pulse (rigid bodies; NaN for mechanism I, whose abutment forces also
     act, and for one-DOF shapes); rtol: threshold tolerance (relative, on pga);
-    ivp_rtol, ivp_method: the time integration's tolerance and method.
+    ivp_rtol, ivp_method: the time integration's tolerance and method;
+    implausible: the critical pulse lies beyond any recorded ground motion (pga > 3 g or
+    pgv > 3 m/s, ``PLAUSIBLE_PGA_G``, ``PLAUSIBLE_PGV``): a valid result, but no pulse of this
+    shape and period that real ground motion reaches overturns the body.
     """
 
     mechanism: str
@@ -67,9 +71,20 @@ class SpectrumPoint:
     rtol: float
     ivp_rtol: float
     ivp_method: str
+    implausible: bool = False
 
     def as_dict(self) -> dict:
         return asdict(self)
+
+
+PLAUSIBLE_PGA_G = 3.0  # largest plausible peak ground acceleration [g]
+PLAUSIBLE_PGV = 3.0    # largest plausible peak ground velocity [m/s]
+
+
+def implausible(pga_g: float, pgv: float) -> bool:
+    """Is a pulse of peak acceleration pga_g [g] and velocity pgv [m/s] beyond any recorded
+    ground motion (pga > 3 g or pgv > 3 m/s)?"""
+    return bool(pga_g > PLAUSIBLE_PGA_G or pgv > PLAUSIBLE_PGV)
 
 
 SPECTRUM_COLUMNS = [f for f in SpectrumPoint.__dataclass_fields__]
@@ -122,7 +137,7 @@ def _point(name, rk, pulse, b, g, rtol, scan_ratio, options) -> SpectrumPoint:
     return SpectrumPoint(name, pulse.kind, T, pulse.polarity, th.pga, th.pga / g, th.pgv,
                          th.pgv / sq, th.vg_impulse, th.vg_impulse / sq, th.ratio, rk.p,
                          rk.p * T, th.a_uplift, th.response.n_impacts, _hinge_ratio_of(rk, th),
-                         rtol, ivp.rtol, ivp.method)
+                         rtol, ivp.rtol, ivp.method, implausible(th.pga / g, th.pgv))
 
 
 def _hinge_ratio_of(rocker: Rocker, th) -> float:

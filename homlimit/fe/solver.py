@@ -47,6 +47,8 @@ PROGRAMS = {
 # kinematic LPs with more free unknowns than this keep Clarabel's iterative refinement: without
 # it the 131k-unknown T-section stalled at primal residual 7e-9 (the 60k one did not)
 REFINE_ABOVE = 100_000
+STATIC_REG = 1e-6  # the kinematic LP's last rung: Clarabel's static_regularization_constant
+                   # (default 1e-8; docs/kinematic.md, "Very low friction")
 # static and rigid-block programs with more unknowns than this factor with faer on one thread
 # (two threads are slower on a 2-core machine). One value serves both: CPU seconds of the
 # solve, qdldl / faer, measured on a loaded 2-core machine (docs/static.md, docs/blocks.md):
@@ -148,8 +150,10 @@ class SolverOptions:
     def ladder(self, program: str, n_unknowns: int, conic: bool) -> list[tuple[dict, dict]]:
         """The solver settings tried in turn, as [(rung, settings)], ``rung`` being what sets the
         attempt apart; ``program`` one of ``PROGRAMS``. Kinematic and blocks: one run, then, if
-        it stalls with iterative refinement off by default, the same with it on, then (default
-        tolerance, LP) with 1e-7. Static: the rungs of ``STATIC_RETRIES``. HiGHS: one run.
+        it stalls with iterative refinement off by default, the same with it on; an LP at the
+        default tolerance then at 1e-7; an LP last with the static regularisation STATIC_REG
+        (the previous rung's tolerance kept). Static: the rungs of ``STATIC_RETRIES``. HiGHS:
+        one run.
         Without ``retries`` only the first; ``settings`` is applied last to every rung.
         """
         check_choice("program", program, tuple(PROGRAMS))
@@ -176,6 +180,9 @@ class SolverOptions:
             if self.tol is None and not conic:   # last resort: 1e-7 (docs/kinematic.md)
                 rungs.append({"iterative_refinement_enable": True, "tol_gap_abs": 1e-7,
                               "tol_gap_rel": 1e-7, "tol_feas": 1e-7})
+            if not conic:   # a stiffer KKT regularisation, same tolerance: B1 at f = 0.001
+                rungs.append({**rungs[-1], "iterative_refinement_enable": True,
+                              "static_regularization_constant": STATIC_REG})
         else:
             if not self.equilibrate:
                 first["equilibrate_enable"] = False
