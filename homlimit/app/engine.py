@@ -79,12 +79,42 @@ def check_scheduler(address: str) -> tuple[str, str | None, int | None]:
         host, _, tail = loc[1:].partition("]")
         port = tail[1:] if tail.startswith(":") else ""
     else:
-        host, _, port = loc.rpartition(":")
+        host, colon, port = loc.rpartition(":")
+        host, port = (host, port) if colon else (loc, "")
     if not host or any(ch.isspace() or ch in "/?#@" for ch in host):
         bad("no host name")
     if not port.isdigit() or not 1 <= int(port) <= 65535:
         bad("no port number 1 .. 65535")
     return f"{scheme}://{loc}", host, int(port)
+
+
+def _handshake(address: str, timeout: float) -> BaseException | None:
+    """Dask's own connection to ``address``, handshake included, within ``timeout`` s: None,
+    or the error. A Client alone waits forever for a server that accepts the connection and
+    never answers; this runs in a thread of its own (an event loop may run in this one), left
+    behind if it hangs."""
+    import asyncio
+
+    from distributed.comm import connect
+
+    errors: list[BaseException] = []
+
+    async def probe():
+        comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
+        await comm.close()
+
+    def run():
+        try:
+            asyncio.run(probe())
+        except BaseException as e:  # reported to the caller, whatever it is
+            errors.append(e)
+
+    thread = threading.Thread(target=run, name="homlimit scheduler probe", daemon=True)
+    thread.start()
+    thread.join(timeout + 1.0)
+    if thread.is_alive():
+        return TimeoutError(f"no handshake within {timeout:.1f} s")
+    return errors[0] if errors else None
 
 
 @contextmanager
@@ -308,6 +338,12 @@ class Engine:
                 socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT).close()
             except OSError as e:
                 fail(str(e.strerror or e or type(e).__name__))
+        error = _handshake(address, max(0.5, SCHEDULER_TIMEOUT - (time.monotonic() - t0)))
+        if isinstance(error, MemoryError):  # a length prefix read from another server
+            fail("the reply is not a Dask scheduler's")
+        if error is not None:
+            fail((str(error).splitlines() or [type(error).__name__])[0][:200]
+                 or type(error).__name__)
         left = max(1.0, SCHEDULER_TIMEOUT - (time.monotonic() - t0))
         try:
             return client_cls(address, timeout=f"{left:.1f}s")

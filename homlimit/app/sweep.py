@@ -258,7 +258,9 @@ def read_table(path: str | Path) -> list[dict]:
                 problems.append(f"line {n}, column {k}: {_shown(v.strip())}: {e}")
         rows.append(case)
     if problems:
-        raise ConfigError(source, _cap(problems), "the table")
+        err = ConfigError(source, _cap(problems), "the table")
+        err.columns = header        # the keys the table gives (sweep_inputs' base check)
+        raise err
     if not rows:
         fail("no case: allowed a CSV with a header and at least one case")
     return rows
@@ -290,6 +292,8 @@ def sweep_inputs(base, grid, table, max_cases: int = MAX_CASES
     max_cases = int(check_range("max_cases", max_cases, 1, 1e9))
     errors: list[ConfigError] = []
     data, source, grid_d, rows = None, "<dict>", {}, [{}]
+    given = set(grid) if isinstance(grid, dict) else \
+        {str(spec).partition("=")[0].strip() for spec in grid or ()}   # keys the base needn't give
     try:
         data, source, stem = case_data(base)
         data = dict(data) if isinstance(data, dict) else data
@@ -312,9 +316,10 @@ def sweep_inputs(base, grid, table, max_cases: int = MAX_CASES
             rows = read_table(table)
         except ConfigError as e:
             errors.append(e)
+            given |= set(getattr(e, "columns", ()))
     if data is not None:
         try:
-            check_base(data, source, set(grid_d) | {k for r in rows for k in r})
+            check_base(data, source, given | {k for r in rows for k in r})
         except ConfigError as e:
             errors.insert(0, e)
     if errors:
