@@ -81,10 +81,10 @@ def check_scheduler(address: str) -> tuple[str, str | None, int | None]:
     else:
         host, colon, port = loc.rpartition(":")
         host, port = (host, port) if colon else (loc, "")
-    if not host or any(ch.isspace() or ch in "/?#@" for ch in host):
-        bad("no host name")
     if not port.isdigit() or not 1 <= int(port) <= 65535:
         bad("no port number 1 .. 65535")
+    if not host or any(ch.isspace() or ch in "/?#@" for ch in host):
+        bad("no host name")
     return f"{scheme}://{loc}", host, int(port)
 
 
