@@ -475,7 +475,7 @@ WorkersOpt = Annotated[int | None, typer.Option(
                             "per core].")]
 SchedulerOpt = Annotated[str | None, typer.Option(
     "--scheduler", help="Address of a running Dask scheduler (e.g. tcp://127.0.0.1:8786) to "
-                        "use instead of embedded workers.")]
+                        "use instead of embedded workers; exit 2 if none answers within 5 s.")]
 
 
 @contextmanager
