@@ -43,7 +43,7 @@ from . import budget
 __all__ = ["AnalysisConfig", "BlocksConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig",
            "OutputConfig", "PulseConfig", "SCHEMA", "case_data", "check_base", "check_mesh",
            "default_case", "load_case", "load_case_inputs", "read_case", "read_text",
-           "schema_markdown"]
+           "schema_markdown", "shown"]
 
 REQUIRED = object()
 #: the closed forms search the critical slenderness over LAM_MIN_CLOSED <= λ <= λ_max
@@ -366,8 +366,9 @@ _TYPE_NAMES = {float: "a number", int: "an integer", bool: "true or false", str:
                list: "a list"}
 
 
-def _shown(value) -> str:
-    """A value as a message shows it (repr): huge integers and long texts shortened."""
+def shown(value) -> str:
+    """A value as a message shows it (repr): huge integers and long texts shortened (every
+    message about an input, the sweep's too)."""
     if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10 ** 30:
         digits = len(str(abs(value)))
         return f"{str(value)[:8]}...({digits} digits)"
@@ -386,7 +387,7 @@ def _range_problem(where: str, name: str, key: Key, value) -> str | None:
     if not bad:
         return None
     u = f" {key.unit}" if key.unit else ""
-    return (f"{where} {name} = {_shown(value)}{u} is out of range: allowed "
+    return (f"{where} {name} = {shown(value)}{u} is out of range: allowed "
             f"{key.range_text(name)}{u}")
 
 
@@ -395,7 +396,7 @@ def _check_key(where: str, name: str, key: Key, value, problems: list[str]):
     (a list: every item checked against the key's type, range and choices)."""
     if key.kind is list:
         if not isinstance(value, list) or not value:
-            problems.append(f"{where} {name} = {_shown(value)} has the wrong type: expected "
+            problems.append(f"{where} {name} = {shown(value)} has the wrong type: expected "
                             f"a non-empty list, each item {_TYPE_NAMES[key.item]}")
             return None
         item = dataclasses.replace(key, kind=key.item, item=None)
@@ -404,15 +405,15 @@ def _check_key(where: str, name: str, key: Key, value, problems: list[str]):
         return out if len(problems) == n else None
     ok, value = _typed(key.kind, value)
     if not ok:
-        problems.append(f"{where} {name} = {_shown(value)} has the wrong type: expected "
+        problems.append(f"{where} {name} = {shown(value)} has the wrong type: expected "
                         f"{_TYPE_NAMES[key.kind]}")
         return None
     if key.choices and value not in key.choices:
-        problems.append(f"{where} {name} = {_shown(value)} is not allowed: allowed "
+        problems.append(f"{where} {name} = {shown(value)} is not allowed: allowed "
                         f"{key.range_text(name)}")
         return None
     if key.kind is str and any(unicodedata.category(ch) == "Cc" for ch in value):
-        problems.append(f"{where} {name} = {_shown(value)} contains control characters (a NUL "
+        problems.append(f"{where} {name} = {shown(value)} contains control characters (a NUL "
                         "byte, a newline, an escape, ...): allowed printable text")
         return None
     if key.kind in (float, int):
@@ -431,7 +432,7 @@ def _collect(data: dict, problems: list[str]) -> dict[str, dict[str, Any]]:
     for top, v in data.items():
         if top in SCHEMA:
             if not isinstance(v, dict):
-                problems.append(f"[{top}] must be a section (table), got {_shown(v)}")
+                problems.append(f"[{top}] must be a section (table), got {shown(v)}")
         elif top in TOP_LEVEL:
             out = _check_key("", top, TOP_LEVEL[top], v, problems)
             if isinstance(out, str) and len(out) > MAX_NAME:

@@ -47,11 +47,11 @@ from .config import (
     TOP_LEVEL,
     CaseConfig,
     ConfigError,
-    _shown,
     case_data,
     check_base,
     load_case_inputs,
     read_text,
+    shown,
 )
 from .engine import (
     Engine,
@@ -153,7 +153,7 @@ def _key_problem(key: str) -> str | None:
     sec, dot, name = key.partition(".")
     if (not dot and key in TOP_LEVEL) or (dot and name in SCHEMA.get(sec, {})):
         return None
-    return (f"key = {_shown(key)} is out of range: allowed name or section.key of a case "
+    return (f"key = {shown(key)} is out of range: allowed name or section.key of a case "
             "file, e.g. wall.l, masonry.a, mesh.size (docs/case-file.md)")
 
 
@@ -177,7 +177,7 @@ def parse_grid(specs) -> dict[str, list]:
         for spec in specs or ():
             key, sep, values = str(spec).partition("=")
             if not sep or not values.strip():
-                problems.append(f"{_shown(str(spec))} is out of range: allowed "
+                problems.append(f"{shown(str(spec))} is out of range: allowed "
                                 "section.key=v1,v2,... e.g. wall.l=3,6,9")
                 continue
             vals = []
@@ -185,7 +185,7 @@ def parse_grid(specs) -> dict[str, list]:
                 try:
                     vals.append(_value(v))
                 except ValueError as e:
-                    problems.append(f"{key.strip()} = {_shown(v.strip())}: {e}")
+                    problems.append(f"{key.strip()} = {shown(v.strip())}: {e}")
             items.append((key.strip(), vals))
     grid: dict[str, list] = {}
     for key, values in items:
@@ -248,14 +248,14 @@ def read_table(path: str | Path) -> list[dict]:
             if not v.strip():
                 continue
             if any(unicodedata.category(ch) == "Cc" for ch in v):
-                problems.append(f"line {n}, column {k}: {_shown(v)} contains control "
+                problems.append(f"line {n}, column {k}: {shown(v)} contains control "
                                 "characters (a NUL byte, an escape, ...): allowed printable "
                                 "text; a binary file?")
                 continue
             try:
                 case[k] = v if k == "name" else _value(v)
             except ValueError as e:
-                problems.append(f"line {n}, column {k}: {_shown(v.strip())}: {e}")
+                problems.append(f"line {n}, column {k}: {shown(v.strip())}: {e}")
         rows.append(case)
     if problems:
         err = ConfigError(source, _cap(problems), "the table")
