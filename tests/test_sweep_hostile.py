@@ -358,6 +358,7 @@ def test_no_scheduler_at_the_address_fails_fast(sandbox):
                           + doc("no Dask scheduler answers there (Connection refused"))
     assert time.perf_counter() - t0 <= SCHEDULER_TIMEOUT
     assert len(res.stderr.splitlines()) == 2        # "connecting to ...", the error
+    assert not (sandbox / "homlimit-out").exists()
     t0 = time.perf_counter()
     with pytest.raises(ParameterError, match="no Dask scheduler answers there"):
         with Engine(scheduler="tcp://127.0.0.1:1"):
