@@ -15,7 +15,11 @@ def main():
 
         print(f"homlimit {package_version()}")
         return
-    from .app.cli import main as cli_main
+    try:
+        from .app.cli import main as cli_main
+    except KeyboardInterrupt:   # Ctrl-C while the modules import: one line, no traceback
+        print("homlimit: interrupted (SIGINT): nothing was written", file=sys.stderr)
+        raise SystemExit(130) from None
 
     cli_main()
 

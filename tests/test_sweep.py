@@ -55,9 +55,9 @@ def engine():
 def test_grid_and_table_parsing(tmp_path):
     assert parse_grid(["wall.l=3,6,9", "masonry.a=0.15, 0.3", "analysis.facade=bedjoints"]) \
         == {"wall.l": [3, 6, 9], "masonry.a": [0.15, 0.3], "analysis.facade": ["bedjoints"]}
-    with pytest.raises(ParameterError, match="grid key = 'wall.height' is out of range"):
+    with pytest.raises(ParameterError, match="--grid: key = 'wall.height' is out of range"):
         parse_grid(["wall.height=3"])
-    with pytest.raises(ParameterError, match="--grid 'wall.l' is out of range"):
+    with pytest.raises(ParameterError, match="--grid: 'wall.l' is out of range"):
         parse_grid(["wall.l"])
     csv = tmp_path / "t.csv"
     csv.write_text("# a comment\nname,wall.H,masonry.f\nF1,9,0.6\nF2,,0.5\n")
@@ -330,7 +330,7 @@ def test_cli_bad_sweep_input_exits_2_before_any_work(tmp_path):
 
     r = CliRunner().invoke(app, ["sweep", str(C4), "--grid", "wall.hh=3", "--out",
                                  str(tmp_path)])
-    assert r.exit_code == 2 and "grid key = 'wall.hh' is out of range" in r.stderr
+    assert r.exit_code == 2 and "--grid: key = 'wall.hh' is out of range" in r.stderr
     r = CliRunner().invoke(app, ["sweep", str(C4), "--out", str(tmp_path)])
     assert r.exit_code == 2 and "at least one --grid" in r.stderr
     r = CliRunner().invoke(app, ["sweep", str(C4), "--grid", "masonry.c=4", "--out",

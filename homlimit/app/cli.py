@@ -47,6 +47,8 @@ from ..errors import (
 from ..params import MESHER_DEFAULT
 from .budget import DEFAULT_MAX_TRIANGLES
 
+MAX_CASES = 100_000         # sweep.MAX_CASES (sweep imports numpy: kept off the start-up)
+
 __all__ = ["app", "main"]
 
 EXIT_BAD_INPUT = 2
@@ -510,7 +512,7 @@ WorkersOpt = Annotated[int | None, typer.Option(
                             "per core].")]
 SchedulerOpt = Annotated[str | None, typer.Option(
     "--scheduler", help="Address of a running Dask scheduler (e.g. tcp://127.0.0.1:8786) to "
-                        "use instead of embedded workers.")]
+                        "use instead of embedded workers; exit 2 if none answers within 5 s.")]
 
 
 @contextmanager
@@ -566,7 +568,10 @@ def sweep_run(
             "--resume/--no-resume", help="Keep the records of an earlier run of this sweep "
                                          "and run only the missing cases.")] = True,
         retry_failed: Annotated[bool, typer.Option(
-            "--retry-failed", help="Run the cases recorded as failed again.")] = False):
+            "--retry-failed", help="Run the cases recorded as failed again.")] = False,
+        max_cases: Annotated[int, typer.Option(
+            "--max-cases", help="The most cases the sweep may have (table rows × grid "
+                                "points), checked before any planning.")] = MAX_CASES):
     """Run a sweep: every case of a grid and/or table of overrides on BASE, on Dask.
 
     Each case's record is written as soon as it finishes (OUT/records/); the table is
@@ -581,7 +586,8 @@ def sweep_run(
     where = out or "the sweep folder"
     with _stdout_quiet(as_json) as stdout, _interruptible(where):
         res = sweep(base, grid, table, out, workers=workers, scheduler=scheduler,
-                    resume=resume, retry_failed=retry_failed, progress=not (quiet or as_json))
+                    resume=resume, retry_failed=retry_failed, progress=not (quiet or as_json),
+                    max_cases=max_cases)
     info = {"folder": res.folder, "n_cases": len(res.rows), "ok": res.n_ok,
             "failed": res.n_failed, "resumed": res.n_resumed, "elapsed_s": res.elapsed,
             "swept": res.swept, "files": res.files,
@@ -626,8 +632,19 @@ def sweep_report_cmd(
 
 
 def main():
-    """Console-script entry point (``homlimit``, ``python -m homlimit``)."""
-    app(prog_name="homlimit")
+    """Console-script entry point (``homlimit``, ``python -m homlimit``). Ctrl-C outside a
+    command's own handling (while modules are still importing, say) exits 130 with one line,
+    as an interrupted command does, never a traceback."""
+    try:
+        app(prog_name="homlimit")
+    except KeyboardInterrupt:
+        interrupted()
+
+
+def interrupted():
+    """Exit 130 with a one-line note: Ctrl-C before any command had begun its work."""
+    print("homlimit: interrupted (SIGINT): nothing was written", file=sys.stderr)
+    raise SystemExit(128 + signal.SIGINT)
 
 
 if __name__ == "__main__":  # pragma: no cover

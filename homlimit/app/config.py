@@ -50,8 +50,9 @@ from ..params import (
 from . import budget
 
 __all__ = ["AnalysisConfig", "BlocksConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig",
-           "OutputConfig", "PulseConfig", "SCHEMA", "check_mesh", "default_case", "load_case",
-           "schema_markdown"]
+           "OutputConfig", "PulseConfig", "SCHEMA", "case_data", "check_base", "check_mesh",
+           "default_case", "load_case", "load_case_inputs", "read_case", "read_text",
+           "schema_markdown", "shown"]
 
 REQUIRED = object()
 #: the closed forms search the critical slenderness over LAM_MIN_CLOSED <= λ <= λ_max
@@ -64,12 +65,23 @@ MAX_NAME = 100                    # characters of a case name
 class ConfigError(ParameterError):
     """A case description is invalid. ``problems`` lists every problem found, one line each."""
 
-    def __init__(self, source: str, problems: list[str]):
+    def __init__(self, source: str, problems: list[str], what: str = "the case description"):
         self.source = source
         self.problems = [f"{source}: {p}" for p in problems]
         n = len(self.problems)
-        head = f"{source}: {n} problem{'s' if n != 1 else ''} in the case description"
+        head = f"{source}: {n} problem{'s' if n != 1 else ''} in {what}"
         super().__init__(head + "".join(f"\n  - {p}" for p in self.problems))
+
+    @classmethod
+    def merged(cls, errors: list[ConfigError], what: str) -> ConfigError:
+        """One error listing the problems of several (each line keeps its own source)."""
+        if len(errors) == 1:
+            return errors[0]
+        err = cls(errors[0].source, [], what)
+        err.problems = [p for e in errors for p in e.problems]
+        n = len(err.problems)
+        err.args = (f"{n} problems in {what}" + "".join(f"\n  - {p}" for p in err.problems),)
+        return err
 
 
 @dataclass(frozen=True)
@@ -370,8 +382,9 @@ _TYPE_NAMES = {float: "a number", int: "an integer", bool: "true or false", str:
                list: "a list"}
 
 
-def _shown(value) -> str:
-    """A value as a message shows it (repr): huge integers and long texts shortened."""
+def shown(value) -> str:
+    """A value as a message shows it (repr): huge integers and long texts shortened (every
+    message about an input, the sweep's too)."""
     if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10 ** 30:
         digits = len(str(abs(value)))
         return f"{str(value)[:8]}...({digits} digits)"
@@ -390,7 +403,7 @@ def _range_problem(where: str, name: str, key: Key, value) -> str | None:
     if not bad:
         return None
     u = f" {key.unit}" if key.unit else ""
-    return (f"{where} {name} = {_shown(value)}{u} is out of range: allowed "
+    return (f"{where} {name} = {shown(value)}{u} is out of range: allowed "
             f"{key.range_text(name)}{u}")
 
 
@@ -399,7 +412,7 @@ def _check_key(where: str, name: str, key: Key, value, problems: list[str]):
     (a list: every item checked against the key's type, range and choices)."""
     if key.kind is list:
         if not isinstance(value, list) or not value:
-            problems.append(f"{where} {name} = {_shown(value)} has the wrong type: expected "
+            problems.append(f"{where} {name} = {shown(value)} has the wrong type: expected "
                             f"a non-empty list, each item {_TYPE_NAMES[key.item]}")
             return None
         item = dataclasses.replace(key, kind=key.item, item=None)
@@ -408,15 +421,15 @@ def _check_key(where: str, name: str, key: Key, value, problems: list[str]):
         return out if len(problems) == n else None
     ok, value = _typed(key.kind, value)
     if not ok:
-        problems.append(f"{where} {name} = {_shown(value)} has the wrong type: expected "
+        problems.append(f"{where} {name} = {shown(value)} has the wrong type: expected "
                         f"{_TYPE_NAMES[key.kind]}")
         return None
     if key.choices and value not in key.choices:
-        problems.append(f"{where} {name} = {_shown(value)} is not allowed: allowed "
+        problems.append(f"{where} {name} = {shown(value)} is not allowed: allowed "
                         f"{key.range_text(name)}")
         return None
     if key.kind is str and any(unicodedata.category(ch) == "Cc" for ch in value):
-        problems.append(f"{where} {name} = {_shown(value)} contains control characters (a NUL "
+        problems.append(f"{where} {name} = {shown(value)} contains control characters (a NUL "
                         "byte, a newline, an escape, ...): allowed printable text")
         return None
     if key.kind in (float, int):
@@ -435,7 +448,7 @@ def _collect(data: dict, problems: list[str]) -> dict[str, dict[str, Any]]:
     for top, v in data.items():
         if top in SCHEMA:
             if not isinstance(v, dict):
-                problems.append(f"[{top}] must be a section (table), got {_shown(v)}")
+                problems.append(f"[{top}] must be a section (table), got {shown(v)}")
         elif top in TOP_LEVEL:
             out = _check_key("", top, TOP_LEVEL[top], v, problems)
             if isinstance(out, str) and len(out) > MAX_NAME:
@@ -528,7 +541,18 @@ def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> l
     n = budget.fe_triangles(w["H"], w["b"], w["L"], size, parts,
                             mesher=me.get("mesher", MESHER_DEFAULT),
                             divisions=me.get("part_divisions", PART_DIVISIONS))
-    if n > me["max_triangles"]:
+    whole = budget.fe_triangles(w["H"], w["b"], w["L"], size)
+    if n > me["max_triangles"] and whole <= me["max_triangles"] and "part_divisions" in me:
+        # the whole wall fits: the shortest part of the scan, meshed at a/part_divisions
+        pd, spec = me["part_divisions"], SCHEMA["mesh"]["part_divisions"]
+        out.append(f"[mesh] part_divisions = {pd} gives about {n:.3g} triangles in the "
+                   f"shortest part of the FE impulse scan (one course a = {m['a']:g} m meshed "
+                   f"at a/part_divisions = {m['a'] / pd:.3g} m; about "
+                   f"{budget.memory_gib(n):.3g} GiB): out of range: allowed at most [mesh] "
+                   f"max_triangles = {me['max_triangles']:,}; lower [mesh] part_divisions "
+                   f"(allowed {spec.range_text('part_divisions')}, default {spec.default}) or, "
+                   "on a machine with the memory, raise [mesh] max_triangles")
+    elif n > me["max_triangles"]:
         keys = "[mesh] size" + ("" if mesh_only else " (or [analysis] fe = false)")
         out.append(f"[mesh] size = {size!r} m gives about {n:.3g} triangles in the largest FE "
                    f"problem (estimated from H, b, L before meshing; about "
@@ -583,47 +607,125 @@ def check_mesh(config: CaseConfig):
         raise ConfigError(config.source, problems)
 
 
-def _read(path: Path) -> dict:
-    """The TOML table of a case file; ConfigError naming what is wrong with the file: not
-    readable, not a regular file, too large, not UTF-8 (a byte-order mark, UTF-16, binary),
-    not TOML."""
+def read_text(path: Path, what: str, max_bytes: int, fail, size_hint: str = "",
+              bom: bool = False) -> str:
+    """The text of a UTF-8 input file (a case file, a sweep's table), or ``fail(message)``
+    naming what is wrong with it: not readable, not a regular file (a folder, a named pipe,
+    a device: refused before opening, so nothing can hang), over ``max_bytes`` (``size_hint``
+    says why), not UTF-8 (a byte-order mark unless ``bom``, UTF-16, binary). ``what``: the
+    file's role in the messages."""
+    try:
+        st = path.stat()
+        if not path.is_file():
+            fail(f"cannot read the {what}: not a regular file")
+        if st.st_size > max_bytes:
+            fail(f"the {what} has {st.st_size:,} bytes: allowed at most {max_bytes:,}"
+                 + (f" ({size_hint})" if size_hint else ""))
+        raw = path.read_bytes()
+    except OSError as e:
+        fail(f"cannot read the {what}: {e.strerror or e}")
+    if bom and raw.startswith(b"\xef\xbb\xbf"):   # as spreadsheets save "CSV UTF-8"
+        raw = raw[3:]
+    if raw.startswith(b"\xef\xbb\xbf"):
+        fail(f"the {what} starts with a UTF-8 byte-order mark (BOM), which TOML does not "
+             "allow: save it as UTF-8 without BOM (in many editors: 'UTF-8', not 'UTF-8 with "
+             "BOM')")
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        fail(f"the {what} is UTF-16 (it starts with a UTF-16 byte-order mark): save it as "
+             "UTF-8")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = raw[:e.start].count(b"\n") + 1
+        fail(f"the {what} is not UTF-8 text: byte 0x{raw[e.start]:02x} at offset {e.start} "
+             f"(line {line}) cannot be decoded; a binary file, or another encoding? Save it "
+             "as UTF-8")
+
+
+def read_case(path: str | Path) -> dict:
+    """The TOML table of a case file; ConfigError naming what is wrong with the file
+    (``read_text``; then: not TOML, an integer of more than 4300 digits, nesting too deep).
+    The one reader of case files: ``load_case`` and the sweep's base use it."""
+    path = Path(path)
     source = str(path)
 
     def fail(msg: str):
         raise ConfigError(source, [msg])
 
-    try:
-        st = path.stat()
-        if not path.is_file():
-            fail("cannot read the case file: not a regular file")
-        if st.st_size > MAX_CASE_BYTES:
-            fail(f"the case file has {st.st_size:,} bytes: allowed at most "
-                 f"{MAX_CASE_BYTES:,} (a case file is a few hundred bytes)")
-        raw = path.read_bytes()
-    except OSError as e:
-        fail(f"cannot read the case file: {e.strerror or e}")
-    if raw.startswith(b"\xef\xbb\xbf"):
-        fail("the case file starts with a UTF-8 byte-order mark (BOM), which TOML does not "
-             "allow: save it as UTF-8 without BOM (in many editors: 'UTF-8', not 'UTF-8 with "
-             "BOM')")
-    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-        fail("the case file is UTF-16 (it starts with a UTF-16 byte-order mark): save it as "
-             "UTF-8")
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as e:
-        line = raw[:e.start].count(b"\n") + 1
-        fail(f"the case file is not UTF-8 text: byte 0x{raw[e.start]:02x} at offset {e.start} "
-             f"(line {line}) cannot be decoded; a binary file, or another encoding? Save it "
-             "as UTF-8")
+    text = read_text(path, "case file", MAX_CASE_BYTES, fail,
+                     size_hint="a case file is a few hundred bytes")
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         fail(f"not valid TOML: {e}")
     except ValueError as e:          # e.g. an integer of more than 4300 digits
-        fail(f"not valid TOML: {e}")
+        fail(f"not valid TOML: {_long_integer(text) or e}")
     except RecursionError:
         fail("not valid TOML: arrays or tables nested too deeply")
+
+
+def _long_integer(text: str) -> str | None:
+    """Where a TOML text has an integer too long for Python (more than 4300 digits), named
+    by its line and key, as tomllib's error does not say it; None if there is none."""
+    import re
+
+    for n, line in enumerate(text.splitlines(), 1):
+        run = max(re.findall(r"\d+", line), key=len, default="")
+        if len(run) > 4300:
+            key = line.partition("=")[0].strip()[:40] or "a value"
+            return (f"{key} = {run[:8]}...({len(run)} digits) at line {n}: an integer of "
+                    "more than 4300 digits")
+    return None
+
+
+def case_data(path_or_dict: str | Path | dict | None = None,
+              source: str | None = None) -> tuple[dict, str, str]:
+    """(data, source, default name) of a case: a TOML path (``read_case``; its stem names
+    the case), a dict (source ``source`` or "<dict>", name "case"), or None (the embedded B1).
+    Nothing is validated here but the file itself."""
+    if path_or_dict is None:
+        return _default_data(), "<default: B1>", "B1"
+    if isinstance(path_or_dict, dict):
+        return path_or_dict, source or "<dict>", "case"
+    path = Path(path_or_dict)
+    return read_case(path), str(path), path.stem
+
+
+def check_base(data: dict, source: str, overridden) -> None:
+    """The checks of a sweep's base case (``sweep.plan_sweep``) before any case is planned:
+    every problem of the keys that no grid key or table column (``overridden``: section.key
+    and name) replaces, as ``load_case`` finds them (unknown section or key, wrong type, out
+    of range, a required key given nowhere), at once. The checks between keys are each
+    case's. Raises ConfigError."""
+    if not isinstance(data, dict):
+        raise ConfigError(source, [f"the case must be a table/dict, got {type(data).__name__}"])
+    overridden = set(overridden)
+    kept = {}
+    for top, v in data.items():
+        if top in SCHEMA and isinstance(v, dict):
+            kept[top] = {k: x for k, x in v.items() if f"{top}.{k}" not in overridden}
+        elif top not in overridden:
+            kept[top] = v
+    problems: list[str] = []
+    _collect(kept, problems)
+    missing = [f"{sec}.{name}" for sec in REQUIRED_SECTIONS
+               for name, key in SCHEMA[sec].items() if key.required]
+    problems = [p for p in problems if not _overridden_missing(p, overridden, missing)]
+    if problems:
+        raise ConfigError(source, [p.strip() for p in problems])
+
+
+def _overridden_missing(problem: str, overridden: set, required: list[str]) -> bool:
+    """True for ``_collect``'s "is missing" line of a key (or section) that the sweep gives."""
+    for key in required:
+        sec, name = key.split(".")
+        if key in overridden and problem.startswith(f"[{sec}] {name} is missing"):
+            return True
+    for sec in REQUIRED_SECTIONS:
+        if problem.startswith(f"[{sec}] section is missing"):
+            need = [k for k in required if k.startswith(sec + ".")]
+            return all(k in overridden for k in need)
+    return False
 
 
 def load_case(path_or_dict: str | Path | dict | None = None,
@@ -645,14 +747,7 @@ def load_case_inputs(path_or_dict=None, overrides=None,
                      source: str | None = None) -> tuple[CaseConfig, dict]:
     """``load_case`` and the case's resolved inputs: ``as_dict()`` without the name and
     [output] (what the name's hash, and a sweep record's key, are made of)."""
-    if path_or_dict is None:
-        data, src, stem = _default_data(), "<default: B1>", "B1"
-    elif isinstance(path_or_dict, dict):
-        data, src, stem = path_or_dict, source or "<dict>", "case"
-    else:
-        path = Path(path_or_dict)
-        src, stem = str(path), path.stem
-        data = _read(path)
+    data, src, stem = case_data(path_or_dict, source)
     new = _override(data, overrides, src) if overrides else data
     config = _parse(new, src, stem)
     inputs = {k: v for k, v in config.as_dict().items() if k not in ("name", "output")}

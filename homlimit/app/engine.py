@@ -14,6 +14,12 @@ dask-jobqueue on a batch cluster) with no other change. It offers
 
 SIGTERM is turned into the same ``Interrupted`` as Ctrl-C: the client and the cluster are shut
 down, and the records written so far stay complete (``_io.atomic_path``); a rerun resumes.
+The embedded workers never see SIGINT (Ctrl-C at a terminal signals the whole process group:
+the workers start with it blocked, and this process shuts them down), so an interrupt prints
+no worker's traceback; Dask's own logs are silenced while the cluster shuts down after one.
+The embedded cluster serves no dashboard (its scheduler's HTTP endpoint takes a free port on
+127.0.0.1, never 8787). A scheduler address is checked before any connection, and a scheduler
+that does not answer within ``SCHEDULER_TIMEOUT`` is a ParameterError (exit 2), not a wait.
 """
 
 from __future__ import annotations
@@ -23,8 +29,11 @@ import json
 import logging
 import os
 import signal
+import socket
 import threading
+import time
 from collections.abc import Callable, Iterable, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 
 import orjson
@@ -33,13 +42,117 @@ from .._io import MANIFEST, json_bytes, to_jsonable, write_json, write_text
 from ..errors import ParameterError, check_range
 from ..params import MESHER_DEFAULT
 
-__all__ = ["BLAS_ENV", "Engine", "Interrupted", "RecordStore", "batch_json", "cpu_count",
-           "json_text", "read_json", "record_key"]
+__all__ = ["BLAS_ENV", "Engine", "Interrupted", "RecordStore", "SCHEDULER_TIMEOUT", "batch_json",
+           "check_scheduler", "cpu_count", "json_text", "read_json", "record_key"]
 
 log = logging.getLogger(__name__)
 
 #: environment of every embedded worker process: one BLAS/OpenMP thread (one task per core)
 BLAS_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+#: seconds to wait for a scheduler (``--scheduler``) to answer before giving up
+SCHEDULER_TIMEOUT = 5.0
+#: schemes of a scheduler address whose location is host:port
+_HOST_PORT = ("tcp", "tls", "ws", "wss")
+_SCHEMES = (*_HOST_PORT, "inproc", "ucx")
+_ADDRESS_HINT = ("allowed the address of a running Dask scheduler, tcp://HOST:PORT (e.g. "
+                 "tcp://127.0.0.1:8786, as `dask scheduler` prints it)")
+
+
+def check_scheduler(address: str) -> tuple[str, str | None, int | None]:
+    """(address, host, port) of a scheduler address ``[scheme://]host:port`` (scheme tcp by
+    default; host and port None for the schemes without them), checked before any
+    connection: ParameterError naming the option otherwise."""
+    text = str(address).strip()
+    scheme, sep, loc = text.rpartition("://")
+    scheme = scheme if sep else "tcp"
+
+    def bad(why: str):
+        raise ParameterError(f"scheduler (--scheduler) = {text[:80]!r} is not a scheduler "
+                             f"address: {why}; {_ADDRESS_HINT}")
+
+    if not text:
+        bad("it is empty")
+    if scheme not in _SCHEMES:
+        bad(f"unknown scheme {scheme!r} (allowed {', '.join(_SCHEMES)})")
+    if scheme not in _HOST_PORT:
+        return text, None, None
+    if loc.startswith("["):                       # IPv6: [addr]:port
+        host, _, tail = loc[1:].partition("]")
+        port = tail[1:] if tail.startswith(":") else ""
+    else:
+        host, colon, port = loc.rpartition(":")
+        host, port = (host, port) if colon else (loc, "")
+    if not port.isdigit() or not 1 <= int(port) <= 65535:
+        bad("no port number 1 .. 65535")
+    if not host or any(ch.isspace() or ch in "/?#@" for ch in host):
+        bad("no host name")
+    return f"{scheme}://{loc}", host, int(port)
+
+
+def _handshake(address: str, timeout: float) -> BaseException | None:
+    """Dask's own connection to ``address``, handshake included, within ``timeout`` s: None,
+    or the error. A Client alone waits forever for a server that accepts the connection and
+    never answers; this runs in a thread of its own (an event loop may run in this one), left
+    behind if it hangs."""
+    import asyncio
+
+    from distributed.comm import connect
+
+    errors: list[BaseException] = []
+
+    async def probe():
+        comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
+        await comm.close()
+
+    def run():
+        try:
+            asyncio.run(probe())
+        except BaseException as e:  # reported to the caller, whatever it is
+            errors.append(e)
+
+    thread = threading.Thread(target=run, name="homlimit scheduler probe", daemon=True)
+    thread.start()
+    thread.join(timeout + 1.0)
+    if thread.is_alive():
+        return TimeoutError(f"no handshake within {timeout:.1f} s")
+    return errors[0] if errors else None
+
+
+@contextmanager
+def _sigint_blocked():
+    """SIGINT blocked in this thread: the threads started meanwhile (the cluster's event loop)
+    inherit the mask, and so do the worker processes they start (the mask survives fork and
+    exec, and Python leaves it as it is): Ctrl-C at a terminal, sent to the whole process
+    group, reaches this process only, which shuts the workers down. A Ctrl-C meanwhile is
+    delivered when the block ends."""
+    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+        yield
+        return
+    from multiprocessing import resource_tracker
+
+    # started now: when it starts, it unblocks SIGINT in the thread that starts it (CPython's
+    # ensure_running ends with SIG_UNBLOCK, not the mask it found), the cluster's loop here
+    resource_tracker.ensure_running()
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+@contextmanager
+def _logs_silenced(enabled: bool):
+    """Every log record up to ERROR dropped (``logging.disable``) while the cluster shuts
+    down after an interrupt: Dask's reports of the tasks it cancels are no news then."""
+    if not enabled:
+        yield
+        return
+    before = logging.root.manager.disable
+    logging.disable(logging.ERROR)
+    try:
+        yield
+    finally:
+        logging.disable(before)
 
 
 class Interrupted(KeyboardInterrupt):
@@ -174,11 +287,9 @@ class Engine:
                  progress: bool = True):
         if workers is not None:
             workers = int(check_range("workers", workers, 1, 1024))
-        if scheduler is not None and not str(scheduler).strip():
-            raise ParameterError("scheduler = '' is out of range: allowed an address such as "
-                                 "tcp://127.0.0.1:8786")
+        self._where = check_scheduler(scheduler) if scheduler is not None else None
         self.workers = workers or cpu_count()
-        self.scheduler = scheduler
+        self.scheduler = None if scheduler is None else self._where[0]
         self.progress = progress
         self.client = None
         self._cluster = None
@@ -192,26 +303,64 @@ class Engine:
             self._old_term = signal.signal(signal.SIGTERM, _sigterm)
         try:
             if self.scheduler:
-                log.info("connecting to the Dask scheduler at %s", self.scheduler)
-                self.client = Client(self.scheduler, timeout="30s")
+                self.client = self._connect(Client)
             else:
                 log.info("starting %d local Dask workers (one thread each)", self.workers)
-                self._cluster = LocalCluster(
-                    n_workers=self.workers, threads_per_worker=1, processes=True,
-                    host="127.0.0.1", dashboard_address=None, env=dict(BLAS_ENV),
-                    silence_logs=logging.ERROR)
+                with _sigint_blocked():
+                    self._cluster = LocalCluster(
+                        n_workers=self.workers, threads_per_worker=1, processes=True,
+                        host="127.0.0.1", dashboard_address=None, env=dict(BLAS_ENV),
+                        silence_logs=logging.ERROR,
+                        # no dashboard; the scheduler's HTTP endpoint on a free local port
+                        scheduler_kwargs={"dashboard": False,
+                                          "dashboard_address": "127.0.0.1:0"})
                 self.client = Client(self._cluster)
-        except BaseException:
-            self.__exit__(None, None, None)
+        except BaseException as e:
+            self.__exit__(type(e), e, None)
             raise
         return self
 
-    def __exit__(self, *exc):
+    def _connect(self, client_cls):
+        """A client of the scheduler at ``self.scheduler``, or ParameterError within
+        SCHEDULER_TIMEOUT: a refused or unreachable address is found by a plain TCP connection
+        at once (a Dask client would retry it until its timeout), then the client must
+        complete its handshake in the time left."""
+        address, host, port = self._where
+        log.info("connecting to the Dask scheduler at %s", address)
+        t0 = time.monotonic()
+
+        def fail(reason: str):
+            raise ParameterError(f"scheduler (--scheduler) = {address!r}: no Dask scheduler "
+                                 f"answers there ({reason}; waited at most "
+                                 f"{SCHEDULER_TIMEOUT:g} s); {_ADDRESS_HINT}") from None
+
+        if host is not None:
+            try:
+                socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT).close()
+            except OSError as e:
+                fail(str(e.strerror or e or type(e).__name__))
+        error = _handshake(address, max(0.5, SCHEDULER_TIMEOUT - (time.monotonic() - t0)))
+        if isinstance(error, MemoryError):  # a length prefix read from another server
+            fail("the reply is not a Dask scheduler's")
+        if error is not None:
+            fail((str(error).splitlines() or [type(error).__name__])[0][:200]
+                 or type(error).__name__)
+        left = max(1.0, SCHEDULER_TIMEOUT - (time.monotonic() - t0))
         try:
-            if self.client is not None:
-                self.client.close()
-            if self._cluster is not None:
-                self._cluster.close()
+            return client_cls(address, timeout=f"{left:.1f}s")
+        except MemoryError:          # a length prefix read from a server that is not Dask's
+            fail("the reply is not a Dask scheduler's")
+        except Exception as e:  # a timeout, a closed comm, a server that is not Dask's
+            fail((str(e).splitlines() or [type(e).__name__])[0][:200])
+
+    def __exit__(self, *exc):
+        interrupted = isinstance(exc[1] if len(exc) > 1 else None, KeyboardInterrupt)
+        try:
+            with _logs_silenced(interrupted):
+                if self.client is not None:
+                    self.client.close()
+                if self._cluster is not None:
+                    self._cluster.close()
         finally:
             self.client = self._cluster = None
             if self._old_term is not None:

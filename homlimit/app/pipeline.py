@@ -49,10 +49,10 @@ from ..params import FACADE_DEFAULT, FACADE_MODELS, MESHER_DEFAULT, MESHERS, Cas
 from . import budget, report
 from .config import CaseConfig, check_mesh, load_case
 
-__all__ = ["FERocker", "Result", "crack_study_records", "fe_cache_path", "fe_rocker",
-           "figure2_curves", "folder_name", "mesh_case", "output_dir", "package_version",
-           "pulse_records", "result_folder", "run", "source_of", "table1_blocks_records",
-           "table1_records"]
+__all__ = ["FERocker", "Result", "check_results", "conclude", "crack_study_records",
+           "fe_cache_path", "fe_rocker", "figure2_curves", "folder_name", "mesh_case",
+           "output_dir", "package_version", "pulse_records", "result_folder", "run",
+           "source_of", "table1_blocks_records", "table1_records"]
 
 log = logging.getLogger(__name__)
 
@@ -723,8 +723,8 @@ def _what(q: str) -> str:
 
 
 def compute(config: CaseConfig) -> Result:
-    """The analyses of a validated case (closed forms, FE), results checked
-    (``check_results``); writes nothing."""
+    """The analyses of a validated case (closed forms, FE), results checked and the hinge
+    check added (``conclude``); writes nothing."""
     case, an = config.case, config.analysis
     result = Result(config=config, dem=dem_row(case))
     if an.closed_form:
@@ -750,10 +750,18 @@ def compute(config: CaseConfig) -> Result:
             result.blocks = analyse_blocks(case, b.facade, b.friction, b.step,
                                            b.non_associative_check, _solver_options(an.tol))
         result.mechanisms["blocks"] = result.blocks
+    return conclude(result)
+
+
+def conclude(result: Result) -> Result:
+    """The last step of every evaluated case, ``run``'s and a sweep's batch alike: every
+    result checked to be a finite number (``check_results``: ResultError naming the
+    mechanism and the quantity), then, with ``[analysis] hinge_check``, the hinge check of
+    each mechanism (``_hinges``). Returns ``result``, its ``hinges`` filled in."""
     check_results(result)
-    if result.mechanisms and an.hinge_check:
+    if result.mechanisms and result.config.analysis.hinge_check:
         with _stage(result.timings, "hinge check", "the shortest pulse the hinge holds"):
-            result.hinges = _hinges(case, result.mechanisms)
+            result.hinges = _hinges(result.case, result.mechanisms)
     return result
 
 

@@ -33,6 +33,7 @@ import math
 import time
 import tomllib
 import traceback
+import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
 from sys import intern
@@ -40,19 +41,30 @@ from sys import intern
 import numpy as np
 
 from .._io import sidecar, write_output
-from ..errors import ParameterError
+from ..errors import ParameterError, check_range
 from .config import (
     SCHEMA,
     TOP_LEVEL,
     CaseConfig,
     ConfigError,
-    _default_data,
+    case_data,
+    check_base,
     load_case_inputs,
+    read_text,
+    shown,
 )
-from .engine import Engine, RecordStore, batch_json, cpu_count, record_key
+from .engine import (
+    Engine,
+    RecordStore,
+    batch_json,
+    check_scheduler,
+    cpu_count,
+    record_key,
+)
 
-__all__ = ["SweepCase", "SweepResult", "batch_closed_form", "flatten", "parse_grid",
-           "plan_sweep", "read_table", "run_case", "sweep", "write_table"]
+__all__ = ["MAX_CASES", "SweepCase", "SweepResult", "batch_closed_form", "flatten",
+           "parse_grid", "plan_sweep", "read_table", "run_case", "sweep", "sweep_inputs",
+           "write_table"]
 
 log = logging.getLogger(__name__)
 
@@ -101,9 +113,25 @@ class SweepResult:
 
 
 # ----------------------------------------------------------------------------- the cases
+#: cases a sweep may have (``--max-cases``), checked from the grid's and table's sizes before
+#: any case is planned (planning keeps every case in memory, about 1 kB each)
+MAX_CASES = 100_000
+#: bytes of a table (a building stock of 100 000 walls is about 5 MB)
+MAX_TABLE_BYTES = 256 << 20
+#: problems of a table or grid listed at most (a binary file would give one per line)
+MAX_PROBLEMS = 20
+#: digits of an integer at most (Python's own limit of int(text))
+MAX_DIGITS = 4300
+
+
 def _value(text: str):
-    """A grid or table value in TOML syntax (3, 0.15, true, "x"); a bare word is a string."""
+    """A grid or table value in TOML syntax (3, 0.15, true, "x"); a bare word is a string.
+    ValueError (its reason) for what cannot be a value: an integer of more than 4300 digits,
+    arrays nested too deeply."""
     text = text.strip()
+    digits = text.lstrip("+-")
+    if len(digits) > MAX_DIGITS and digits.isdigit():
+        raise ValueError(f"an integer of {len(digits)} digits: allowed at most {MAX_DIGITS}")
     for number in (int, float):   # the common case, 20x faster than the TOML parser
         try:
             return number(text)
@@ -113,81 +141,138 @@ def _value(text: str):
         return tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
         return text
+    except ValueError as e:        # an integer of more than 4300 digits inside an array
+        raise ValueError(f"not a value: {e}") from None
+    except RecursionError:
+        raise ValueError("not a value: arrays nested too deeply") from None
 
 
-def _check_key(key: str, where: str) -> str:
+def _key_problem(key: str) -> str | None:
+    """None for a case-file key (``name`` or ``section.key``), else the problem's text."""
     sec, dot, name = key.partition(".")
     if (not dot and key in TOP_LEVEL) or (dot and name in SCHEMA.get(sec, {})):
-        return key
-    raise ParameterError(f"{where} key = {key!r} is out of range: allowed name or "
-                         "section.key of a case file, e.g. wall.l, masonry.a, mesh.size "
-                         "(docs/case-file.md)")
+        return None
+    return (f"key = {shown(key)} is out of range: allowed name or section.key of a case "
+            "file, e.g. wall.l, masonry.a, mesh.size (docs/case-file.md)")
+
+
+def _cap(problems: list[str]) -> list[str]:
+    if len(problems) <= MAX_PROBLEMS:
+        return problems
+    return problems[:MAX_PROBLEMS] + [f"... and {len(problems) - MAX_PROBLEMS} more problems"]
 
 
 def parse_grid(specs) -> dict[str, list]:
     """A grid from ``["wall.l=3,6,9", "masonry.a=0.15,0.3"]`` (the CLI's ``--grid``) or a
-    dict {key: values}; values in TOML syntax. Every key is checked against the schema."""
+    dict {key: values}; values in TOML syntax. Every key is checked against the schema; every
+    problem is reported at once (ConfigError, source "--grid" or "grid")."""
+    source = "grid" if isinstance(specs, dict) else "--grid"
+    problems: list[str] = []
+    items = []
     if isinstance(specs, dict):
-        items = [(k, list(v) if isinstance(v, list | tuple) else [v]) for k, v in specs.items()]
+        items = [(str(k), list(v) if isinstance(v, list | tuple) else [v])
+                 for k, v in specs.items()]
     else:
-        items = []
         for spec in specs or ():
             key, sep, values = str(spec).partition("=")
             if not sep or not values.strip():
-                raise ParameterError(f"--grid {spec!r} is out of range: allowed "
-                                     "section.key=v1,v2,... e.g. wall.l=3,6,9")
-            items.append((key.strip(), [_value(v) for v in values.split(",")]))
-    grid = {}
+                problems.append(f"{shown(str(spec))} is out of range: allowed "
+                                "section.key=v1,v2,... e.g. wall.l=3,6,9")
+                continue
+            vals = []
+            for v in values.split(","):
+                try:
+                    vals.append(_value(v))
+                except ValueError as e:
+                    problems.append(f"{key.strip()} = {shown(v.strip())}: {e}")
+            items.append((key.strip(), vals))
+    grid: dict[str, list] = {}
     for key, values in items:
-        grid[_check_key(key, "grid")] = values
+        bad = _key_problem(key)
+        if bad:
+            problems.append(bad)
+        elif key in grid:
+            problems.append(f"key = {key!r} is given twice: allowed once, with all its values "
+                            f"(e.g. {key}=v1,v2,v3)")
+        elif not values:
+            problems.append(f"key = {key!r} has no values: allowed at least one")
+        else:
+            grid[key] = values
+    if problems:
+        raise ConfigError(source, _cap(problems), "the grid")
     return grid
 
 
 def read_table(path: str | Path) -> list[dict]:
     """The cases of a CSV table: a header of case keys (``wall.H``, ``masonry.a``, ``name``,
-    ...), one case per row, values in TOML syntax; an empty cell leaves the base's value."""
+    ...), one case per row, values in TOML syntax; an empty cell leaves the base's value;
+    blank lines and ``#`` lines are skipped. The file is read as a case file is
+    (``config.read_text``: a regular UTF-8 file, a spreadsheet's byte-order mark allowed);
+    every problem (unknown or repeated column, a row of another length than the header, a
+    value that cannot be one) is reported at once, with its line (ConfigError)."""
     path = Path(path)
+    source = f"table {path}"
+
+    def fail(msg: str):
+        raise ConfigError(source, [msg], "the table")
+
+    text = read_text(path, "table", MAX_TABLE_BYTES, fail,
+                     size_hint="100 000 cases are about 5 MB", bom=True)
+    kept = [(n, ln) for n, ln in enumerate(text.splitlines(), 1)
+            if ln.strip() and not ln.lstrip().startswith("#")]
+    reader = csv.reader(ln for _, ln in kept)
     try:
-        lines = [ln for ln in path.read_text(encoding="utf-8").splitlines()
-                 if ln.strip() and not ln.lstrip().startswith("#")]
-    except OSError as e:
-        raise ParameterError(f"table = {str(path)!r} cannot be read: {e.strerror or e}") \
-            from None
-    reader = csv.DictReader(lines)
-    for key in reader.fieldnames or []:
-        _check_key(key.strip(), f"table {path.name}:")
-    rows = [{k.strip(): (v if k.strip() == "name" else _value(v)) for k, v in r.items()
-             if v is not None and v.strip() != ""} for r in reader]
+        cells = list(reader)
+    except csv.Error as e:       # a NUL byte, say
+        fail(f"line {kept[reader.line_num - 1][0]} is not CSV: {e}")
+    if not cells:
+        fail("no header and no case: allowed a CSV with a header of case keys and at least "
+             "one case")
+    header = [k.strip() for k in cells[0]]
+    problems = []
+    for k in header:
+        bad = _key_problem(k)
+        if bad:
+            problems.append(f"line {kept[0][0]}: column {bad}")
+    for k in sorted({k for k in header if header.count(k) > 1}):
+        problems.append(f"line {kept[0][0]}: column key = {k!r} is given twice: allowed once")
+    rows = []
+    for (n, _), row in zip(kept[1:], cells[1:]):
+        if len(row) != len(header):
+            problems.append(f"line {n} has {len(row)} cells, the header {len(header)}: allowed "
+                            "one cell per column (an empty cell keeps the base's value)")
+            continue
+        case = {}
+        for k, v in zip(header, row):
+            if not v.strip():
+                continue
+            if any(unicodedata.category(ch) == "Cc" for ch in v):
+                problems.append(f"line {n}, column {k}: {shown(v)} contains control "
+                                "characters (a NUL byte, an escape, ...): allowed printable "
+                                "text; a binary file?")
+                continue
+            try:
+                case[k] = v if k == "name" else _value(v)
+            except ValueError as e:
+                problems.append(f"line {n}, column {k}: {shown(v.strip())}: {e}")
+        rows.append(case)
+    if problems:
+        err = ConfigError(source, _cap(problems), "the table")
+        err.columns = header        # the keys the table gives (sweep_inputs' base check)
+        raise err
     if not rows:
-        raise ParameterError(f"table = {str(path)!r} is out of range: allowed a CSV with a "
-                             "header and at least one case")
+        fail("no case: allowed a CSV with a header and at least one case")
     return rows
 
 
-def _base(base) -> tuple[dict, str]:
-    """The base case as a dict (its name filled in, as ``load_case`` names a file's case) and
-    its source; the base alone need not be complete (a table may give the walls)."""
-    if base is None:
-        return _default_data(), "<default: B1>"
-    if isinstance(base, dict):
-        return dict(base), "<dict>"
-    path = Path(base)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as e:
-        raise ConfigError(str(path), [f"cannot read the case file: {e.strerror or e}"]) \
-            from None
-    except tomllib.TOMLDecodeError as e:
-        raise ConfigError(str(path), [f"not valid TOML: {e}"]) from None
-    data.setdefault("name", path.stem)
-    return data, str(path)
-
-
-def plan_sweep(base=None, grid=None, table=None) -> tuple[list[SweepCase], dict, str]:
+def plan_sweep(base=None, grid=None, table=None,
+               max_cases: int = MAX_CASES) -> tuple[list[SweepCase], dict, str]:
     """The cases of a sweep (table rows × grid points, in that order), each validated and
-    keyed. Returns (cases, base data, source). Raises ParameterError for a malformed grid or
-    table, and the first case's ConfigError when no case at all is valid."""
-    data, source, grid, rows = _sweep_inputs(base, grid, table)
+    keyed. Returns (cases, base data, source). Raises ConfigError (a ParameterError) for a
+    malformed grid, table or base, listing every problem (``sweep_inputs``), ParameterError
+    for more than ``max_cases`` cases, and the first case's ConfigError when no case at all
+    is valid."""
+    data, source, grid, rows = sweep_inputs(base, grid, table, max_cases)
     errors: list[ConfigError] = []
     with _no_gc():
         cases = list(_plan(data, source, grid, rows, errors))
@@ -195,28 +280,82 @@ def plan_sweep(base=None, grid=None, table=None) -> tuple[list[SweepCase], dict,
     return cases, data, source
 
 
-def _sweep_inputs(base, grid, table) -> tuple[dict, str, dict, list[dict]]:
-    """The base case's data and source, the parsed grid and the table's override rows."""
-    data, source = _base(base)
-    grid = parse_grid(grid) if grid else {}
-    rows = table if isinstance(table, list) else (read_table(table) if table else [{}])
-    return data, source, grid, rows
+def sweep_inputs(base, grid, table, max_cases: int = MAX_CASES
+                 ) -> tuple[dict, str, dict, list[dict]]:
+    """The base case's data and source, the parsed grid and the table's override rows,
+    checked before any case is planned: the base read as ``run`` reads a case file
+    (``config.case_data``) and its keys that no grid key or table column replaces checked as
+    ``run`` checks them (``config.check_base``), every problem of the base, grid and table at
+    once (one ConfigError); then the number of cases (table rows × grid points, counted, not
+    built) against ``max_cases`` (ParameterError)."""
+    max_cases = int(check_range("max_cases", max_cases, 1, 1e9))
+    errors: list[ConfigError] = []
+    data, source, grid_d, rows = None, "<dict>", {}, [{}]
+    given = set(grid) if isinstance(grid, dict) else \
+        {str(spec).partition("=")[0].strip() for spec in grid or ()}   # keys the base needn't give
+    try:
+        data, source, stem = case_data(base)
+        data = dict(data) if isinstance(data, dict) else data
+        if base is not None and not isinstance(base, dict):
+            data.setdefault("name", stem)       # as load_case names a file's case
+    except ConfigError as e:
+        errors.append(e)
+    if grid:
+        try:
+            grid_d = parse_grid(grid)
+        except ConfigError as e:
+            errors.append(e)
+    if isinstance(table, list):
+        rows = [dict(r) for r in table]
+        bad = sorted({p for r in rows for k in r for p in [_key_problem(str(k))] if p})
+        if bad:
+            errors.append(ConfigError("table", bad, "the table"))
+    elif table is not None:
+        try:
+            rows = read_table(table)
+        except ConfigError as e:
+            errors.append(e)
+            given |= set(getattr(e, "columns", ()))
+    if data is not None:
+        try:
+            check_base(data, source, given | {k for r in rows for k in r})
+        except ConfigError as e:
+            errors.insert(0, e)
+    if errors:
+        raise ConfigError.merged(errors, "the sweep's inputs")
+    n = len(rows) * math.prod(len(v) for v in grid_d.values())
+    if n > max_cases:
+        parts = ([f"{len(rows):,} table rows"] if table is not None else []) + \
+            [f"{len(v):,} {k}" for k, v in grid_d.items()]
+        raise ParameterError(f"the sweep has {n:,} cases ({' x '.join(parts)}): out of range: "
+                             f"allowed at most max_cases (--max-cases) = {max_cases:,}; "
+                             "raise it, or split the sweep")
+    return data, source, grid_d, rows
+
+
+def _invalid(e: ConfigError) -> str:
+    """An invalid case's error, one line: every problem, each naming its key."""
+    cut = len(e.source) + 2
+    return "invalid case: " + "; ".join(p[cut:] if p.startswith(e.source + ": ") else p
+                                        for p in e.problems)
 
 
 def _plan(data: dict, source: str, grid: dict, rows: list[dict], errors: list):
-    """The cases one by one (``plan_sweep``); each invalid case's ConfigError is appended to
-    ``errors``."""
+    """The cases one by one (``plan_sweep``), the grid's points made as they are needed;
+    each invalid case's ConfigError is appended to ``errors``."""
     from .pipeline import package_version
 
-    points = [dict(zip(grid, vals)) for vals in itertools.product(*grid.values())]
     version = package_version()
-    for k, ov in enumerate({**row, **pt} for row in rows for pt in points):
+    keys = list(grid)
+    combos = itertools.product(rows, itertools.product(*grid.values()))
+    for k, (row, vals) in enumerate(combos):
+        ov = {**row, **dict(zip(keys, vals))}
         try:
             config, inputs = load_case_inputs(data, ov, source)
         except ConfigError as e:
             errors.append(e)
             yield SweepCase(k, ov, record_key("invalid", {"base": data, "set": ov}),
-                            error=str(e))
+                            error=_invalid(e))
             continue
         yield SweepCase(k, ov, record_key("case", inputs, version), config)
 
@@ -279,7 +418,7 @@ def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
 def _batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
     from ..closed_form import mechanisms as mech
     from ..closed_form.paper import dem_row
-    from .pipeline import Result, _hinges
+    from .pipeline import Result, conclude
 
     t0 = time.perf_counter()
     cases = [c.case for c in configs]
@@ -301,8 +440,7 @@ def _batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
             if isinstance(m2, Exception):
                 raise m2
             res = Result(config=config, dem=dem_row(config.case), mechanisms={"I": m1, "II": m2})
-            if config.analysis.hinge_check:         # as compute(): one case at a time
-                res.hinges = _hinges(config.case, res.mechanisms)
+            conclude(res)          # as compute(): results checked, then the hinge check
             rec = {**res.to_dict(), "status": "ok"}
             rec.pop("files", None)
         except Exception as exc:  # recorded, as run_case records it
@@ -414,7 +552,7 @@ def _chunk_size(n_cases: int, workers: int) -> int:
 def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
           workers: int | None = None, scheduler: str | None = None, resume: bool = True,
           retry_failed: bool = False, progress: bool = True,
-          engine: Engine | None = None) -> SweepResult:
+          engine: Engine | None = None, max_cases: int = MAX_CASES) -> SweepResult:
     """Run a sweep (see the module docstring) and write its records and table to ``out``
     (default homlimit-out/<base name>/sweep/).
 
@@ -422,7 +560,9 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
     CSV path or a list of override dicts; workers / scheduler: the Dask engine (an embedded
     LocalCluster of ``workers`` processes, or an existing scheduler's address), or ``engine``
     already open; resume: keep the records of an earlier run and run only the missing cases
-    (off: start from nothing); retry_failed: run recorded failures again.
+    (off: start from nothing); retry_failed: run recorded failures again; max_cases: the most
+    cases the sweep may have (checked from the grid's and table's sizes before any planning).
+    The base, grid and table are checked before anything else (``sweep_inputs``).
 
     The cases are planned (validated and keyed) in chunks: when the first chunk has work, the
     engine starts and each chunk's batch runs while the next is planned; otherwise (a resumed
@@ -431,7 +571,9 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
     from .pipeline import folder_name, result_folder, source_of
 
     t0 = time.perf_counter()
-    data, source, grid_d, rows_in = _sweep_inputs(base, grid, table)
+    if scheduler is not None and engine is None:
+        check_scheduler(scheduler)          # a malformed address: before any work
+    data, source, grid_d, rows_in = sweep_inputs(base, grid, table, max_cases)
     name = str(data.get("name") or "sweep")
     folder = Path(out) if out else Path("homlimit-out") / folder_name(name) / "sweep"
     # one result set: sweep.json and the table staged, replacing the previous sweep's together

@@ -26,34 +26,85 @@ from .plots import pyplot, save_png
 __all__ = ["load_results", "report"]
 
 COLOURS = {"I": "tab:blue", "II": "tab:orange", "FE": "tab:green"}
+#: bytes of a sweep.json at most (100 000 cases take about 20 MB)
+MAX_META_BYTES = 1 << 30
 
 
 def load_results(results: str | Path) -> tuple[list[dict], list[str], Path]:
-    """(rows, swept columns, sweep folder) from a sweep folder or its results file."""
-    import pyarrow.csv as pcsv
-    import pyarrow.parquet as pq
-
+    """(rows, swept columns, sweep folder) from a sweep folder or its results file. A file
+    that cannot be read as what it should be (a garbled or truncated Parquet, CSV or
+    sweep.json, a named pipe, a folder) is a ParameterError naming it, before any plot."""
     path = Path(results)
     folder = path if path.is_dir() else path.parent
     if path.is_dir():
         path = folder / "results.parquet"
         if not path.is_file():
             path = folder / "results.csv"
-    if not path.is_file():
+    if not path.is_file() or path.suffix not in (".parquet", ".csv"):
         raise ParameterError(f"results = {str(results)!r} is out of range: allowed a sweep "
                              "folder or its results.parquet / results.csv")
-    table = pq.read_table(path) if path.suffix == ".parquet" else pcsv.read_csv(path)
-    rows = table.to_pylist()
+    rows = _read_rows(path)
     meta = folder / "sweep.json"
-    swept = json.loads(meta.read_text(encoding="utf-8"))["swept"] if meta.is_file() else []
+    swept = _read_swept(meta) if meta.exists() else []
     if not swept:  # the inputs that vary
         swept = [k for k in (rows[0] if rows else {}) if k.startswith("inputs.")
                  and len({r.get(k) for r in rows}) > 1]
     return rows, swept, folder
 
 
+_HINT = "allowed a sweep's results, as `homlimit sweep` writes them (run the sweep again to " \
+        "write them anew)"
+
+
+def _reason(e: BaseException) -> str:
+    """An exception's first line, short and printable (a parser may quote the file's bytes)."""
+    text = (str(e).splitlines() or [type(e).__name__])[0]
+    text = "".join(ch if " " <= ch <= "~" else "?" for ch in text)
+    return text if len(text) <= 120 else text[:117] + "..."
+
+
+def _read_rows(path: Path) -> list[dict]:
+    """The rows of a results table; ParameterError naming the file when it is not one."""
+    import pyarrow as pa
+    import pyarrow.csv as pcsv
+    import pyarrow.parquet as pq
+
+    try:
+        table = pq.read_table(path) if path.suffix == ".parquet" else pcsv.read_csv(path)
+        return table.to_pylist()
+    except (pa.ArrowException, OSError, ValueError) as e:
+        kind = "Parquet" if path.suffix == ".parquet" else "CSV"
+        reason = _reason(e)
+        raise ParameterError(f"results = {str(path)!r} cannot be read as {kind} ({reason}): "
+                             f"{_HINT}") from None
+
+
+def _read_swept(meta: Path) -> list[str]:
+    """sweep.json's swept columns; ParameterError naming the file when it is not a sweep's."""
+
+    def bad(why: str):
+        raise ParameterError(f"sweep.json = {str(meta)!r} {why}: {_HINT}") from None
+
+    if not meta.is_file():
+        bad("is not a regular file")
+    if meta.stat().st_size > MAX_META_BYTES:
+        bad(f"has {meta.stat().st_size:,} bytes: allowed at most {MAX_META_BYTES:,}")
+    try:
+        data = json.loads(meta.read_bytes())
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError) as e:
+        bad(f"is not valid JSON ({_reason(e)})")
+    swept = data.get("swept") if isinstance(data, dict) else None
+    if not isinstance(swept, list) or not all(isinstance(k, str) for k in swept):
+        bad("has no list of swept columns (\"swept\")")
+    return swept
+
+
 def _col(rows, key) -> np.ndarray:
-    return np.array([np.nan if r.get(key) is None else r[key] for r in rows], dtype=float)
+    try:
+        return np.array([np.nan if r.get(key) is None else r[key] for r in rows], dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"results column {key!r} holds values that are not numbers: "
+                             f"{_HINT}") from None
 
 
 def _numeric(rows, key) -> bool:
@@ -84,7 +135,7 @@ def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
     num = [k for k in swept if _numeric(ok, k)]
     mechs = [m for m in ("I", "II", "FE") if f"mechanisms.{m}.vnorm" in ok[0]
              or any(r.get(f"mechanisms.{m}.vnorm") is not None for r in ok)]
-    crit = [r.get("critical.mechanism") or "none" for r in ok]
+    crit = [str(r.get("critical.mechanism") or "none") for r in ok]
     if num:
         ncol = min(4, len(num))
         nrow = -(-len(num) // ncol)
