@@ -43,8 +43,8 @@ _DIMENSIONLESS = (
     "explained block_share interior_share eq14_error n_triangles polarity pga_g pT n_impacts "
     "hinge_ratio hinge_ratio_fe hinge_ratio_I hinge_ratio_II multiplier_I multiplier_II rtol "
     "ivp_rtol lam_multiplier retries solver_tol").split()
-_TEXT = ("name test mechanism mechanism_fe critical_mechanism vg_method facade pulse ivp_method "
-         "fan_admissible wedge_admissible case status critical_at critical_at_fe reason "
+_TEXT = ("name test mechanism mechanism_fe critical_mechanism vg_method facade mesher pulse "
+         "ivp_method fan_admissible wedge_admissible case status critical_at critical_at_fe reason "
          "implausible").split()
 #: the SI unit of every quantity in a result file ("-": dimensionless, "": text or a flag)
 UNITS: dict[str, str] = {
