@@ -217,9 +217,10 @@ def test_solver_failures_raise_with_status():
 def test_a_stalled_block_lp_goes_down_the_one_ladder():
     """The block LP is solved by the FE chain (fe.solver): an iteration limit too low for it
     stalls every rung of the kinematic LP's ladder (as is, with iterative refinement, with
-    tolerance 1e-7) before the SolverError; the default solve records its one attempt."""
+    tolerance 1e-7, with the static regularisation STATIC_REG) before the SolverError; the
+    default solve records its one attempt."""
     A = stack([1.0, 0.6, 0.3], [0.5, 0.8, 1.2], x_left=[0.0, 0.1, 0.15])
-    with pytest.raises(SolverError, match="rigid-block limit analysis .* after 3 attempt"):
+    with pytest.raises(SolverError, match="rigid-block limit analysis .* after 4 attempt"):
         solve_blocks(A, f=0.6, options=SolverOptions(settings={"max_iter": 2}))
     r = solve_blocks(A, f=0.6)
     assert [a[1] for a in r.sizes["attempts"]] == ["optimal"]

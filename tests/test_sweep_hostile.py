@@ -420,7 +420,7 @@ class Interrupt:                                         # Ctrl-C while cli's mo
 
 
 sys.meta_path.insert(0, Interrupt())
-sys.argv = ["homlimit", "--version"]
+sys.argv = ["homlimit", "table1", "--help"]       # (--version alone never imports the cli)
 from homlimit.__main__ import main
 main()
 """
