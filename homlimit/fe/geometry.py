@@ -130,6 +130,7 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
                  refine_segments: Sequence = (),
                  embed_lines: Sequence[Segment] = (),
                  structured: Mapping[str, tuple[int, int]] | None = None,
+                 size_map=None,
                  name: str = "polygon",
                  verbosity: int = 0) -> meshio.Mesh:
     """Triangulate polygonal regions, conforming across shared edges.
@@ -152,6 +153,8 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
                     centre (the "crossed" cells of ``problems.crossed_mesh``, whose edges are
                     aligned with x and z); the other regions stay unstructured and conform to
                     its edge nodes. No embedded line may cross it.
+    size_map:       (points (2, n), triangles (3, nt), sizes (nt,)): a background mesh whose
+                    element sizes [m] also bound the size (``homlimit.fe.adapt``).
     Returns a meshio.Mesh (see the module docstring).
     """
     boundaries = {} if boundaries is None else boundaries
@@ -234,7 +237,7 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
 
         for k, (nx, nz) in grid.items():
             _transfinite(gmsh, k, reg_surf[k], nx, nz)
-        _size_field(gmsh, size, rpts, rsegs)
+        _size_field(gmsh, size, rpts, rsegs, _size_map(size_map))
         gmsh.model.mesh.generate(2)
         return _to_meshio(gmsh, tol)
 
@@ -266,7 +269,23 @@ def _transfinite(gmsh, region, surfaces, nx, nz):
     gmsh.model.mesh.setRecombine(2, s)
 
 
-def _size_field(gmsh, size, rpts, rsegs):
+def _size_map(sm):
+    """Checked (p, t, sizes) of a background size map, or None."""
+    if sm is None:
+        return None
+    try:
+        p, t, s = (np.asarray(a) for a in sm)
+    except (TypeError, ValueError):
+        raise ParameterError("size_map is not (points, triangles, sizes)") from None
+    if p.ndim != 2 or p.shape[0] != 2 or t.ndim != 2 or t.shape[0] != 3 or s.shape != t.shape[1:]:
+        raise ParameterError(f"size_map has shapes {p.shape}, {t.shape}, {s.shape}: allowed "
+                             "(2, n), (3, nt), (nt,)")
+    if not np.all(np.isfinite(s)) or np.any(s <= 0):
+        raise ParameterError("size_map sizes must be finite and > 0 [m]")
+    return p.astype(float), t.astype(int), s.astype(float)
+
+
+def _size_field(gmsh, size, rpts, rsegs, size_map=None):
     """Background size: min(global, Threshold(distance) for every refinement).
 
     Distances are MathEval expressions (gmsh's parser has abs and sqrt but no min/max, so
@@ -295,6 +314,16 @@ def _size_field(gmsh, size, rpts, rsegs):
         tc = f"({pos.format(u=t)} - {pos.format(u=t + ' - 1')})"
         ex, ez = f"(x - ({x1!r}) - {tc}*({dx!r}))", f"(y - ({z1!r}) - {tc}*({dz!r}))"
         threshold(f"sqrt({ex}^2 + {ez}^2)", local, radius)
+    if size_map is not None:       # piecewise-constant sizes on a background triangulation
+        p, t, s = size_map
+        xyz = np.zeros((9, t.shape[1]))
+        xyz[0:3], xyz[3:6] = p[0, t], p[1, t]
+        data = np.vstack([xyz, np.repeat(s[None, :], 3, axis=0)]).T.ravel()
+        view = gmsh.view.add("size_map")
+        gmsh.view.addListData(view, "ST", t.shape[1], data.tolist())
+        pv = fld.add("PostView")
+        fld.setNumber(pv, "ViewTag", view)
+        parts.append(pv)
     const = fld.add("MathEval")
     fld.setString(const, "F", repr(float(size)))
     m = fld.add("Min")
@@ -375,7 +404,7 @@ def tsection(H: float, b: float, L: float, size: float, *,
              radius_junction: float | None = None, radius_top: float | None = None,
              z0: float = 0.0, embed_lines: Sequence[Segment] = (),
              refine_points: Sequence = (), refine_segments: Sequence = (),
-             strip: str = "free", n_b: int = 4,
+             strip: str = "free", n_b: int = 4, size_map=None,
              verbosity: int = 0) -> meshio.Mesh:
     """Mesh of the x–z section: façade 0 <= x <= b, transversal wall b <= x <= b + L,
     z0 <= z <= H (the failing part of height h = H − z0 when z0 > 0).
@@ -419,4 +448,5 @@ def tsection(H: float, b: float, L: float, size: float, *,
     return polygon_mesh(regions, boundaries, size=size,
                         refine_segments=refine + list(refine_segments),
                         refine_points=refine_points, embed_lines=embed_lines,
-                        structured=structured, name="tsection", verbosity=verbosity)
+                        structured=structured, size_map=size_map, name="tsection",
+                        verbosity=verbosity)

@@ -1,0 +1,203 @@
+"""Adaptive meshing driven by the bound gap: remesh where λ⁺ − λ⁻ lives, until the bounds meet.
+
+One cycle: both bounds on one mesh (``bracket.bracket``), the per-triangle share of the gap
+(``bracket.gap_contributions``, Ciria, Peraire & Bonet 2008) marked by Dörfler's rule (the
+fewest triangles that carry ``theta`` of the gap), the marked triangles' size halved (never
+below ``min_size``), the others kept, and that piecewise-constant size map handed to gmsh as a
+background field for the next mesh (``geometry.polygon_mesh(size_map=...)``). The loop stops
+when the relative gap (λ⁺ − λ⁻)/mean is at most ``target_gap``, after ``max_cycles`` meshes,
+or before a remesh whose estimated triangle count exceeds ``max_triangles``.
+
+Singular points (corners where the exact static field has a centred fan of discontinuities,
+the ``prandtl_fan`` lesson) are given to the mesher once, as fans of embedded rays
+(``fan_rays``): an adaptive size field alone offers a static field too few edge directions there.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ParameterError, check_range
+from .bracket import Bracket, bracket
+from .mesh import element_areas
+from .solver import SolverOptions
+
+__all__ = ["AdaptOptions", "Cycle", "AdaptResult", "adapt", "refine_sizes", "fan_rays",
+           "estimate_triangles"]
+
+# triangles per unit of Σ area/size²: near-equilateral triangles of side h have area √3/4 h²
+TRIANGLES_PER_AREA = 4.0 / math.sqrt(3.0)
+
+
+@dataclass(frozen=True)
+class AdaptOptions:
+    """Settings of the adaptive loop ([adapt] in a case file).
+
+    target_gap     stop when (λ⁺ − λ⁻)/mean <= target_gap (relative, e.g. 0.01 = 1 %)
+    max_cycles     at most this many meshes (each one bracket)
+    min_size       no element is asked to be smaller than this [m]
+    theta          Dörfler fraction: refine the fewest triangles carrying this share of the gap
+    max_triangles  refuse a remesh whose estimated size exceeds this (the run's budget)
+    """
+
+    target_gap: float = 0.01
+    max_cycles: int = 6
+    min_size: float = 0.01
+    theta: float = 0.5
+    max_triangles: int = 60_000
+
+    def __post_init__(self):
+        check_range("adapt.target_gap", self.target_gap, 0.0, 1.0, lo_open=True)
+        check_range("adapt.max_cycles", self.max_cycles, 1, 50)
+        if int(self.max_cycles) != self.max_cycles:
+            raise ParameterError(f"adapt.max_cycles = {self.max_cycles!r} is not an integer")
+        check_range("adapt.min_size", self.min_size, 0.0, lo_open=True, unit="m")
+        check_range("adapt.theta", self.theta, 0.0, 1.0, lo_open=True)
+        check_range("mesh.max_triangles", self.max_triangles, 1)
+
+
+@dataclass(frozen=True)
+class Cycle:
+    """One mesh of the loop: its size, both bounds, the relative gap and the seconds spent."""
+
+    cycle: int
+    triangles: int
+    lower: float
+    upper: float
+    rel_gap: float
+    seconds: float
+    mesh_seconds: float
+
+    def as_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+@dataclass
+class AdaptResult:
+    """The last bracket, every cycle's figures and why the loop stopped.
+
+    stop: "target" (gap reached), "cycles" (max_cycles meshes), "budget" (the next mesh would
+    exceed max_triangles) or "min_size" (nothing left to refine).
+    """
+
+    bracket: Bracket
+    problem: object
+    cycles: list[Cycle] = field(default_factory=list)
+    stop: str = ""
+
+    @property
+    def converged(self) -> bool:
+        return self.stop == "target"
+
+    def as_dict(self) -> dict:
+        return {"stop": self.stop, "converged": self.converged,
+                "cycles": [c.as_dict() for c in self.cycles]}
+
+
+def element_sizes(mesh) -> np.ndarray:
+    """Size of every triangle [m]: the side of the equilateral triangle of the same area."""
+    return np.sqrt(4.0 * element_areas(mesh) / math.sqrt(3.0))
+
+
+def refine_sizes(mesh, indicator: np.ndarray, theta: float, min_size: float) -> np.ndarray:
+    """New size per triangle: halved on the fewest triangles that carry ``theta`` of the
+    (non-negative part of the) indicator (Dörfler marking), kept elsewhere, never below
+    ``min_size``. Returns the sizes (nt,) [m]."""
+    eta = np.maximum(np.asarray(indicator, float), 0.0)
+    h = element_sizes(mesh)
+    if eta.shape != h.shape:
+        raise ParameterError(f"indicator has shape {eta.shape}: expected ({h.size},)")
+    new = h.copy()
+    total = eta.sum()
+    if total > 0:
+        order = np.argsort(eta)[::-1]
+        n = int(np.searchsorted(np.cumsum(eta[order]), theta * total)) + 1
+        new[order[:n]] *= 0.5
+    return np.maximum(new, np.minimum(min_size, h))
+
+
+def estimate_triangles(mesh, sizes: np.ndarray) -> int:
+    """Triangles gmsh will make for a size map: Σ area/(√3/4 size²)."""
+    return int(math.ceil(TRIANGLES_PER_AREA * np.sum(element_areas(mesh) / sizes ** 2)))
+
+
+def fan_rays(point, angle_from: float, angle_to: float, n: int, length: float
+             ) -> list[tuple]:
+    """``n`` straight segments of ``length`` from ``point`` at equal angles strictly between
+    ``angle_from`` and ``angle_to`` [deg, counter-clockwise from +x]: the edge directions a
+    static field needs at a singular point."""
+    x0, z0 = point
+    a = np.radians(np.linspace(angle_from, angle_to, n + 2)[1:-1])
+    return [((x0, z0), (x0 + length * math.cos(t), z0 + length * math.sin(t))) for t in a]
+
+
+def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
+          options: AdaptOptions = AdaptOptions(),
+          solver: SolverOptions = SolverOptions(),
+          progress: Callable[[Cycle], None] | None = None,
+          first_mesh=None) -> AdaptResult:
+    """Bracket ``problem`` on a sequence of meshes refined where the gap is.
+
+    remesh(size_map, last) returns a skfem mesh with the problem's region and boundary names;
+    ``size_map`` is None for the first mesh, then (points, triangles, sizes) of the previous
+    mesh, and ``last`` the previous cycle's ``Bracket`` (None at first), from which a remesher
+    may read the mechanism (e.g. a fan of rays at its hinge). ``first_mesh``: start from this
+    mesh instead of ``remesh(None, None)``. ``progress`` is
+    called with every finished ``Cycle``.
+    """
+    if not isinstance(options, AdaptOptions):
+        raise ParameterError(f"options = {options!r} is not an AdaptOptions")
+    cycles: list[Cycle] = []
+    t0 = time.perf_counter()
+    mesh = remesh(None, None) if first_mesh is None else first_mesh
+    mesh_s = time.perf_counter() - t0
+    stop = "cycles"
+    for k in range(int(options.max_cycles)):
+        t0 = time.perf_counter()
+        prob = dataclasses.replace(problem, mesh=mesh)
+        br = bracket(prob, options=solver)
+        cyc = Cycle(k, prob.n_triangles, br.lower, br.upper, br.rel_gap,
+                    time.perf_counter() - t0 + mesh_s, mesh_s)
+        cycles.append(cyc)
+        if progress is not None:
+            progress(cyc)
+        if br.rel_gap <= options.target_gap:
+            stop = "target"
+            break
+        if k + 1 == options.max_cycles:
+            break
+        sizes = refine_sizes(mesh, br.element_gap, options.theta, options.min_size)
+        if np.array_equal(sizes, element_sizes(mesh)):
+            stop = "min_size"
+            break
+        if estimate_triangles(mesh, sizes) > options.max_triangles:
+            stop = "budget"
+            break
+        t0 = time.perf_counter()
+        mesh = remesh((mesh.p, mesh.t, sizes), br)
+        mesh_s = time.perf_counter() - t0
+    return AdaptResult(br, prob, cycles, stop)
+
+
+def tsection_remesher(case, *, size: float, z0: float = 0.0, n_b: int = 4,
+                      fans: Sequence = (), n_fan: int = 8, fan_length: float | None = None):
+    """``remesh`` for ``adapt`` on the T-section: gmsh with size ``size`` (b/n_b at the junction),
+    fans of ``n_fan`` rays at the given singular points [(x, z, angle_from, angle_to)]."""
+    from . import geometry
+    from .mesh import to_skfem
+
+    w = case.wall
+    length = w.b if fan_length is None else fan_length
+    rays = [r for x, z, a0, a1 in fans for r in fan_rays((x, z), a0, a1, n_fan, length)]
+
+    def remesh(size_map, last=None):
+        return to_skfem(geometry.tsection(w.H, w.b, w.L, size=size, z0=z0,
+                                          size_junction=min(size, w.b / n_b),
+                                          embed_lines=rays, size_map=size_map))
+    return remesh
