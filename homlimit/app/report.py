@@ -69,6 +69,12 @@ UNITS: dict[str, str] = {
     "vg_rigid": "m/s", "m_body": "kg", "time": "s",
     "N": "N", "T": "N",              # contact forces per slab of thickness s (blocks.limit)
     "opening": "m/s", "slip": "m/s",  # velocity jumps of the normalised mechanism
+    # homlimit verify and the adaptive bracket (verify.json, verify.csv, fe_adapt.csv)
+    **dict.fromkeys("problem source stop holds converged".split(), ""),
+    **dict.fromkeys("lower upper exact_lo exact_hi rel_gap lower_err upper_err triangles "
+                    "cycles cycle T1 T2 T_mid T1_exact T2_exact f c_over_a sqrt_cf_a"
+                    .split(), "-"),
+    "z0_exact": "m", "seconds": "s", "mesh_seconds": "s",
 }
 #: every file name a homlimit command writes (result sets written before manifests existed
 #: are recognised by these, ``_io.is_result_set``)
@@ -79,7 +85,8 @@ OUTPUT_NAMES = ("summary.json", "vg_lambda.png", "mesh.png", "mechanism.png", "s
                 "blocks_contacts.vtu", "blocks_contacts.csv", "blocks_mechanism.png",
                 "blocks_whole.png", "blocks_scan.csv", "table1_blocks.csv",
                 "table1_blocks_ratios.json", "sweep.json", "results.parquet", "results.csv",
-                "vnorm_swept.png", "critical_map.png", "tanpsi.png", "vg_histogram.png")
+                "vnorm_swept.png", "critical_map.png", "tanpsi.png", "vg_histogram.png",
+                "verify.json", "verify.csv")
 OUTPUT_NAMES += tuple(n + ".json" for n in OUTPUT_NAMES if n.endswith(".csv"))  # sidecars
 
 

@@ -183,21 +183,3 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
         mesh = remesh((mesh.p, mesh.t, sizes), br)
         mesh_s = time.perf_counter() - t0
     return AdaptResult(br, prob, cycles, stop)
-
-
-def tsection_remesher(case, *, size: float, z0: float = 0.0, n_b: int = 4,
-                      fans: Sequence = (), n_fan: int = 8, fan_length: float | None = None):
-    """``remesh`` for ``adapt`` on the T-section: gmsh with size ``size`` (b/n_b at the junction),
-    fans of ``n_fan`` rays at the given singular points [(x, z, angle_from, angle_to)]."""
-    from . import geometry
-    from .mesh import to_skfem
-
-    w = case.wall
-    length = w.b if fan_length is None else fan_length
-    rays = [r for x, z, a0, a1 in fans for r in fan_rays((x, z), a0, a1, n_fan, length)]
-
-    def remesh(size_map, last=None):
-        return to_skfem(geometry.tsection(w.H, w.b, w.L, size=size, z0=z0,
-                                          size_junction=min(size, w.b / n_b),
-                                          embed_lines=rays, size_map=size_map))
-    return remesh

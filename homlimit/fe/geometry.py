@@ -207,8 +207,11 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
                  for k, ss in segs.items() for p, q in ss]
         free = [occ.addLine(occ.addPoint(*p, 0.0), occ.addPoint(*q, 0.0)) for p, q in lines]
         tools = [(1, c) for _, c in named] + [(1, c) for c in free]
-        _, out_map = occ.fragment([(2, s) for s in surf], tools, removeObject=True,
-                                  removeTool=True)
+        if len(surf) > 1 or tools:
+            _, out_map = occ.fragment([(2, s) for s in surf], tools, removeObject=True,
+                                      removeTool=True)
+        else:                            # one region, nothing to cut it: fragment maps nothing
+            out_map = [[(2, surf[0])]]
         occ.synchronize()
 
         # which new surfaces came from which region; every triangle must belong to one region

@@ -1,0 +1,146 @@
+"""``homlimit verify``: known-answer problems through the adaptive bracket, against their exact
+values (issue 26, point 5).
+
+    name          exact λ                                              singular points (fans)
+    prandtl       2 + π (Prandtl 1920)                                 footing edge (1, 0)
+    vertical_cut  3.7752 … 3.7776 (Kammoun, Pastor, Smaoui & Pastor    toe (0, 0), crest (0, 1)
+                  2010: best published lower and upper bounds)
+    tsection      the homogenised façade's hinge + fan, exact in       outer toe, top corners,
+                  closed form (``closed_form.fan.optimise_fan``),      and the last mechanism's
+                  0.15216 for B1 (ρ = 12, a = 0.3 m); fan edges        hinge and fan edges
+                  T1 = min(f, c/a), T2 = max(f, c/a), √(T1 T2) = √(cf/a)  (``mechanism.adaptive``)
+    free_block    b/h (rigid-block statics): one rigid block on a      none
+                  frictional bed joint
+
+Each runs ``fe.adapt.adapt`` from a gmsh mesh; a bracket "holds" when λ⁻ <= exact_hi and
+exact_lo <= λ⁺ up to the solver's relative tolerance ``TOL``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from ..closed_form.fan import optimise_fan
+from ..errors import ParameterError
+from ..fe import geometry, problems
+from ..fe.adapt import AdaptOptions, adapt, fan_rays
+from ..fe.mesh import to_skfem
+from ..mechanism.adaptive import hinge_fan, tsection_remesher
+from ..params import Case
+
+__all__ = ["Known", "KNOWN", "TOL", "known_problem", "verify_records"]
+
+TOL = 1e-6  # relative: both bounds are solved to Clarabel's 1e-9 (LP) or 1e-7 (SOC)
+
+
+@dataclass(frozen=True)
+class Known:
+    """A problem with a known multiplier: exact = (lo, hi), lo == hi where exact."""
+
+    name: str
+    problem: problems.Problem
+    remesh: Callable
+    exact: tuple[float, float]
+    source: str
+    extra: dict = field(default_factory=dict)
+
+
+def _polygon_remesher(regions, boundaries, size, rays, refine_points=()):
+    def remesh(size_map, last=None):
+        return to_skfem(geometry.polygon_mesh(regions, boundaries, size=size,
+                                              embed_lines=rays, refine_points=refine_points,
+                                              size_map=size_map))
+    return remesh
+
+
+def _prandtl(size: float = 0.5, n_fan: int = 24) -> Known:
+    W, D = 4.5, 3.0
+    regions = {"soil": [(0, -D), (W, -D), (W, 0), (0, 0)]}
+    lines = {"footing": [((0, 0), (1, 0))], "symmetry": [((0, -D), (0, 0))],
+             "bottom": [((0, -D), (W, -D))], "far": [((W, -D), (W, 0))]}
+    remesh = _polygon_remesher(regions, lines, size, fan_rays((1.0, 0.0), -180, 0, n_fan, 1.0),
+                               [(1.0, 0.0, size / 8, 0.5)])
+    pr = dataclasses.replace(problems.prandtl(width=W, depth=D), mesh=remesh(None))
+    return Known("prandtl", pr, remesh, (problems.PRANDTL,) * 2, "Prandtl 1920: 2 + π")
+
+
+def _vertical_cut(size: float = 0.25, n_fan: int = 12) -> Known:
+    regions = {"soil": [(-1.5, -1), (2.5, -1), (2.5, 1), (0, 1), (0, 0), (-1.5, 0)]}
+    lines = {"bottom": [((-1.5, -1), (2.5, -1))],
+             "sides": [((-1.5, -1), (-1.5, 0)), ((2.5, -1), (2.5, 1))]}
+    rays = fan_rays((0.0, 0.0), -180, 90, n_fan, 0.5) + fan_rays((0.0, 1.0), -90, 0, n_fan, 0.5)
+    remesh = _polygon_remesher(regions, lines, size, rays,
+                               [(0.0, 0.0, size / 8, 0.3), (0.0, 1.0, size / 8, 0.3)])
+    pr = dataclasses.replace(problems.vertical_cut(), mesh=remesh(None))
+    return Known("vertical_cut", pr, remesh, (problems.VERTICAL_CUT_LB, problems.VERTICAL_CUT_UB),
+                 "Kammoun, Pastor, Smaoui & Pastor 2010: 3.7752 <= γH/k <= 3.7776")
+
+
+def _tsection(size: float = 0.5, case: Case = Case()) -> Known:
+    fan = optimise_fan(case)
+    remesh = tsection_remesher(case, size=size)
+    pr = dataclasses.replace(problems.t_section(case, facade="homogenised", h=size),
+                             mesh=remesh(None))
+    m = case.masonry
+    return Known("tsection", pr, remesh, (fan.lam, fan.lam),
+                 f"hinge + fan in closed form (closed_form.fan), {case.name}, façade homogenised",
+                 {"case": case, "z0": fan.z0, "T1": fan.T1, "T2": fan.T2,
+                  "f": m.f, "c_over_a": m.c / m.a, "sqrt_cf_a": math.sqrt(m.c * m.f / m.a)})
+
+
+def _free_block(b: float = 0.5, h: float = 3.0, f: float = 0.6) -> Known:
+    regions = {"facade": [(0, 0), (b, 0), (b, h), (0, h)]}
+    remesh = _polygon_remesher(regions, {"base": [((0, 0), (b, 0))]}, b / 2, [])
+    pr = problems.free_block(b=b, h=h, f=f)
+    pr = dataclasses.replace(pr, mesh=remesh(None))
+    return Known("free_block", pr, remesh, (pr.reference,) * 2, "rigid-block statics: b/h")
+
+
+KNOWN = {"prandtl": _prandtl, "vertical_cut": _vertical_cut, "tsection": _tsection,
+         "free_block": _free_block}
+
+
+def known_problem(name: str) -> Known:
+    if name not in KNOWN:
+        raise ParameterError(f"problem = {name!r} is not a known-answer problem: allowed "
+                             f"{', '.join(map(repr, KNOWN))}")
+    return KNOWN[name]()
+
+
+def verify_records(names=None, options: AdaptOptions = AdaptOptions(target_gap=0.005),
+                   progress: Callable[[str, object], None] | None = None) -> list[dict]:
+    """Run every known-answer problem (or ``names``) through ``fe.adapt.adapt``; one record
+    per problem with both bounds, the exact value, whether the bracket holds, and for the
+    T-section the hinge and fan edges beside z0, f, c/a and √(cf/a)."""
+    names = list(KNOWN) if names is None else list(names)
+    for n in names:                       # every name checked before any work
+        if n not in KNOWN:
+            known_problem(n)
+    out = []
+    for n in names:
+        t0 = time.perf_counter()
+        k = known_problem(n)
+        res = adapt(k.problem, k.remesh, options, first_mesh=k.problem.mesh,
+                    progress=None if progress is None else (lambda c, n=n: progress(n, c)))
+        br, lo, hi = res.bracket, *k.exact
+        rec = {"problem": n, "source": k.source, "exact_lo": lo, "exact_hi": hi,
+               "lower": br.lower, "upper": br.upper, "rel_gap": br.rel_gap,
+               "holds": br.lower <= hi * (1 + TOL) and br.upper >= lo * (1 - TOL),
+               "lower_err": br.lower / lo - 1, "upper_err": br.upper / hi - 1,
+               "triangles": res.cycles[-1].triangles, "cycles": len(res.cycles),
+               "stop": res.stop, "seconds": time.perf_counter() - t0,
+               "adapt": [c.as_dict() for c in res.cycles]}
+        if n == "tsection":
+            ex = k.extra
+            hf = hinge_fan(ex["case"], br.kinematic)
+            rec |= {"z0_exact": ex["z0"], "T1_exact": ex["T1"], "T2_exact": ex["T2"],
+                    "f": ex["f"], "c_over_a": ex["c_over_a"], "sqrt_cf_a": ex["sqrt_cf_a"],
+                    "z0": None if hf is None else hf.z, "T1": None if hf is None else hf.T1,
+                    "T2": None if hf is None else hf.T2,
+                    "T_mid": None if hf is None else hf.T_mid}
+        out.append(rec)
+    return out

@@ -1,0 +1,115 @@
+"""The adaptive bracket (fe.adapt) and ``homlimit verify`` on known answers."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from skfem import MeshTri
+
+from homlimit.errors import ParameterError
+from homlimit.fe import geometry
+from homlimit.fe.adapt import (AdaptOptions, adapt, element_sizes, estimate_triangles,
+                               fan_rays, refine_sizes)
+from homlimit.fe.mesh import to_skfem
+
+SQUARE = {"plate": [(0, 0), (1, 0), (1, 1), (0, 1)]}
+
+
+def test_doerfler_marks_the_fewest_triangles_carrying_theta():
+    m = MeshTri.init_sqsymmetric().refined(1)              # 32 equal triangles
+    h = element_sizes(m)
+    assert np.allclose(h, h[0])
+    eta = np.zeros(m.t.shape[1])
+    eta[[3, 7, 11]] = [4.0, 3.0, 2.0]                      # total 9; 4 + 3 >= 0.5 · 9 > 4
+    eta[12] = -1.0                                         # negative shares are ignored
+    new = refine_sizes(m, eta, theta=0.5, min_size=1e-6)
+    assert np.flatnonzero(new < h).tolist() == [3, 7]
+    assert np.allclose(new[[3, 7]], h[0] / 2)
+    # never below min_size (but never coarser than the element either)
+    new = refine_sizes(m, eta, theta=1.0, min_size=0.9 * h[0])
+    assert np.allclose(new[[3, 7, 11]], 0.9 * h[0])
+
+
+def test_element_size_is_the_equilateral_side_of_the_same_area():
+    p = np.array([[0.0, 1.0, 0.5], [0.0, 0.0, math.sqrt(3) / 2]])
+    m = MeshTri(p, np.array([[0], [1], [2]]))
+    assert element_sizes(m)[0] == pytest.approx(1.0, rel=1e-12)
+
+
+def test_size_map_refines_where_it_asks_and_the_estimate_follows_gmsh():
+    coarse = to_skfem(geometry.polygon_mesh(SQUARE, size=0.1))
+    est = estimate_triangles(coarse, element_sizes(coarse))
+    assert 0.8 < est / coarse.t.shape[1] < 1.25
+    # ask for size 0.025 on the left half only
+    c = coarse.p[:, coarse.t].mean(axis=1)
+    sizes = np.where(c[0] < 0.5, 0.025, 0.1)
+    fine = to_skfem(geometry.polygon_mesh(SQUARE, size=0.1,
+                                          size_map=(coarse.p, coarse.t, sizes)))
+    cf = fine.p[:, fine.t].mean(axis=1)
+    n_left, n_right = np.sum(cf[0] < 0.45), np.sum(cf[0] > 0.55)
+    assert n_left > 8 * n_right      # (0.1/0.025)² = 16 times the density
+    est = estimate_triangles(coarse, sizes)
+    assert 0.7 < est / fine.t.shape[1] < 1.3
+
+
+def test_bad_adapt_options_name_the_key():
+    with pytest.raises(ParameterError, match="adapt.target_gap"):
+        AdaptOptions(target_gap=0.0)
+    with pytest.raises(ParameterError, match="adapt.max_cycles"):
+        AdaptOptions(max_cycles=0)
+    with pytest.raises(ParameterError, match="adapt.max_cycles"):
+        AdaptOptions(max_cycles=2.5)
+    with pytest.raises(ParameterError, match="adapt.min_size"):
+        AdaptOptions(min_size=-1)
+    with pytest.raises(ParameterError, match="size_map"):
+        geometry.polygon_mesh(SQUARE, size=0.5, size_map=(np.zeros((2, 3)), np.zeros((3, 1)),
+                                                         np.array([-1.0])))
+
+
+def test_fan_rays_leave_the_point_at_equal_angles():
+    rays = fan_rays((1.0, 0.0), -180, 0, 3, 2.0)
+    ang = [math.degrees(math.atan2(q[1] - p[1], q[0] - p[0])) for p, q in rays]
+    assert ang == pytest.approx([-135.0, -90.0, -45.0])
+    assert all(math.dist(p, q) == pytest.approx(2.0) for p, q in rays)
+
+
+def test_free_block_is_exact_on_the_first_mesh():
+    from homlimit.app.verify import known_problem
+
+    k = known_problem("free_block")
+    res = adapt(k.problem, k.remesh, AdaptOptions(target_gap=1e-6), first_mesh=k.problem.mesh)
+    assert res.stop == "target" and len(res.cycles) == 1
+    assert res.bracket.lower == pytest.approx(0.5 / 3.0, rel=1e-7)    # b/h
+    assert res.bracket.upper == pytest.approx(0.5 / 3.0, rel=1e-7)
+
+
+def test_the_loop_stops_before_the_budget():
+    from homlimit.app.verify import known_problem
+
+    k = known_problem("prandtl")
+    n0 = k.problem.n_triangles
+    res = adapt(k.problem, k.remesh, AdaptOptions(target_gap=1e-4, max_triangles=n0 + 1),
+                first_mesh=k.problem.mesh)
+    assert res.stop == "budget" and len(res.cycles) == 1
+    # one bracket on the first mesh already holds 2 + π
+    assert res.bracket.lower <= 2 + math.pi <= res.bracket.upper
+
+
+@pytest.mark.slow
+def test_verify_prandtl_brackets_2_plus_pi_within_1_percent(tmp_path):
+    out = subprocess.run([sys.executable, "-m", "homlimit", "verify", "-p", "prandtl",
+                          "-p", "free_block", "--target-gap", "0.01", "--json",
+                          "--out", str(tmp_path / "v")], capture_output=True, text=True,
+                         timeout=900)
+    assert out.returncode == 0, out.stderr
+    recs = {r["problem"]: r for r in json.loads(out.stdout)["problems"]}
+    pr = recs["prandtl"]
+    assert pr["lower"] <= 2 + math.pi <= pr["upper"]
+    assert pr["rel_gap"] <= 0.01
+    assert recs["free_block"]["holds"]
+    assert (tmp_path / "v" / "verify.json").is_file() and (tmp_path / "v" / "verify.csv").is_file()
