@@ -13,8 +13,14 @@ from skfem import MeshTri
 
 from homlimit.errors import ParameterError
 from homlimit.fe import geometry
-from homlimit.fe.adapt import (AdaptOptions, adapt, element_sizes, estimate_triangles,
-                               fan_rays, refine_sizes)
+from homlimit.fe.adapt import (
+    AdaptOptions,
+    adapt,
+    element_sizes,
+    estimate_triangles,
+    fan_rays,
+    refine_sizes,
+)
 from homlimit.fe.mesh import to_skfem
 
 SQUARE = {"plate": [(0, 0), (1, 0), (1, 1), (0, 1)]}
@@ -113,3 +119,28 @@ def test_verify_prandtl_brackets_2_plus_pi_within_1_percent(tmp_path):
     assert pr["rel_gap"] <= 0.01
     assert recs["free_block"]["holds"]
     assert (tmp_path / "v" / "verify.json").is_file() and (tmp_path / "v" / "verify.csv").is_file()
+
+
+@pytest.mark.slow
+def test_run_with_gmsh_brackets_adaptively_around_the_exact_fan(tmp_path):
+    """`run` on B1's homogenised façade with ``[mesh] mesher = "gmsh"``: the whole wall's
+    bracket is adaptive, logged per cycle in summary.json and fe_adapt.csv, drawn in adapt.png,
+    and holds the exact hinge + fan multiplier (closed_form.fan, 0.15216)."""
+    from homlimit.app import pipeline
+    from homlimit.closed_form.fan import optimise_fan
+    from homlimit.params import Case
+
+    over = {"mesh.size": 1.0, "mesh.mesher": "gmsh", "mesh.part_divisions": 3,
+            "analysis.heights": 2, "analysis.facade": "homogenised",
+            "analysis.hinge_check": False, "analysis.closed_form": False,
+            "adapt.max_cycles": 2, "adapt.target_gap": 0.001}
+    res = pipeline.run(None, out=tmp_path / "o", overrides=over)
+    fe = res.to_dict()["fe"]
+    cycles = fe["adapt"]["cycles"]
+    assert len(cycles) == 2 and fe["adapt"]["stop"] == "cycles"
+    exact = optimise_fan(Case()).lam
+    for c in cycles:
+        assert c["lower"] <= exact * (1 + 1e-6) and c["upper"] >= exact * (1 - 1e-6)
+    assert fe["lower_bound"] == cycles[-1]["lower"] and fe["multiplier"] == cycles[-1]["upper"]
+    assert fe["n_triangles"] == cycles[-1]["triangles"]
+    assert (tmp_path / "o" / "fe_adapt.csv").is_file() and (tmp_path / "o" / "adapt.png").is_file()

@@ -3,8 +3,6 @@ unchanged, a bad value is refused before any work (exit 2, the key named)."""
 
 from __future__ import annotations
 
-import time
-
 import pytest
 from typer.testing import CliRunner
 
@@ -35,7 +33,6 @@ def test_gmsh_run_records_its_mesher_and_crossed_is_the_default(monkeypatch):
         return t_section(*args, **kw)
 
     monkeypatch.setattr(analysis, "t_section", spy)
-    t0 = time.perf_counter()
     g = _fe("gmsh")
     parts = [m for z0, m in used if z0 > 0]
     assert len(parts) >= 2 and set(parts) == {"gmsh"}
@@ -49,7 +46,6 @@ def test_gmsh_run_records_its_mesher_and_crossed_is_the_default(monkeypatch):
     assert d["fe"]["n_triangles"] == n_crossed
     keep = ("multiplier", "n_triangles", "hinge", "tanpsi", "vg", "lam", "critical_at")
     assert {k: c["fe"][k] for k in keep} == {k: d["fe"][k] for k in keep}
-    assert time.perf_counter() - t0 < 120
 
 
 def test_bad_mesher_exits_2_naming_the_key(tmp_path):

@@ -95,6 +95,7 @@ MesherOpt = Annotated[str, typer.Option(
 
 
 _HANDLER: logging.Handler | None = None
+_LOG = logging.getLogger("homlimit")
 
 
 def _logging(verbose: bool = False, quiet: bool = False, as_json: bool = False):
@@ -418,7 +419,7 @@ def verify(as_json: JsonOpt = False, out: _out("homlimit-out/verify/") = None,
     opts = AdaptOptions(target_gap=target_gap, max_cycles=max_cycles, min_size=min_size,
                         max_triangles=max_triangles)
     with _stdout_quiet(as_json or verbose) as stdout, result_folder(out, "verify") as staging:
-        records = verify_records(problem, opts, progress=lambda n, c: log.info(
+        records = verify_records(problem, opts, progress=lambda n, c: _LOG.info(
             "verify %s: cycle %d, %d triangles, %.6g <= lambda <= %.6g (gap %.3g %%), %.1f s",
             n, c.cycle, c.triangles, c.lower, c.upper, 100 * c.rel_gap, c.seconds))
         cycles = [{"problem": r["problem"], **c} for r in records for c in r["adapt"]]

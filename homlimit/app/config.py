@@ -167,6 +167,16 @@ SCHEMA: dict[str, dict[str, Key]] = {
                           "\"gmsh-strip\" (gmsh with the façade strip a crossed grid of 4 "
                           "columns, the wall unstructured; docs/kinematic.md)"),
     },
+    "adapt": {
+        "target_gap": Key(float, 0.01, "", 0.0, 1.0, lo_open=True,
+                          doc="adaptive bracket of the whole wall (mesher \"gmsh\" only): stop "
+                              "when (λ⁺ − λ⁻)/mean <= target_gap (homlimit.fe.adapt)"),
+        "max_cycles": Key(int, 6, "", 1, 50,
+                          doc="at most this many meshes of the adaptive bracket (1: one bracket "
+                              "on the first mesh)"),
+        "min_size": Key(float, 0.005, "m", 0.0, 1e4, lo_open=True,
+                        doc="no element of the adaptive bracket is asked to be smaller"),
+    },
     "analysis": {
         "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),
         "tanpsi": Key(float, 0.0, "", lo=0.0, hi=100.0,
@@ -269,6 +279,15 @@ class MeshConfig:
 
 
 @dataclass(frozen=True)
+class AdaptConfig:
+    """[adapt]: the adaptive bracket of the whole wall (``homlimit.fe.adapt``)."""
+
+    target_gap: float = 0.01
+    max_cycles: int = 6
+    min_size: float = 0.005
+
+
+@dataclass(frozen=True)
 class AnalysisConfig:
     """[analysis]: which analyses run and how."""
 
@@ -322,8 +341,8 @@ class OutputConfig:
     vtu: bool = True
 
 
-SECTIONS = {"mesh": MeshConfig, "analysis": AnalysisConfig, "blocks": BlocksConfig,
-            "pulse": PulseConfig, "output": OutputConfig}
+SECTIONS = {"mesh": MeshConfig, "adapt": AdaptConfig, "analysis": AnalysisConfig,
+            "blocks": BlocksConfig, "pulse": PulseConfig, "output": OutputConfig}
 
 
 @dataclass(frozen=True)
@@ -332,6 +351,7 @@ class CaseConfig:
 
     case: Case
     mesh: MeshConfig = field(default_factory=MeshConfig)
+    adapt: AdaptConfig = field(default_factory=AdaptConfig)
     analysis: AnalysisConfig = field(default_factory=AnalysisConfig)
     blocks: BlocksConfig = field(default_factory=BlocksConfig)
     pulse: PulseConfig = field(default_factory=PulseConfig)

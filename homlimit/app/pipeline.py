@@ -255,6 +255,38 @@ def _hinges(case: Case, mechanisms: dict) -> dict:
     return {k: holding_pulse(rk, case.masonry.f) for k, rk in rockers.items()}
 
 
+def _adaptive(config: CaseConfig) -> bool:
+    """The whole wall's bracket is adaptive on unstructured gmsh meshes (``[mesh] mesher =
+    "gmsh"``) with the static bound on and more than one cycle allowed."""
+    return (config.mesh.mesher == "gmsh" and config.analysis.static
+            and config.adapt.max_cycles > 1)
+
+
+def _adaptive_bracket(config: CaseConfig, timings: dict):
+    """``mechanism.adaptive.adaptive_bracket`` of the whole wall, each cycle logged."""
+    from ..fe.adapt import AdaptOptions
+    from ..mechanism.adaptive import adaptive_bracket
+
+    ad = config.adapt
+    opts = AdaptOptions(target_gap=ad.target_gap, max_cycles=ad.max_cycles,
+                        min_size=ad.min_size, max_triangles=config.mesh.max_triangles)
+
+    def progress(c):
+        log.info("  adaptive bracket, cycle %d: %d triangles, %.5g <= multiplier <= %.5g "
+                 "(gap %.2f %%), %.1f s", c.cycle, c.triangles, c.lower, c.upper,
+                 100 * c.rel_gap, c.seconds)
+
+    with _stage(timings, "adaptive bracket", f"target gap {100 * ad.target_gap:g} %, at most "
+                f"{ad.max_cycles} meshes"):
+        res = adaptive_bracket(config.case, config.analysis.facade, config.mesh.size, opts,
+                               _solver_options(config.analysis.tol), progress)
+    if not res.converged:
+        log.warning("warning: the adaptive bracket stopped (%s) at a gap of %.2f %%, above "
+                    "its target %g %%", res.stop, 100 * res.cycles[-1].rel_gap,
+                    100 * ad.target_gap)
+    return res
+
+
 def _whole_problem(config: CaseConfig):
     """The whole wall's T-section problem (``problems.t_section``, base at z = 0)."""
     from ..fe.problems import t_section
@@ -646,6 +678,11 @@ def _outputs(result: Result) -> dict[str, tuple[str, object]]:
                 out["stress_png"] = ("stress.png", lambda p: plots.plot_stress(
                     p, art.static, title=f"{title}: lower-bound stress field, λ⁻ = "
                                          f"{art.static.multiplier:.4g}"))
+    if art is not None and art.adapt is not None:
+        cycles = [c.as_dict() for c in art.adapt.cycles]
+        out["fe_adapt_csv"] = ("fe_adapt.csv", cycles)
+        if cfg.png:
+            out["adapt_png"] = ("adapt.png", lambda p: plots.plot_adapt(p, cycles, title=title))
     if art is not None:
         out["fe_scan_csv"] = ("fe_scan.csv", [m.record() for m in art.scan])
         if cfg.vtu:
@@ -732,14 +769,15 @@ def compute(config: CaseConfig) -> Result:
             mechanisms, result.curves = _closed_form(config)
             result.mechanisms.update(mechanisms)
     if an.fe:
-        whole = _whole_problem(config)
+        adapted = _adaptive_bracket(config, result.timings) if _adaptive(config) else None
+        whole = _whole_problem(config) if adapted is None else adapted.problem
         with _stage(result.timings, "FE analyses",
                     f"scan from one course to H, whole wall {whole.n_triangles} triangles"
                     f"{', static bound' if an.static else ''}"):
             result.fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
                                   whole=whole, static=an.static, heights=an.heights,
                                   divisions=config.mesh.part_divisions,
-                                  mesher=config.mesh.mesher)
+                                  mesher=config.mesh.mesher, adapted=adapted)
         if result.fe.critical is not None:
             result.mechanisms["FE"] = result.fe.critical
     if an.blocks:

@@ -448,3 +448,25 @@ def plot_spectra(path: str | Path, points, *, dem_vnorm: float | None = None,
         fig.suptitle(title)
 
     return save_png(fig, path)
+
+
+def plot_adapt(path: str | Path, cycles: list[dict], title: str = "",
+               exact: float | None = None) -> Path:
+    """adapt.png: both bounds of the adaptive bracket against the triangles of each cycle
+    (``fe.adapt``), and the relative gap on a second axis."""
+    plt = pyplot()
+    n = [c["triangles"] for c in cycles]
+    fig, (ax, ag) = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
+    ax.plot(n, [c["upper"] for c in cycles], "v-", label="kinematic λ⁺")
+    ax.plot(n, [c["lower"] for c in cycles], "^-", label="static λ⁻")
+    if exact is not None:
+        ax.axhline(exact, color="k", lw=0.8, ls="--", label="exact")
+    ax.set_xscale("log")
+    ax.set_xlabel("triangles")
+    ax.set_ylabel("collapse multiplier (acceleration / g)")
+    ax.legend()
+    ag.loglog(n, [100 * c["rel_gap"] for c in cycles], "o-")
+    ag.set_xlabel("triangles")
+    ag.set_ylabel("relative gap (λ⁺ − λ⁻)/mean [%]")
+    fig.suptitle(f"{title}: adaptive bracket" if title else "adaptive bracket")
+    return save_png(fig, path)

@@ -86,7 +86,7 @@ OUTPUT_NAMES = ("summary.json", "vg_lambda.png", "mesh.png", "mechanism.png", "s
                 "blocks_whole.png", "blocks_scan.csv", "table1_blocks.csv",
                 "table1_blocks_ratios.json", "sweep.json", "results.parquet", "results.csv",
                 "vnorm_swept.png", "critical_map.png", "tanpsi.png", "vg_histogram.png",
-                "verify.json", "verify.csv")
+                "verify.json", "verify.csv", "fe_adapt.csv", "adapt.png")
 OUTPUT_NAMES += tuple(n + ".json" for n in OUTPUT_NAMES if n.endswith(".csv"))  # sidecars
 
 
@@ -328,9 +328,12 @@ def _fe_lines(fe, case) -> str:
     lines = [f"FE, whole wall: {full.n_triangles} triangles, façade {full.facade}, "
              f"collapse multiplier {_num(full.multiplier, '.4g')} (acceleration / g)"]
     if fe.static is not None:
+        how = "same mesh" if fe.adapt is None else (
+            f"adaptive gmsh mesh, {len(fe.adapt.cycles)} cycles, "
+            + ("target reached" if fe.adapt.converged else f"stopped: {fe.adapt.stop}"))
         lines.append(f"  bracket: static {_num(fe.lower_bound, '.4g')} <= multiplier <= "
                      f"kinematic {_num(full.multiplier, '.4g')} (gap "
-                     f"{100 * fe.bracket_rel_gap:.1f} %, same mesh)")
+                     f"{100 * fe.bracket_rel_gap:.1f} %, {how})")
     lines += [f"  {full.kind} mechanism, hinge at x = {_num(full.O[0], '.2f')} m, "
               f"z = {_num(full.O[1], '.2f')} m",
               f"  crack: tan psi = {_num(full.tanpsi)} ± {_num(full.tanpsi_uncertainty)} "

@@ -5,10 +5,10 @@ values (issue 26, point 5).
     prandtl       2 + π (Prandtl 1920)                                 footing edge (1, 0)
     vertical_cut  3.7752 … 3.7776 (Kammoun, Pastor, Smaoui & Pastor    toe (0, 0), crest (0, 1)
                   2010: best published lower and upper bounds)
-    tsection      the homogenised façade's hinge + fan, exact in       outer toe, top corners,
-                  closed form (``closed_form.fan.optimise_fan``),      and the last mechanism's
-                  0.15216 for B1 (ρ = 12, a = 0.3 m); fan edges        hinge and fan edges
-                  T1 = min(f, c/a), T2 = max(f, c/a), √(T1 T2) = √(cf/a)  (``mechanism.adaptive``)
+    tsection      the homogenised façade's hinge + fan, exact in       none: gap-driven sizes only
+                  closed form (``closed_form.fan.optimise_fan``),      (corner and hinge fans were
+                  0.15216 for B1 (ρ = 12, a = 0.3 m); fan edges        measured not to pay:
+                  T1 = min(f, c/a), T2 = max(f, c/a), √(T1 T2) = √(cf/a)  docs/adaptive.md)
     free_block    b/h (rigid-block statics): one rigid block on a      none
                   frictional bed joint
 

@@ -8,26 +8,32 @@ discontinuity. After every cycle the remesher reads the hinge and the fan's edge
 kinematic field (``rigidfit.measure_mechanism``, ``crack.fan_edges``) and gives gmsh
 - a fan of rays at the hinge and a geometric grading towards it (``hinge_refinement``);
 - the two edge rays (block side T1, fixed side T2) up to the top, as embedded lines;
-- fans at the fixed singular corners (outer toe, the façade's top corners).
+and fans may be put at the fixed singular corners (outer toe, the façade's top corners).
 Nothing here assumes the answer: a mechanism without a hinge on the outer face (a
-distributed one) gets the corner fans and the gap-driven sizes only.
+distributed one) gets the corner fans and the gap-driven sizes only. Measured on B1's
+homogenised façade, neither following the mechanism nor corner fans pays (docs/adaptive.md):
+the static bound's gap lies in the block and the fixed part, not at the hinge, and embedded
+rays constrain the refinement; both are off by default.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 from ..fe import adapt as fe_adapt
 from ..fe import geometry
 from ..fe.mesh import to_skfem
+from ..fe.problems import t_section
+from ..fe.solver import SolverOptions
 from ..params import Case
 from .analysis import densities
 from .crack import fan_edges
 from .fe_impulse import p2_nodes
 from .rigidfit import measure_mechanism
 
-__all__ = ["HingeFan", "hinge_fan", "hinge_refinement", "tsection_remesher"]
+__all__ = ["HingeFan", "adaptive_bracket", "hinge_fan", "hinge_refinement", "tsection_remesher"]
 
 
 @dataclass(frozen=True)
@@ -70,20 +76,25 @@ def hinge_refinement(point, h_min: float, size: float, ratio: float = 5.0) -> li
 
 
 def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
-                      n_fan: int = 16, h_hinge: float = 0.002, corners: bool = True):
+                      follow: bool = False, n_fan: int = 16, h_hinge: float | None = None,
+                      corners: bool = False):
     """``remesh(size_map, last)`` for ``fe.adapt.adapt`` on the T-section (gmsh, element size
-    ``size``, b/n_b at the junction): corner fans always; after a cycle, the last mechanism's
-    hinge fan, grading to ``h_hinge`` [m] and edge rays (module docstring)."""
+    ``size``, b/n_b at the junction), the gap-driven sizes only by default; ``corners``: fans
+    of 6 rays at the outer toe and the façade's top corners; ``follow``: after a cycle, the
+    last mechanism's hinge fan and edge rays, and with ``h_hinge`` [m] a grading towards the
+    hinge (module docstring). Both are off by default: measured on B1's homogenised façade
+    they slow the static bound down (docs/adaptive.md)."""
     w = case.wall
     fans = [(0.0, z0, 0, 90), (0.0, w.H, -90, 0), (w.b, w.H, -180, 0)] if corners else []
     base = [r for x, z, a0, a1 in fans for r in fe_adapt.fan_rays((x, z), a0, a1, 6, w.b)]
 
     def remesh(size_map, last=None):
         rays, points = list(base), []
-        hf = hinge_fan(case, last.kinematic) if last is not None else None
+        hf = hinge_fan(case, last.kinematic) if follow and last is not None else None
         if hf is not None and hf.z > z0 + 1e-9:
             rays += fe_adapt.fan_rays((hf.x, hf.z), -90, 90, n_fan, w.b)
-            points += hinge_refinement((hf.x, hf.z), h_hinge, size)
+            if h_hinge is not None:
+                points += hinge_refinement((hf.x, hf.z), h_hinge, size)
             for T in (hf.T1, hf.T2):
                 if T is not None and math.isfinite(T) and T > 0:
                     rays.append(((hf.x, hf.z), (hf.x + T * (w.H - hf.z), w.H)))
@@ -92,3 +103,15 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
                                           embed_lines=rays, refine_points=points,
                                           size_map=size_map))
     return remesh
+
+
+def adaptive_bracket(case: Case, facade: str, size: float, options: fe_adapt.AdaptOptions,
+                     solver=None, progress=None) -> fe_adapt.AdaptResult:
+    """The whole wall's bracket by ``fe.adapt.adapt`` on gmsh meshes that follow the last
+    mechanism (``tsection_remesher``), starting at element size ``size``."""
+    remesh = tsection_remesher(case, size=size)
+    first = remesh(None)
+    problem = dataclasses.replace(t_section(case, facade=facade, h=size, mesher="gmsh"),
+                                  mesh=first)
+    return fe_adapt.adapt(problem, remesh, options, solver or SolverOptions(), progress,
+                          first_mesh=first)

@@ -189,7 +189,7 @@ def part_problem(case: Case, h_part: float, facade: str, mesh_size: float,
     return dataclasses.replace(prob, meta={**prob.meta, "h_part": h_part})
 
 
-def analyse(case: Case, problem: Problem, options=None) -> FEMechanism:
+def analyse(case: Case, problem: Problem, options=None, solution=None) -> FEMechanism:
     """Solve ``problem`` (a ``t_section`` of ``case``, base fixed at its z0) and measure its
     mechanism: rigid fit, crack, kind, body and v̄_g.
 
@@ -202,7 +202,8 @@ def analyse(case: Case, problem: Problem, options=None) -> FEMechanism:
     from ..fe.solver import SolverOptions
 
     w = case.wall
-    sol = solve_kinematic(problem, options or SolverOptions())
+    sol = solution if solution is not None else solve_kinematic(problem,
+                                                                options or SolverOptions())
     X, V, el, rho = p2_nodes(sol, densities(case))
     mm = measure_mechanism(X, V, el, rho)
     edges = fan_edges(X, el, mm, w.b, z_top=w.H) if mm.kind != "distributed" else None
@@ -268,6 +269,7 @@ class FEResult:
     scan: tuple[FEMechanism, ...]
     static: object = None
     h_min: float = 0.0
+    adapt: object = None            # the whole wall's fe.adapt.AdaptResult, if adaptive
 
     @property
     def whole(self) -> FEMechanism:
@@ -316,6 +318,7 @@ class FEResult:
             "tanpsi_edges": list(full.tanpsi_edges), "sqrt_cf_a": case.alpha,
             "f": case.masonry.f, "c_over_a": case.masonry.c / case.masonry.a,
             "lower_bound": self.lower_bound, "bracket_rel_gap": self.bracket_rel_gap,
+            "adapt": None if self.adapt is None else self.adapt.as_dict(),
             "vg": None if crit is None else crit.vg,
             "vnorm": None if crit is None else crit.vnorm,
             "lam": None if crit is None else crit.lam,
@@ -349,7 +352,8 @@ def scan_midpoints(hs, vg, step: float, rtol: float) -> list[float]:
 def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT, options=None,
               whole: Problem | None = None, static: bool = False, heights: int = 6,
               step: float | None = None, rtol: float = 0.005, map=map,
-              divisions: int = PART_DIVISIONS, mesher: str = MESHER_DEFAULT) -> FEResult:
+              divisions: int = PART_DIVISIONS, mesher: str = MESHER_DEFAULT,
+              adapted=None) -> FEResult:
     """The FE impulse scan over a <= h_part <= H (module docstring): ``heights`` starting
     heights, refined around the minimum down to ``step`` [m] (default a), or 2·step where
     the neighbour is within ``rtol`` of the minimum (``scan_midpoints``); with
@@ -357,13 +361,17 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
     already built (``t_section(case, facade=facade, h=mesh_size)``). ``map``: how each round
     of heights is evaluated (``h_scan``; the whole wall too when ``whole`` is not given);
     ``divisions``: elements per part height (``part_problem``); ``mesher``: the mesh of the
-    whole wall and of every part (``problems.MESHERS``)."""
+    whole wall and of every part (``problems.MESHERS``). ``adapted``: the whole wall's
+    ``fe.adapt.AdaptResult`` (``mechanism.adaptive.adaptive_bracket``): its last mesh is the
+    whole wall's, and both its bounds are reused (no second solve)."""
     check_choice("facade", facade, FACADE_MODELS)
     check_choice("mesher", mesher, MESHERS)
     w, a = case.wall, case.masonry.a
     heights = int(check_range("heights", heights, 2, 200))
     step = a if step is None else check_range("step", step, 0.0, w.H, lo_open=True, unit="m")
     rtol = check_range("rtol", rtol, 0.0, 0.5, lo_open=True)
+    if adapted is not None:
+        whole = adapted.problem
     if static and whole is None:
         whole = t_section(case, facade=facade, h=mesh_size, mesher=mesher)
     done: dict[float, FEMechanism] = {}
@@ -372,7 +380,8 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
         new = sorted(set(hs) - set(done))
         if whole is not None and w.H in new:
             log.info("FE mechanism of the whole wall: %d triangles, P2", whole.n_triangles)
-            done[w.H] = analyse(case, whole, options)
+            done[w.H] = analyse(case, whole, options, solution=None if adapted is None
+                                else adapted.bracket.kinematic)
             new.remove(w.H)
         done.update(zip(new, h_scan(case, new, mesh_size, facade, options, map, divisions,
                                     mesher)))
@@ -380,11 +389,11 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
     run(list(np.geomspace(a, w.H, heights)[:-1]) + [w.H])
     while new := scan_midpoints(sorted(done), [done[h].vg for h in sorted(done)], step, rtol):
         run(new)
-    sta = None
-    if static:
+    sta = None if adapted is None else adapted.bracket.static
+    if static and sta is None:
         from ..fe.solver import SolverOptions
         from ..fe.static import solve_static
 
         log.info("static lower bound of the whole wall: %d triangles", whole.n_triangles)
         sta = solve_static(whole, options or SolverOptions())
-    return FEResult(tuple(done[h] for h in sorted(done)), sta, a)
+    return FEResult(tuple(done[h] for h in sorted(done)), sta, a, adapted)
