@@ -420,8 +420,9 @@ def verify(as_json: JsonOpt = False, out: _out("homlimit-out/verify/") = None,
                         max_triangles=max_triangles)
     with _stdout_quiet(as_json or verbose) as stdout, result_folder(out, "verify") as staging:
         records = verify_records(problem, opts, progress=lambda n, c: _LOG.info(
-            "verify %s: cycle %d, %d triangles, %.6g <= lambda <= %.6g (gap %.3g %%), %.1f s",
-            n, c.cycle, c.triangles, c.lower, c.upper, 100 * c.rel_gap, c.seconds))
+            "verify %s: cycle %d, %d triangles, %.6g <= lambda <= %.6g; best %.6g .. %.6g "
+            "(gap %.3g %%), %.1f s", n, c.cycle, c.triangles, c.lower, c.upper, c.best_lower,
+            c.best_upper, 100 * c.rel_gap, c.seconds))
         cycles = [{"problem": r["problem"], **c} for r in records for c in r["adapt"]]
         report.write(staging / "verify.json", {"problems": records})
         report.write(staging / "verify.csv", cycles)

@@ -272,9 +272,9 @@ def _adaptive_bracket(config: CaseConfig, timings: dict):
                         min_size=ad.min_size, max_triangles=config.mesh.max_triangles)
 
     def progress(c):
-        log.info("  adaptive bracket, cycle %d: %d triangles, %.5g <= multiplier <= %.5g "
-                 "(gap %.2f %%), %.1f s", c.cycle, c.triangles, c.lower, c.upper,
-                 100 * c.rel_gap, c.seconds)
+        log.info("  adaptive bracket, cycle %d: %d triangles, %.5g <= multiplier <= %.5g; "
+                 "best %.5g .. %.5g (gap %.2f %%), %.1f s", c.cycle, c.triangles, c.lower,
+                 c.upper, c.best_lower, c.best_upper, 100 * c.rel_gap, c.seconds)
 
     with _stage(timings, "adaptive bracket", f"target gap {100 * ad.target_gap:g} %, at most "
                 f"{ad.max_cycles} meshes"):

@@ -71,9 +71,9 @@ UNITS: dict[str, str] = {
     "opening": "m/s", "slip": "m/s",  # velocity jumps of the normalised mechanism
     # homlimit verify and the adaptive bracket (verify.json, verify.csv, fe_adapt.csv)
     **dict.fromkeys("problem source stop holds converged".split(), ""),
-    **dict.fromkeys("lower upper exact_lo exact_hi rel_gap lower_err upper_err triangles "
-                    "cycles cycle T1 T2 T_mid T1_exact T2_exact f c_over_a sqrt_cf_a"
-                    .split(), "-"),
+    **dict.fromkeys("lower upper best_lower best_upper exact_lo exact_hi rel_gap lower_err "
+                    "upper_err triangles cycles cycle T1 T2 T_mid T1_exact T2_exact f c_over_a "
+                    "sqrt_cf_a".split(), "-"),
     "z0_exact": "m", "seconds": "s", "mesh_seconds": "s",
 }
 #: every file name a homlimit command writes (result sets written before manifests existed
@@ -421,7 +421,7 @@ def mechanism_mesh(fe):
     as its UTF-8 bytes (``fe.mesh.write``)."""
     import meshio
 
-    from ..fe.bracket import gap_contributions
+    from ..fe.bracket import gap_contributions, same_mesh
     from ..fe.static import attach_cell_fields
     from ..fe.strength import dissipation_free
 
@@ -465,11 +465,15 @@ def mechanism_mesh(fe):
     pdata = {k: np.vstack([v, np.zeros((len(pts) - len(v),) + v.shape[1:])])
              for k, v in m.point_data.items()}
     out = meshio.Mesh(pts, cells, point_data=pdata, cell_data=data)
-    if fe.static is not None:
+    if fe.static is not None and same_mesh(fe.static.mesh, sol.mesh):
         out = attach_cell_fields(out, fe.static)
         gap = gap_contributions(fe.static, full.solution)  # share of λ⁺ − λ⁻ (virtual power)
         out.cell_data["bracket_gap"] = [gap] + [np.full(len(b.data), np.nan)
                                                 for b in out.cells[1:]]
+    elif fe.static is not None:
+        notes["static"] = ("the adaptive bracket's best lower bound lives on another mesh than "
+                           "the best upper bound's: its stress field is drawn in stress.png, "
+                           "not written here")
     out = _interface_cells(out, prob, sol, scale, notes)
     fields = [*out.point_data, *out.cell_data, "velocity_scale"]
     units = {k: MECHANISM_UNITS.get(k) for k in fields}

@@ -64,12 +64,16 @@ class AdaptOptions:
 
 @dataclass(frozen=True)
 class Cycle:
-    """One mesh of the loop: its size, both bounds, the relative gap and the seconds spent."""
+    """One mesh of the loop: its size, both bounds on it, the best bounds of all meshes so far
+    (``best_lower`` = max λ⁻, ``best_upper`` = min λ⁺: each mesh's bounds are rigorous, so the
+    tightest pair brackets λ), the best pair's relative gap and the seconds spent."""
 
     cycle: int
     triangles: int
     lower: float
     upper: float
+    best_lower: float
+    best_upper: float
     rel_gap: float
     seconds: float
     mesh_seconds: float
@@ -80,8 +84,11 @@ class Cycle:
 
 @dataclass
 class AdaptResult:
-    """The last bracket, every cycle's figures and why the loop stopped.
+    """The best bracket over all meshes, every cycle's figures and why the loop stopped.
 
+    bracket: λ⁻ of the best static mesh and λ⁺ of the best kinematic mesh (with their
+    solutions; ``element_gap`` only when both come from one mesh); problem: the problem on
+    the best kinematic mesh (its mechanism is the one reported);
     stop: "target" (gap reached), "cycles" (max_cycles meshes), "budget" (the next mesh would
     exceed max_triangles) or "min_size" (nothing left to refine).
     """
@@ -158,16 +165,22 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
     mesh = remesh(None, None) if first_mesh is None else first_mesh
     mesh_s = time.perf_counter() - t0
     stop = "cycles"
+    lo = up = None                    # (bracket, problem) of the best static / kinematic mesh
     for k in range(int(options.max_cycles)):
         t0 = time.perf_counter()
         prob = dataclasses.replace(problem, mesh=mesh)
         br = bracket(prob, options=solver)
-        cyc = Cycle(k, prob.n_triangles, br.lower, br.upper, br.rel_gap,
-                    time.perf_counter() - t0 + mesh_s, mesh_s)
+        if lo is None or br.lower > lo[0].lower:
+            lo = (br, prob)
+        if up is None or br.upper < up[0].upper:
+            up = (br, prob)
+        best = _best(lo[0], up[0])
+        cyc = Cycle(k, prob.n_triangles, br.lower, br.upper, best.lower, best.upper,
+                    best.rel_gap, time.perf_counter() - t0 + mesh_s, mesh_s)
         cycles.append(cyc)
         if progress is not None:
             progress(cyc)
-        if br.rel_gap <= options.target_gap:
+        if best.rel_gap <= options.target_gap:
             stop = "target"
             break
         if k + 1 == options.max_cycles:
@@ -182,4 +195,13 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
         t0 = time.perf_counter()
         mesh = remesh((mesh.p, mesh.t, sizes), br)
         mesh_s = time.perf_counter() - t0
-    return AdaptResult(br, prob, cycles, stop)
+    return AdaptResult(best, up[1], cycles, stop)
+
+
+def _best(lo: Bracket, up: Bracket) -> Bracket:
+    """The bracket of the best static and the best kinematic bound (one mesh or two)."""
+    if lo is up:
+        return lo
+    return Bracket(name=up.name, lower=lo.lower, upper=up.upper, static=lo.static,
+                   kinematic=up.kinematic, element_gap=None,
+                   times={"kinematic": up.times["kinematic"], "static": lo.times["static"]})

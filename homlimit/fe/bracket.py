@@ -29,7 +29,13 @@ from .mesh import element_areas
 from .solver import SolverOptions
 from .static import StaticSolution, solve_static
 
-__all__ = ["Bracket", "bracket", "gap_contributions", "prandtl_fan"]
+__all__ = ["Bracket", "bracket", "gap_contributions", "prandtl_fan", "same_mesh"]
+
+
+def same_mesh(a, b) -> bool:
+    """Whether two skfem meshes are one: same triangles, same points."""
+    return a is b or (a.t.shape == b.t.shape and np.array_equal(a.t, b.t)
+                      and np.allclose(a.p, b.p))
 
 
 def gap_contributions(static: StaticSolution, kinematic) -> np.ndarray:
@@ -116,10 +122,7 @@ def bracket(problem, *, static_mesh=None, kinematic_mesh=None,
     t0 = time.perf_counter()
     sta = solve_static(ps, options)
     times["static"] = time.perf_counter() - t0
-    same = ps.mesh is pk.mesh or (ps.mesh.t.shape == pk.mesh.t.shape
-                                  and np.array_equal(ps.mesh.t, pk.mesh.t)
-                                  and np.allclose(ps.mesh.p, pk.mesh.p))
-    eg = gap_contributions(sta, kin) if same else None
+    eg = gap_contributions(sta, kin) if same_mesh(ps.mesh, pk.mesh) else None
     return Bracket(name=problem.name, lower=sta.multiplier, upper=kin.multiplier, static=sta,
                    kinematic=kin, element_gap=eg, times=times)
 
