@@ -49,3 +49,13 @@ def table1_case(table1_ref):
                     Masonry(a=r["a"], c=r["c"], f=r["f"]), name=test)
 
     return make
+
+
+@pytest.fixture
+def sandbox(tmp_path, monkeypatch):
+    """A working folder three levels down, so that writes above it can be seen (the hostile
+    input tests; test modules with other needs define their own)."""
+    cwd = tmp_path / "a" / "b" / "c"
+    cwd.mkdir(parents=True)
+    monkeypatch.chdir(cwd)
+    return cwd

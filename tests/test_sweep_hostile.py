@@ -64,15 +64,6 @@ def files_under(root: Path) -> set[str]:
 
 
 @pytest.fixture
-def sandbox(tmp_path, monkeypatch):
-    """A working folder three levels down, so that writes above it can be seen."""
-    cwd = tmp_path / "a" / "b" / "c"
-    cwd.mkdir(parents=True)
-    monkeypatch.chdir(cwd)
-    return cwd
-
-
-@pytest.fixture
 def no_planning(monkeypatch):
     """Planning a case fails the test: for checks that must come before it."""
     def boom(*a, **k):  # pragma: no cover - must never run
