@@ -75,6 +75,7 @@ UNITS: dict[str, str] = {
                     "upper_err triangles cycles cycle T1 T2 T_mid T1_exact T2_exact f c_over_a "
                     "sqrt_cf_a".split(), "-"),
     "z0_exact": "m", "seconds": "s", "mesh_seconds": "s",
+    "adapt": "",                     # summary fe.adapt: the cycles' table, units per column
 }
 #: every file name a homlimit command writes (result sets written before manifests existed
 #: are recognised by these, ``_io.is_result_set``)
