@@ -89,10 +89,10 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
     kn·trib·thick·factor, trib = half the overlap of the vertex's adjacent edge (the one
     facing the edge) with the edge, at least trib_floor × the shorter of the two, factor
     fac_f if the tributary's centre has x < fac_x. ``tie_base``: new contacts with a fixed
-    block that touch (gap < coinc) are tied. Twins: a pair whose vertex coincides (within
-    coinc) with an end of its edge, and the reverse pair at that corner, are twins; only one
-    of them acts at a time (``advance``). Returns sorted arrays (key, v, e, kn, ks, fs, tied,
-    twin)."""
+    block that touch (gap < coinc) are tied. Twins: a pair whose vertex lies within margin
+    of an end of its edge, and the reverse pair at that corner (coincident corners, drifted
+    apart by at most margin); only one of them acts at a time (``advance``). Returns sorted
+    arrays (key, v, e, kn, ks, fs, tied, twin)."""
     n = offsets.shape[0] - 1
     P = X.shape[0]
     lo = np.empty((n, 2))
@@ -188,8 +188,10 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
     tied = tied[srt].copy()
     cv = key // P
     ce = key % P
-    # twins at coincident corners: (p on e of j) with p at an end q of e, and (q on the edge
-    # of p's block adjacent to p whose normal is opposite e's)
+    # twins at coincident corners: (p on e of j) with p within ``margin`` of an end q of e,
+    # and (q on the edge of p's block adjacent to p whose normal is opposite e's). Corners
+    # slid apart along the joint leave only one of the two inside its edge's span, so the
+    # wide tolerance never suppresses a distinct contact point
     twin = np.full(m, -1, np.int64)
     for c in range(m):
         p = cv[c]
@@ -197,7 +199,7 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
         for end in range(2):
             q = e if end == 0 else nxt[e]
             dx, dz = X[p, 0] - X[q, 0], X[p, 1] - X[q, 1]
-            if dx * dx + dz * dz > coinc * coinc:
+            if dx * dx + dz * dz > margin * margin:
                 continue
             for ep in (p, prv[p]):
                 o = _find(key, m, q * P + ep)

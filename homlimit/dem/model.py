@@ -9,9 +9,14 @@ t = 0, after settling.
 
 Collapse criterion (``Outcome.collapsed``): a watched block (the façade's and toothing blocks
 of a T-section, every free block otherwise) has moved outwards (−x) by more than
-``disp_limit`` (default: b, the façade's thickness; a single block's width) or turned by more
-than ``rot_limit`` (default: the static overturning angle atan(b/h) of the tallest watched
-column: beyond it a rigid façade part rotating about its toe falls without further input).
+``disp_limit`` (default: b, the façade's thickness, for a T-section; the widest block
+otherwise) or turned by more than ``rot_limit`` (default: none for a T-section; otherwise
+atan(w/h) of the watched blocks' narrowest width w and total height h, the static
+overturning angle of a block rocking on its toe: beyond it, it falls without further input).
+Displacements are measured from the settled state, relative to the ground, so they include a
+slide of the base. For a T-section the criterion is a stated convention, not a proof: a façade
+strip of any height whose top has moved out by b is past its overturning angle
+(h sin atan(b/h) < b), but a part carrying a wedge of the transversal wall overturns later.
 The run stops there; otherwise it is safe at ``t_max``.
 """
 
@@ -176,12 +181,12 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     if disp_limit is None:
         disp_limit = float(meta["b"]) if "b" in meta else \
             float((bb[free, 2] - bb[free, 0]).max())
-    if rot_limit is None:
+    if rot_limit is None and "b" in meta:
+        rot_limit = math.pi      # T-sections: the displacement criterion alone
+    elif rot_limit is None:
         wb = bb[watch]
         width = float(np.min(wb[:, 2] - wb[:, 0]))
         height = float(wb[:, 3].max() - wb[:, 1].min())
-        if "b" in meta:
-            width = float(meta["b"])
         rot_limit = math.atan2(width, height)
     disp_limit = check_range("disp_limit", disp_limit, 0.0, lo_open=True, unit="m")
     rot_limit = check_range("rot_limit", rot_limit, 0.0, math.pi, lo_open=True, unit="rad")
@@ -243,15 +248,20 @@ def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: floa
     return steps, status, rec[:nrow], slip_base, slip_bed, out[11]
 
 
-def settle(model: DEMModel, state: DEMState | None = None) -> tuple[DEMState, dict]:
+def settle(model: DEMModel, state: DEMState | None = None, *, a_g: float = 0.0
+           ) -> tuple[DEMState, dict]:
     """Settle under gravity with local damping (``DEMParams.settle_damping``) until every
     block is slower than settle_velocity or settle_time has passed; velocities are then
-    zeroed (the contact forces stay). Returns the state and {time, steps, converged}."""
+    zeroed (the contact forces stay). a_g [m/s²]: a constant ground acceleration held while
+    settling (a lateral body force −m a_g x̂). Returns the state and {time, steps,
+    converged}."""
     p = model.params
+    a_g = check_range("a_g", a_g, unit="m/s^2")
     st = state or model.initial_state()
     nmax = int(math.ceil(p.settle_time / model.dt))
     check = max(1, int(round(0.01 / model.dt)))
-    steps, status, *_ = _advance(model, st, nmax, damping=p.settle_damping, check_every=check,
+    steps, status, *_ = _advance(model, st, nmax, ag=np.full(nmax, a_g),
+                                 damping=p.settle_damping, check_every=check,
                                  vel_tol=p.settle_velocity)
     st.vel[:] = 0.0
     st.om[:] = 0.0
