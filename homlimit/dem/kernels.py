@@ -80,7 +80,7 @@ def _grow(a, cap):
 
 @njit(cache=True)
 def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_build,
-                     old_key, old_kn, old_ks, old_fs, old_tied, n_old,
+                     old_key, old_kn, old_ks, old_fs, old_tied, old_sl, n_old,
                      kn, ks_ratio, thick, fac_x, fac_f, trib_floor, tie_base):
     """The Verlet list: every (vertex of i, edge of j) pair of distinct blocks, not both fixed,
     with the vertex within ``margin`` of the edge's line and span and its normal cone within
@@ -92,7 +92,7 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
     block that touch (gap < coinc) are tied. Twins: a pair whose vertex lies within margin
     of an end of its edge, and the reverse pair at that corner (coincident corners, drifted
     apart by at most margin); only one of them acts at a time (``advance``). Returns sorted
-    arrays (key, v, e, kn, ks, fs, tied, twin)."""
+    arrays (key, v, e, kn, ks, fs, tied, slip, twin)."""
     n = offsets.shape[0] - 1
     P = X.shape[0]
     lo = np.empty((n, 2))
@@ -114,6 +114,7 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
     ks_c = np.empty(cap)
     fs_c = np.empty(cap)
     tied = np.empty(cap, np.bool_)
+    sl_c = np.empty(cap)
     m = 0
     for oi in range(n):
         i = order[oi]
@@ -146,6 +147,7 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                             ks_c = _grow(ks_c, cap)
                             fs_c = _grow(fs_c, cap)
                             tied = _grow(tied, cap)
+                            sl_c = _grow(sl_c, cap)
                         kk = p * P + e
                         key[m] = kk
                         o = _find(old_key, n_old, kk)
@@ -154,6 +156,7 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                             ks_c[m] = old_ks[o]
                             fs_c[m] = old_fs[o]
                             tied[m] = old_tied[o]
+                            sl_c[m] = old_sl[o]
                             m += 1
                             continue
                         # tributary: the adjacent edge of p whose normal faces the edge
@@ -179,6 +182,7 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                         ks_c[m] = ks_ratio * kn_c[m]
                         fs_c[m] = 0.0
                         tied[m] = tie_base and (fixed[bi] or fixed[bj]) and g < coinc
+                        sl_c[m] = 0.0
                         m += 1
     srt = np.argsort(key[:m])
     key = key[srt].copy()
@@ -186,6 +190,7 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
     ks_c = ks_c[srt].copy()
     fs_c = fs_c[srt].copy()
     tied = tied[srt].copy()
+    sl_c = sl_c[srt].copy()
     cv = key // P
     ce = key % P
     # twins at coincident corners: (p on e of j) with p within ``margin`` of an end q of e,
@@ -209,13 +214,13 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                 _, _, tx2, tz2, _ = _edge(X, nxt, ep)
                 if tx1 * tx2 + tz1 * tz2 < -0.99:
                     twin[c] = o
-    return key, cv, ce, kn_c, ks_c, fs_c, tied, twin
+    return key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin
 
 
 @njit(cache=True)
 def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, inv_m,
             inv_I, mass, radius, g, fric, ag, ag_t0, damping,
-            key, cv, ce, kn_c, ks_c, fs_c, tied, twin,
+            key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin,
             build_pos, build_th, margin, coinc, cone_build, cone_tol, edge_tol,
             kn, ks_ratio, thick, fac_x, fac_f, trib_floor,
             watch, ref_pos, ref_th, disp_limit, rot_limit, check_every,
@@ -228,8 +233,9 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
     active when g < 0, the vertex within the edge's span (± edge_tol) and the edge's inward
     normal in the vertex's cone (± cone_tol), or when tied. Normal force kn·(−g), no tension
     unless tied; shear force incremented by −ks·(relative tangential velocity)·dt and capped
-    at fric·Fn (the excess over ks is the plastic slip, summed per block into slip_base for
-    contacts with a fixed block and slip_bed for bed joints). Of two twins only the one whose
+    at fric·Fn (the excess over ks is the plastic slip, summed per contact in sl_c; per
+    block, slip_base and slip_bed keep the largest of its contacts' slips with a fixed block
+    and in bed joints). Of two twins only the one whose
     vertex belongs to the lower block index acts while both are valid; the other carries its
     shear force. The list is rebuilt (``build_candidates``) once a block has moved by
     margin/2. Every check_every steps: stop (status 1) if a watched block has moved outwards
@@ -237,7 +243,7 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
     (status 2) once every free block is slower than vel_tol. rec (rows, 6) gets, every
     rec_every steps, t, kinetic, potential (m g (z − z_ref)), elastic energy, then the
     x-displacement and rotation of the first watched block.
-    Returns (steps done, status, rows recorded, key, cv, ce, kn_c, ks_c, fs_c, tied, twin,
+    Returns (steps done, status, rows recorded, key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin,
     n_builds)."""
     n = pos.shape[0]
     P = rel.shape[0]
@@ -267,9 +273,9 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
                 moved = d
         world_vertices(pos, th, rel, owner, X)
         if moved > 0.5 * margin:
-            key, cv, ce, kn_c, ks_c, fs_c, tied, twin = build_candidates(
+            key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin = build_candidates(
                 X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_build,
-                key, kn_c, ks_c, fs_c, tied, key.shape[0],
+                key, kn_c, ks_c, fs_c, tied, sl_c, key.shape[0],
                 kn, ks_ratio, thick, fac_x, fac_f, trib_floor, False)
             m = key.shape[0]
             acted = np.zeros(m, np.bool_)
@@ -330,14 +336,14 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
             if not tied[c]:
                 cap = fric * fn
                 if abs(fs) > cap:
-                    slip = (abs(fs) - cap) / ks_c[c]
+                    sl_c[c] += (abs(fs) - cap) / ks_c[c]
                     fs = cap if fs > 0 else -cap
                     if fixed[i] or fixed[j]:
-                        slip_base[i] += slip
-                        slip_base[j] += slip
+                        slip_base[i] = max(slip_base[i], sl_c[c])
+                        slip_base[j] = max(slip_base[j], sl_c[c])
                     elif abs(nz) > 0.9:
-                        slip_bed[i] += slip
-                        slip_bed[j] += slip
+                        slip_bed[i] = max(slip_bed[i], sl_c[c])
+                        slip_bed[j] = max(slip_bed[j], sl_c[c])
             fs_c[c] = fs
             if record:
                 elastic += 0.5 * fn * fn / kn_c[c] + 0.5 * fs * fs / ks_c[c]
@@ -354,6 +360,7 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
             t2 = twin[c]
             if t2 >= 0 and acted[c] and acted[t2] and owner[cv[t2]] < owner[cv[c]]:
                 fs_c[c] = fs_c[t2]
+                sl_c[c] = sl_c[t2]
         ke = 0.0
         pe = 0.0
         vmax = 0.0
@@ -399,4 +406,4 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
                     status = 1
             if status:
                 break
-    return (step + 1, status, nrow, key, cv, ce, kn_c, ks_c, fs_c, tied, twin, builds)
+    return (step + 1, status, nrow, key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, builds)

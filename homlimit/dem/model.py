@@ -98,7 +98,7 @@ class DEMModel:
         kernels.world_vertices(pos, th, self.rel, self.owner, X)
         p = self.params
         empty = (np.empty(0, np.int64), np.empty(0), np.empty(0), np.empty(0),
-                 np.empty(0, np.bool_))
+                 np.empty(0, np.bool_), np.empty(0))
         c = kernels.build_candidates(
             X, a.offsets, self.nxt, self.prv, self.owner, a.fixed, p.verlet_margin,
             self.coinc, p.cone_tolerance + 0.1, *empty, 0, p.kn, p.ks_over_kn,
@@ -203,8 +203,9 @@ class Outcome:
     """One time history. collapsed: the criterion was met (module docstring), at
     t_collapse [s]; steps, t_end [s]; record: (rows, 6) t, kinetic, potential, elastic
     energy [J], x-displacement [m] and rotation [rad] of the first watched block; state: the
-    final state; slip_base, slip_bed: plastic slip per block [m] summed over its contacts
-    with the ground and over its bed joints; cpu [s]; builds: Verlet list rebuilds."""
+    final state; slip_base, slip_bed: per block, the largest plastic slip [m] of its
+    contacts with the ground and of its bed joints (each contact's slip summed over time);
+    cpu [s]; builds: Verlet list rebuilds."""
 
     collapsed: bool
     t_collapse: float
@@ -232,20 +233,20 @@ def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: floa
     z_ref = ref.pos[:, 1].copy() if z_ref is None else z_ref
     if nsteps <= 0:
         return 0, 0, rec[:0], slip_base, slip_bed, 0
-    key, cv, ce, kn_c, ks_c, fs_c, tied, twin = state.contacts
+    key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin = state.contacts
     out = kernels.advance(
         int(nsteps), model.dt, state.pos, state.th, state.vel, state.om, model.rel,
         a.offsets, model.nxt, model.prv, model.owner, a.fixed, model.inv_m, model.inv_I,
         model.mass, model.radius, model.g, model.f, ag, t0, damping,
-        key, cv, ce, kn_c, ks_c, fs_c, tied, twin,
+        key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin,
         state.build_pos, state.build_th, p.verlet_margin, model.coinc, p.cone_tolerance + 0.1,
         p.cone_tolerance, model.coinc, p.kn, p.ks_over_kn, model.thickness, model.fac_x,
         model.fac_f, p.trib_floor, model.watch, ref.pos, ref.th, model.disp_limit,
         model.rot_limit, int(check_every), slip_base, slip_bed, int(rec_every), rec, z_ref,
         vel_tol)
     steps, status, nrow = out[0], out[1], out[2]
-    state.contacts = tuple(out[3:11])
-    return steps, status, rec[:nrow], slip_base, slip_bed, out[11]
+    state.contacts = tuple(out[3:12])
+    return steps, status, rec[:nrow], slip_base, slip_bed, out[12]
 
 
 def settle(model: DEMModel, state: DEMState | None = None, *, a_g: float = 0.0
