@@ -9,14 +9,15 @@ t = 0, after settling.
 
 Collapse criterion (``Outcome.collapsed``): a watched block (the façade's and toothing blocks
 of a T-section, every free block otherwise) has moved outwards (−x) by more than
-``disp_limit`` (default: b, the façade's thickness, for a T-section; the widest block
-otherwise) or turned by more than ``rot_limit`` (default: none for a T-section; otherwise
-atan(w/h) of the watched blocks' narrowest width w and total height h, the static
-overturning angle of a block rocking on its toe: beyond it, it falls without further input).
-Displacements are measured from the settled state, relative to the ground, so they include a
-slide of the base. For a T-section the criterion is a stated convention, not a proof: a façade
-strip of any height whose top has moved out by b is past its overturning angle
-(h sin atan(b/h) < b), but a part carrying a wedge of the transversal wall overturns later.
+``disp_limit`` (default: H/4 for a T-section; the widest block otherwise) or turned by more
+than ``rot_limit`` (default: none for a T-section; otherwise atan(w/h) of the watched blocks'
+narrowest width w and total height h, the static overturning angle of a block rocking on its
+toe: beyond it, it falls without further input). Displacements are measured from the
+settled state, relative to the ground, so they include sliding. For a T-section the
+criterion is a stated convention, not a proof. A displacement of b (the free strip's
+overturning point) is not enough: B4 (b = 0.25 m) under 0.52, 0.6 and 0.75 m/s moved its
+top out by 0.25, 0.35 and 0.62 m and stopped there (the abutment's friction and the sliding
+of the upper courses), while under 0.9 m/s it passed 2 m by t = 2.25 s and kept falling.
 The run stops there; otherwise it is safe at ``t_max``.
 """
 
@@ -179,7 +180,7 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     bb = a.bounds()
     size = float(np.ptp(a.vertices[:, 0][free[owner]])) or 1.0
     if disp_limit is None:
-        disp_limit = float(meta["b"]) if "b" in meta else \
+        disp_limit = 0.25 * float(meta["H"]) if "H" in meta and "b" in meta else \
             float((bb[free, 2] - bb[free, 0]).max())
     if rot_limit is None and "b" in meta:
         rot_limit = math.pi      # T-sections: the displacement criterion alone

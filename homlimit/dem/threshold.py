@@ -75,7 +75,7 @@ def failing_part(model: DEMModel, settled: DEMState, out: Outcome, slide_tol: fl
 
 
 def collapse_threshold(model: DEMModel, settled: DEMState | None = None, *, guess: float = 0.5,
-                       rel_tol: float = 0.01, t_max: float = 3.0, load=None,
+                       rel_tol: float = 0.01, t_max: float = 5.0, load=None,
                        slide_tol: float = 1e-3, max_trials: int = 40) -> Threshold:
     """The smallest collapsing amplitude by bisection (module docstring).
 
