@@ -207,3 +207,24 @@ def test_restitution_across_an_impact_and_the_ode_run_with_it(block):
     ode = simulate(free_block(B, H, density=RHO, restitution=e), theta_dot0=td, duration=2.3)
     t2 = t[k2 - 1] + (t[k2] - t[k2 - 1]) * th[k2 - 1] / (th[k2 - 1] - th[k2])
     assert t2 == pytest.approx(ode.impacts[1].t, rel=5e-3)
+
+
+def test_t_section_settles_with_the_papers_uniform_lowering():
+    # B1 (the default Case): with the façade's contacts stiffened by ρ (the paper's "uniform
+    # lowering"), the top course's façade block sinks as the transversal wall does, and the
+    # wall as a 1D column of 30 bed joints: Σ_k γ g (H − z_k) / kn = 2.737 mm
+    from homlimit.blocks.geometry import FACADE, TOOTHING, WALL, t_section_blocks
+    from homlimit.params import Case
+
+    a = t_section_blocks(Case())
+    model = build_model(a)
+    settled, info = settle(model)
+    assert info["converged"]
+    sink = a.centroid[:, 1] - settled.pos[:, 1]
+    top = a.course == a.course.max()
+    bb = a.bounds()
+    facade = sink[top & np.isin(a.kind, (FACADE, TOOTHING))]
+    wall = sink[top & (a.kind == WALL) & (bb[:, 0] > 1.0) & (bb[:, 2] < 6.0)]   # off the ends
+    column = sum(2000.0 * G * (9.0 - 0.3 * k) for k in range(30)) / DEMParams().kn
+    assert wall.mean() == pytest.approx(column, rel=0.03)
+    assert facade.mean() == pytest.approx(wall.mean(), rel=0.05)
