@@ -25,9 +25,10 @@ class DEMParams:
     kn [Pa/m]: joint normal stiffness per unit joint area; a contact point gets
         kn × (its tributary length) × (slab thickness s), fixed when the contact is created.
         Default 1e9 Pa/m: not given by the paper; the order of the joint stiffnesses used in
-        UDEC models of stone and brick masonry (10⁹–10¹⁰ Pa/m, Lemos 2007, Int. J. Archit.
-        Herit. 1(2)). The lower end keeps the time step long; the self-weight lowering of
-        B1's 9 m wall is then 2.8 mm at the top (measured, tests/test_dem.py).
+        UDEC models of masonry (10⁹–10¹⁰ Pa/m; see the review of Lemos 2007, Int. J. Archit.
+        Herit. 1(2), whose figures were not re-checked here). The lower end keeps the time
+        step long; the self-weight lowering of B1's 9 m wall is then 2.8 mm at the top
+        (measured, tests/test_dem.py).
     ks_over_kn [-]: shear over normal stiffness. Default 0.5: not given by the paper; a
         common UDEC choice (an elastic interface of Poisson's ratio ν has 1/(2(1 + ν)) ≈ 0.4).
     facade_stiffness: "rho" (default: the paper's uniform lowering, the façade's contacts
