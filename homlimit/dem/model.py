@@ -1,0 +1,314 @@
+"""The DEM's model of an assembly and its time histories: settling under gravity, then the
+ideal impulse or a base acceleration, with the collapse criterion checked as it runs.
+
+Frame: the ground's. The ground (the assembly's fixed blocks) stays put; a ground
+acceleration a_g(t) (> 0 towards +x, into the building) loads every free block with the
+inertia force −m a_g x̂; the ideal impulse v_g (eq. 3's limit, the ground's velocity jumping
+by v_g towards +x) gives every free block the velocity −v_g x̂ relative to the ground at
+t = 0, after settling.
+
+Collapse criterion (``Outcome.collapsed``): a watched block (the façade's and toothing blocks
+of a T-section, every free block otherwise) has moved outwards (−x) by more than
+``disp_limit`` (default: H/4 for a T-section; the widest block otherwise) or turned by more
+than ``rot_limit`` (default: none for a T-section; otherwise atan(w/h) of the watched blocks'
+narrowest width w and total height h, the static overturning angle of a block rocking on its
+toe: beyond it, it falls without further input). Displacements are measured from the
+settled state, relative to the ground, so they include sliding. For a T-section the
+criterion is a stated convention, not a proof. A displacement of b (the free strip's
+overturning point) is not enough: B4 (b = 0.25 m) under 0.52, 0.6 and 0.75 m/s moved its
+top out by 0.25, 0.35 and 0.62 m and stopped there (the abutment's friction and the sliding
+of the upper courses), while under 0.9 m/s it passed 2 m by t = 2.25 s and kept falling.
+The run stops there; otherwise it is safe at ``t_max``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..blocks.geometry import FACADE, TOOTHING, Assembly
+from ..errors import ParameterError, check_range
+from ..params import G_STANDARD
+from . import kernels
+from .params import DEMParams
+
+__all__ = ["DEMModel", "DEMState", "Outcome", "build_model", "settle", "run"]
+
+
+@dataclass
+class DEMState:
+    """Positions (n, 2) [m], rotations (n,) [rad], velocities (n, 2) [m/s], angular
+    velocities (n,) [rad/s] of the block centroids, and the contact list."""
+
+    pos: np.ndarray
+    th: np.ndarray
+    vel: np.ndarray
+    om: np.ndarray
+    contacts: tuple
+    build_pos: np.ndarray
+    build_th: np.ndarray
+
+    def copy(self) -> DEMState:
+        return DEMState(self.pos.copy(), self.th.copy(), self.vel.copy(), self.om.copy(),
+                        tuple(a.copy() for a in self.contacts), self.build_pos.copy(),
+                        self.build_th.copy())
+
+
+@dataclass
+class DEMModel:
+    """An assembly prepared for the DEM: vertex offsets from the centroids, inverse masses,
+    the widened ground, the stiffness rule and the time step."""
+
+    assembly: Assembly
+    params: DEMParams
+    f: float
+    g: float
+    thickness: float
+    rel: np.ndarray
+    nxt: np.ndarray
+    prv: np.ndarray
+    owner: np.ndarray
+    inv_m: np.ndarray
+    inv_I: np.ndarray
+    mass: np.ndarray
+    radius: np.ndarray
+    fac_x: float
+    fac_f: float
+    watch: np.ndarray
+    dt: float
+    k_max: float
+    m_min: float
+    disp_limit: float
+    rot_limit: float
+    coinc: float
+    info: dict = field(default_factory=dict)
+
+    @property
+    def n_blocks(self) -> int:
+        return self.assembly.n_blocks
+
+    def initial_state(self) -> DEMState:
+        a = self.assembly
+        n = a.n_blocks
+        pos = a.centroid.astype(float).copy()
+        th = np.zeros(n)
+        X = np.empty_like(self.rel)
+        kernels.world_vertices(pos, th, self.rel, self.owner, X)
+        p = self.params
+        empty = (np.empty(0, np.int64), np.empty(0), np.empty(0), np.empty(0),
+                 np.empty(0, np.bool_), np.empty(0))
+        c = kernels.build_candidates(
+            X, a.offsets, self.nxt, self.prv, self.owner, a.fixed, p.verlet_margin,
+            self.coinc, p.cone_tolerance + 0.1, *empty, 0, p.kn, p.ks_over_kn,
+            self.thickness, self.fac_x, self.fac_f, p.trib_floor, p.base_joint == "tied")
+        return DEMState(pos, th, np.zeros((n, 2)), np.zeros(n), c, pos.copy(), th.copy())
+
+
+def _widen_ground(a: Assembly, margin: float) -> np.ndarray:
+    """The outline with every fixed block's leftmost and rightmost vertices moved out by
+    ``margin`` (the assembly's ground ends flush with the façade's toe)."""
+    v = a.vertices.astype(float).copy()
+    for i in np.flatnonzero(a.fixed):          # the supports: one or two blocks
+        sl = slice(a.offsets[i], a.offsets[i + 1])
+        x = v[sl, 0]
+        lo, hi = x.min(), x.max()
+        x[np.isclose(x, lo)] -= margin
+        x[np.isclose(x, hi)] += margin
+        v[sl, 0] = x
+    return v
+
+
+def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float | None = None,
+                thickness: float | None = None, disp_limit: float | None = None,
+                rot_limit: float | None = None) -> DEMModel:
+    """Prepare ``assembly`` (``homlimit.blocks.geometry``) for the DEM.
+
+    f: friction coefficient (default the assembly's meta "f"); thickness: the slab thickness
+    s [m] multiplying the joint stiffness (default meta "s", else 1 m); disp_limit,
+    rot_limit: the collapse criterion (module docstring)."""
+    if not isinstance(assembly, Assembly):
+        raise ParameterError(f"assembly = {assembly!r} is not a homlimit.blocks Assembly")
+    p = params or DEMParams()
+    if not isinstance(p, DEMParams):
+        raise ParameterError(f"params = {p!r} is not a DEMParams")
+    meta = assembly.meta
+    f = meta.get("f") if f is None else f
+    if f is None:
+        raise ParameterError("f = None is out of range: the assembly has no friction "
+                             "coefficient in its meta; allowed 0 < f")
+    f = check_range("f", f, 0.0, lo_open=True)
+    thickness = check_range("thickness", meta.get("s", 1.0) if thickness is None else thickness,
+                            0.0, lo_open=True, unit="m")
+    g = float(meta.get("g", G_STANDARD))
+    a = assembly
+    n = a.n_blocks
+    if a.n_free == 0:
+        raise ParameterError("assembly has no free block: allowed at least one")
+    owner = np.repeat(np.arange(n), np.diff(a.offsets))
+    verts = _widen_ground(a, p.ground_margin)
+    # the ground's widened vertices move its centroid; the fixed blocks' centroids stay those
+    # of the assembly (they never move, so only the offsets matter)
+    rel = verts - a.centroid[owner]
+    P = verts.shape[0]
+    nxt = np.arange(1, P + 1)
+    nxt[a.offsets[1:] - 1] = a.offsets[:-1]
+    prv = np.arange(-1, P - 1)
+    prv[a.offsets[:-1]] = a.offsets[1:] - 1
+    free = ~a.fixed
+    inv_m = np.where(free, 1.0 / np.where(free, a.mass, 1.0), 0.0)
+    inv_I = np.where(free, 1.0 / np.where(free, np.maximum(a.inertia, 1e-300), 1.0), 0.0)
+    radius = np.sqrt(np.maximum.reduceat((rel ** 2).sum(1), a.offsets[:-1]))
+    radius[a.fixed] = 0.0
+    # façade factor (T-sections): the paper's uniform lowering
+    if "b" in meta and "rho" in meta:
+        fac_x = float(meta["b"])
+        fac_f = float(meta["rho"]) if p.facade_stiffness == "rho" else float(p.facade_stiffness)
+        watch = np.isin(a.kind, (FACADE, TOOTHING)) & free
+    else:
+        fac_x, fac_f = -math.inf, 1.0
+        watch = free.copy()
+    # the stiffest contact that can form: half the longest free edge, with the façade factor
+    d = verts[nxt] - verts
+    elen = np.hypot(d[:, 0], d[:, 1])
+    free_edge = free[owner]
+    k_max = p.kn * thickness * max(fac_f, 1.0) * 0.5 * float(elen[free_edge].max())
+    m_min = float(a.mass[free].min())
+    dt = p.dt_fraction * math.sqrt(m_min / k_max)
+    bb = a.bounds()
+    size = float(np.ptp(a.vertices[:, 0][free[owner]])) or 1.0
+    if disp_limit is None:
+        disp_limit = 0.25 * float(meta["H"]) if "H" in meta and "b" in meta else \
+            float((bb[free, 2] - bb[free, 0]).max())
+    if rot_limit is None and "b" in meta:
+        rot_limit = math.pi      # T-sections: the displacement criterion alone
+    elif rot_limit is None:
+        wb = bb[watch]
+        width = float(np.min(wb[:, 2] - wb[:, 0]))
+        height = float(wb[:, 3].max() - wb[:, 1].min())
+        rot_limit = math.atan2(width, height)
+    disp_limit = check_range("disp_limit", disp_limit, 0.0, lo_open=True, unit="m")
+    rot_limit = check_range("rot_limit", rot_limit, 0.0, math.pi, lo_open=True, unit="rad")
+    coinc = 1e-6 * size
+    return DEMModel(a, p, f, g, thickness, rel, nxt, prv, owner, inv_m, inv_I,
+                    a.mass.astype(float), radius, fac_x, fac_f, watch, dt, k_max, m_min,
+                    disp_limit, rot_limit, coinc,
+                    info={"n_blocks": n, "n_free": a.n_free, "dt": dt, "k_max": k_max,
+                          "m_min": m_min})
+
+
+@dataclass
+class Outcome:
+    """One time history. collapsed: the criterion was met (module docstring), at
+    t_collapse [s]; steps, t_end [s]; record: (rows, 6) t, kinetic, potential, elastic
+    energy [J], x-displacement [m] and rotation [rad] of the first watched block; state: the
+    final state; slip_base, slip_bed: per block, the largest plastic slip [m] of its
+    contacts with the ground and of its bed joints (each contact's slip summed over time);
+    cpu [s]; builds: Verlet list rebuilds."""
+
+    collapsed: bool
+    t_collapse: float
+    steps: int
+    t_end: float
+    record: np.ndarray
+    state: DEMState
+    slip_base: np.ndarray
+    slip_bed: np.ndarray
+    cpu: float
+    builds: int
+
+
+def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: float = 0.0,
+             damping: float = 0.0, ref: DEMState | None = None, check_every: int = 0,
+             rec_every: int = 0, rec_rows: int = 0, slip=None, vel_tol: float = 0.0,
+             z_ref=None):
+    a = model.assembly
+    p = model.params
+    ref = ref or state
+    ag = np.zeros(0) if ag is None else np.ascontiguousarray(ag, float)
+    rec = np.zeros((max(rec_rows, 1), 6))
+    slip_base, slip_bed = slip if slip is not None else (np.zeros(a.n_blocks),
+                                                         np.zeros(a.n_blocks))
+    z_ref = ref.pos[:, 1].copy() if z_ref is None else z_ref
+    if nsteps <= 0:
+        return 0, 0, rec[:0], slip_base, slip_bed, 0
+    key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin = state.contacts
+    out = kernels.advance(
+        int(nsteps), model.dt, state.pos, state.th, state.vel, state.om, model.rel,
+        a.offsets, model.nxt, model.prv, model.owner, a.fixed, model.inv_m, model.inv_I,
+        model.mass, model.radius, model.g, model.f, ag, t0, damping,
+        key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin,
+        state.build_pos, state.build_th, p.verlet_margin, model.coinc, p.cone_tolerance + 0.1,
+        p.cone_tolerance, model.coinc, p.kn, p.ks_over_kn, model.thickness, model.fac_x,
+        model.fac_f, p.trib_floor, model.watch, ref.pos, ref.th, model.disp_limit,
+        model.rot_limit, int(check_every), slip_base, slip_bed, int(rec_every), rec, z_ref,
+        vel_tol)
+    steps, status, nrow = out[0], out[1], out[2]
+    state.contacts = tuple(out[3:12])
+    return steps, status, rec[:nrow], slip_base, slip_bed, out[12]
+
+
+def settle(model: DEMModel, state: DEMState | None = None, *, a_g: float = 0.0
+           ) -> tuple[DEMState, dict]:
+    """Settle under gravity with local damping (``DEMParams.settle_damping``) until every
+    block is slower than settle_velocity or settle_time has passed; velocities are then
+    zeroed (the contact forces stay). a_g [m/s²]: a constant ground acceleration held while
+    settling (a lateral body force −m a_g x̂). Returns the state and {time, steps,
+    converged}."""
+    p = model.params
+    a_g = check_range("a_g", a_g, unit="m/s^2")
+    st = state or model.initial_state()
+    nmax = int(math.ceil(p.settle_time / model.dt))
+    check = max(1, int(round(0.01 / model.dt)))
+    steps, status, *_ = _advance(model, st, nmax, ag=np.full(nmax, a_g),
+                                 damping=p.settle_damping, check_every=check,
+                                 vel_tol=p.settle_velocity)
+    st.vel[:] = 0.0
+    st.om[:] = 0.0
+    return st, {"time": steps * model.dt, "steps": int(steps), "converged": status == 2}
+
+
+def run(model: DEMModel, settled: DEMState, *, v_g: float = 0.0, velocity=None,
+        pulse=None, t_max: float = 3.0, record_every: int = 0,
+        stop_on_collapse: bool = True) -> Outcome:
+    """A time history from the settled state (copied, so one settling serves many runs).
+
+    v_g [m/s]: the ideal impulse, every free block given −v_g x̂ relative to the ground at
+    t = 0. velocity: (n, 3) (u, w, ω) of the centroids instead, the exact post-impulse field
+    of a chosen mechanism (e.g. a block rotating about its toe with θ̇0 of eq. 4). pulse: a
+    base acceleration, anything with ``a(t)`` vectorised [m/s²] (``homlimit.dynamics.pulses``)
+    or a callable a_g(t). t_max [s]: the end of the run if nothing collapses."""
+    v_g = check_range("v_g", v_g, unit="m/s")
+    t_max = check_range("t_max", t_max, 0.0, lo_open=True, unit="s")
+    st = settled.copy()
+    free = ~model.assembly.fixed
+    if velocity is not None:
+        q = np.asarray(velocity, float)
+        if q.shape != (model.n_blocks, 3):
+            raise ParameterError(f"velocity has shape {q.shape}: allowed ({model.n_blocks}, 3)")
+        st.vel[free] = q[free, :2]
+        st.om[free] = q[free, 2]
+    st.vel[free, 0] -= v_g
+    nsteps = int(math.ceil(t_max / model.dt))
+    ag = None
+    if pulse is not None:
+        fun = pulse.a if hasattr(pulse, "a") else pulse
+        if not callable(fun):
+            raise ParameterError(f"pulse = {pulse!r} is out of range: allowed a pulse with "
+                                 "a(t) or a callable a_g(t)")
+        t_end = getattr(pulse, "t_end", t_max)
+        k = min(nsteps, int(math.ceil(t_end / model.dt)) + 1)
+        ag = np.asarray(fun(np.arange(k) * model.dt), float)
+    ref = settled
+    check = max(1, int(round(0.002 / model.dt))) if stop_on_collapse else 0
+    rows = (nsteps // record_every + 1) if record_every else 0
+    t0 = time.process_time()
+    steps, status, rec, sb, sd, builds = _advance(
+        model, st, nsteps, ag=ag, ref=ref, check_every=check, rec_every=record_every,
+        rec_rows=rows)
+    cpu = time.process_time() - t0
+    collapsed = status == 1
+    return Outcome(collapsed, steps * model.dt if collapsed else math.nan, int(steps),
+                   steps * model.dt, rec, st, sb, sd, cpu, int(builds))
