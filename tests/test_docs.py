@@ -45,7 +45,7 @@ def test_the_docs_have_code():
 # blocks that solve a program, mesh, plot or start workers (seconds to minutes); the others
 # (imports and closed forms) run in the fast tier. Matched on the block's text, not its line.
 SLOW_CALLS = ("homlimit.run(", "sweep(", "solve_kinematic(", "bracket(", "analyse_blocks(",
-              "case_spectra(", "critical_pulse(")
+              "case_spectra(", "critical_pulse(", "collapse_threshold(")
 
 
 def _tier(where: str, code: str):
