@@ -147,3 +147,17 @@ def test_run_with_gmsh_brackets_adaptively_around_the_exact_fan(tmp_path):
     best = min(cycles, key=lambda c: c["upper"])
     assert fe["n_triangles"] == best["triangles"]
     assert (tmp_path / "o" / "fe_adapt.csv").is_file() and (tmp_path / "o" / "adapt.png").is_file()
+
+
+def test_verify_refuses_bad_input_before_any_work(tmp_path):
+    from typer.testing import CliRunner
+
+    from homlimit.app.cli import app
+
+    for args, message in ((["-p", "nope"], "problem = 'nope' is not a known-answer problem"),
+                          (["--target-gap", "0"], "adapt.target_gap = 0"),
+                          (["--max-cycles", "0"], "adapt.max_cycles = 0")):
+        res = CliRunner().invoke(app, ["verify", *args, "--out", str(tmp_path / "v")])
+        assert res.exit_code == 2, res.output
+        assert message in res.stderr and "Traceback" not in res.stderr
+        assert not (tmp_path / "v").exists()
