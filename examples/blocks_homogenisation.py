@@ -26,7 +26,8 @@ import logging
 import math
 from pathlib import Path
 
-from homlimit.app.report import format_table, write_csv, write_json
+from homlimit._io import write_json
+from homlimit.app.report import format_table, write
 from homlimit.blocks.studies import homogenisation_study
 from homlimit.params import Case, Masonry, Wall
 
@@ -114,7 +115,7 @@ def main(argv=None):
         import json
 
         fe = json.loads((out / "blocks_homogenisation_fe.json").read_text())
-    write_csv(out / "blocks_homogenisation.csv", recs)
+    write(out / "blocks_homogenisation.csv", recs)
     plot(out / "blocks_homogenisation.png", recs, fe)
     rows = [[r["facade"], int(r["k"]), r["a"], r["blocks"], r["multiplier"],
              100 * r["diff"], r["z_hinge"], r["slope_90"], r["slope_50"], r["slope_10"],

@@ -8,9 +8,8 @@ Writes
     <out>/blocks_table1.png      v̄_g/√(gb) of every model against the DEM, and λ = h/b
     <out>/blocks_table1_ratios.json   B4/B1, B5/B2, B6/B3 for every model
     <out>/blocks_table1_<test>_critical.png, _whole.png   mechanisms of --figures (B1 B4)
-    <out>/blocks_table1/<test>/...   each wall's files (with --files): blocks.vtu, PNGs, contacts
 
-Usage: python examples/blocks_table1.py [--out docs/figures] [--files] [--tests B1 B4]
+Usage: python examples/blocks_table1.py [--out docs/figures] [--tests B1 B4]
 [--figures B1 B4] [--plot-only]
 (about 6 minutes on 2 shared cores). The write-up is docs/blocks.md.
 """
@@ -21,7 +20,7 @@ import argparse
 import logging
 from pathlib import Path
 
-from homlimit.app.report import format_table, write_csv, write_json
+from homlimit.app.report import format_table, write
 from homlimit.blocks.studies import table1_blocks
 
 
@@ -62,7 +61,6 @@ def plot(path: Path, rows: list[dict]) -> Path:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="docs/figures")
-    ap.add_argument("--files", action="store_true", help="write each wall's files too")
     ap.add_argument("--tests", nargs="+", default=None)
     ap.add_argument("--step", type=int, default=1)
     ap.add_argument("--figures", nargs="*", default=["B1", "B4"])
@@ -84,13 +82,12 @@ def main(argv=None):
             plot(out / "blocks_table1.png", [{k: num(v) for k, v in r.items()}
                                              for r in csv.DictReader(fh)])
         return
-    rows, ratios = table1_blocks(step=args.step, tests=args.tests, 
-                                 out_dir=(out / "blocks_table1") if args.files else None,
+    rows, ratios = table1_blocks(step=args.step, tests=args.tests,
                                  figures_dir=out, figures_for=tuple(args.figures))
     for r in rows:
         r["lam_whole"] = r["h_whole"] / (r["h_dem"] / r["lam_dem"])
-    write_csv(out / "blocks_table1.csv", rows)
-    write_json(out / "blocks_table1_ratios.json", ratios)
+    write(out / "blocks_table1.csv", rows)
+    write(out / "blocks_table1_ratios.json", ratios)
     plot(out / "blocks_table1.png", rows)
     print(format_table(
         ["test", "blocks", "mult whole", "h_whole", "h crit", "lam crit", "vn blocks",

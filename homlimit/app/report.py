@@ -61,7 +61,7 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("z0 z_base x_O z_O h_dem h_whole z0_crit h_blocks h_na x z".split(), "m"),
     **dict.fromkeys("n_moving n_open n_sliding n_body blocks vnorm_rigid W_rest_share "
                     "W_friction_share M_rest_share multiplier_whole vnorm_whole "
-                    "multiplier_crit lam_blocks vnorm_blocks vnorm_blocks_rigid "
+                    "multiplier_crit lam_blocks lam_whole vnorm_blocks vnorm_blocks_rigid "
                     "ratio_blocks_dem multiplier_na vnorm_na na_band W_friction_share_na "
                     "n_x n_z".split(), "-"),
     **dict.fromkeys("friction method na_converged interface end block_a block_b state"
