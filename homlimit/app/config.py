@@ -7,6 +7,7 @@ One section per parameter object, SI units::
     [masonry]  a c f               → homlimit.params.Masonry
     [mesh]     size ...            → MeshConfig
     [analysis] fe facade ...       → AnalysisConfig
+    [dem]      kn dt_fraction ...  → DemConfig (the rigid-block DEM, ``homlimit.dem``)
     [output]   dir png vtu         → OutputConfig
 
 Every problem of a case — a file that is not UTF-8 TOML, unknown section or key, wrong type,
@@ -49,9 +50,9 @@ from ..params import (
 )
 from . import budget
 
-__all__ = ["AnalysisConfig", "BlocksConfig", "CaseConfig", "ConfigError", "Key", "MeshConfig",
-           "OutputConfig", "PulseConfig", "SCHEMA", "case_data", "check_base", "check_mesh",
-           "default_case", "load_case", "load_case_inputs", "read_case", "read_text",
+__all__ = ["AnalysisConfig", "BlocksConfig", "CaseConfig", "ConfigError", "DemConfig", "Key",
+           "MeshConfig", "OutputConfig", "PulseConfig", "SCHEMA", "case_data", "check_base",
+           "check_mesh", "default_case", "load_case", "load_case_inputs", "read_case", "read_text",
            "schema_markdown", "shown"]
 
 REQUIRED = object()
@@ -202,6 +203,11 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "blocks": Key(bool, False, doc="the rigid-block model of the running bond "
                                        "(``homlimit.blocks``, [blocks]): the block size "
                                        "enters; files blocks*.vtu/png/csv"),
+        "dem": Key(bool, False, doc="the explicit rigid-block DEM (``homlimit.dem``, [dem]): "
+                                    "its collapse threshold by bisection, failing height and "
+                                    "slide flags; files dem.pvd + dem/*.vtu, "
+                                    "dem_snapshots.png (minutes of CPU per wall: "
+                                    "docs/dem.md)"),
         "hinge_check": Key(bool, True, doc="the hinge's impulse ratio |P_x/P_z| against f "
                                            "and the shortest rectangular pulse it holds, "
                                            "per mechanism (summary 'hinges'; about 0.07 s "
@@ -223,6 +229,78 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "max_blocks": Key(int, 50000, "", 1, 10 ** 6,
                           doc="largest assembly allowed ((H/a)(L/2c + 1) blocks; 20 000 "
                               "blocks solve in about 90 s of CPU)"),
+    },
+    "dem": {
+        "kn": Key(float, 1.0e9, "Pa/m", 1e5, 1e13,
+                  doc="joint normal stiffness per unit joint area (a contact point gets kn × "
+                      "tributary length × s); not in the paper: the order of UDEC joint "
+                      "stiffnesses for masonry, 10⁹–10¹⁰ Pa/m (Lemos 2007), the lower end "
+                      "for a longer time step"),
+        "ks_over_kn": Key(float, 0.5, "", 0.0, 10.0, lo_open=True,
+                          doc="shear over normal joint stiffness; not in the paper: a common "
+                              "UDEC choice (an elastic interface: 1/(2(1 + ν)) ≈ 0.4)"),
+        "facade_stiffness": Key(float, 0.0, "", 0.0, 1e3,
+                                doc="factor on the façade's contact stiffness (0: ρ = l/s, "
+                                    "the paper's uniform lowering: contacts stiffened like "
+                                    "the façade's density)"),
+        "dt_fraction": Key(float, 0.1, "", 0.0, 0.5, lo_open=True,
+                           doc="dt = dt_fraction × √(m_min/k_max) (package choice: a block "
+                               "held by ~40 such springs stays below the central-difference "
+                               "limit)"),
+        "settle_damping": Key(float, 0.8, "", 0.0, 1.0, hi_open=True,
+                              doc="Cundall's local damping while settling under gravity "
+                                  "(UDEC's default for static solutions); none after"),
+        "settle_time": Key(float, 2.0, "s", 0.0, 600.0,
+                           doc="longest settling run (package choice)"),
+        "settle_velocity": Key(float, 1e-5, "m/s", 0.0, 1.0, lo_open=True,
+                               doc="settling stops once every block is slower (package "
+                                   "choice)"),
+        "base_joint": Key(str, "frictional", choices=("frictional", "tied"),
+                          doc="joint with the ground: frictional like the others (the "
+                              "paper's UDEC base is not described) or tied (the contacts "
+                              "present at the start neither open nor slide)"),
+        "ground_margin": Key(float, 2.0, "m", 0.0, 100.0,
+                             doc="the ground is widened by this on both sides (the "
+                                 "assembly's ends flush with the façade's toe; package "
+                                 "choice)"),
+        "verlet_margin": Key(float, 0.005, "m", 0.0, 0.1, lo_open=True,
+                             doc="contact candidates: vertex–edge pairs closer than this; "
+                                 "rebuilt after a move of half of it (package choice)"),
+        "cone_tolerance": Key(float, 0.05, "rad", 0.0, 0.5,
+                              doc="widening of a vertex's normal cone in the contact test "
+                                  "(package choice)"),
+        "trib_floor": Key(float, 0.05, "", 0.0, 0.5, lo_open=True,
+                          doc="least tributary length, as a fraction of the shorter edge "
+                              "(package choice)"),
+        "loading": Key(str, "impulse", choices=("impulse", "rectangular", "one-sine",
+                                                "one-cosine", "ricker"),
+                       doc="the load whose threshold is found: the ideal impulse (v̄_g, the "
+                           "paper's) or a base-acceleration pulse of duration/period "
+                           "pulse_period (its amplitude a_g; homlimit.dynamics.pulses)"),
+        "pulse_period": Key(float, 0.2, "s", 1e-3, 100.0,
+                            doc="Δt of the pulse (rectangular: its duration; loading other "
+                                "than impulse)"),
+        "polarity": Key(int, 1, choices=(1, -1),
+                        doc="pulse polarity: +1 pushes the ground towards +x first (the "
+                            "façade's inertia outwards)"),
+        "rel_tol": Key(float, 0.01, "", 0.0, 0.5, lo_open=True,
+                       doc="bisection tolerance of the threshold: (hi − lo)/(hi + lo)"),
+        "t_max": Key(float, 5.0, "s", 0.0, 600.0, lo_open=True,
+                     doc="length of a trial: a trial collapses when a façade or toothing "
+                         "block moved outwards by more than H/4 before t_max "
+                         "(docs/dem.md, section 3)"),
+        "guess": Key(float, 0.0, "", 0.0, 1e4,
+                     doc="first trial amplitude (m/s, or m/s² for a pulse; 0: the paper's "
+                         "v̄_g rounded to 0.1 for a Table 1 wall, else mechanism I's; a "
+                         "pulse: mechanism I's static multiplier × g); it only sets where "
+                         "the bracket search (steps of ×1.5) starts"),
+        "max_blocks": Key(int, 5000, "", 1, 10 ** 6,
+                          doc="largest assembly allowed ((H/a)(L/2c + 1) blocks; B1's 480 "
+                              "blocks take ~60 µs per time step, 75–80 s of CPU per "
+                              "threshold)"),
+        "frame_interval": Key(float, 0.05, "s", 1e-4, 10.0,
+                              doc="time between the frames of the ParaView series of the "
+                                  "lowest collapsing trial (dem.pvd)"),
     },
     "pulse": {
         "kinds": Key(list, ["rectangular", "one-sine"], item=str, choices=tuple(PULSE_KINDS),
@@ -300,6 +378,7 @@ class AnalysisConfig:
     static: bool = True
     tol: float = 0.0
     blocks: bool = False
+    dem: bool = False
     hinge_check: bool = True
 
 
@@ -312,6 +391,32 @@ class BlocksConfig:
     step: int = 1
     non_associative_check: bool = False
     max_blocks: int = 50000
+
+
+@dataclass(frozen=True)
+class DemConfig:
+    """[dem]: the explicit rigid-block DEM (``homlimit.dem``; ``app.dem_stage``)."""
+
+    kn: float = 1.0e9
+    ks_over_kn: float = 0.5
+    facade_stiffness: float = 0.0
+    dt_fraction: float = 0.1
+    settle_damping: float = 0.8
+    settle_time: float = 2.0
+    settle_velocity: float = 1e-5
+    base_joint: str = "frictional"
+    ground_margin: float = 2.0
+    verlet_margin: float = 0.005
+    cone_tolerance: float = 0.05
+    trib_floor: float = 0.05
+    loading: str = "impulse"
+    pulse_period: float = 0.2
+    polarity: int = 1
+    rel_tol: float = 0.01
+    t_max: float = 5.0
+    guess: float = 0.0
+    max_blocks: int = 5000
+    frame_interval: float = 0.05
 
 
 @dataclass(frozen=True)
@@ -342,7 +447,8 @@ class OutputConfig:
 
 
 SECTIONS = {"mesh": MeshConfig, "adapt": AdaptConfig, "analysis": AnalysisConfig,
-            "blocks": BlocksConfig, "pulse": PulseConfig, "output": OutputConfig}
+            "blocks": BlocksConfig, "dem": DemConfig, "pulse": PulseConfig,
+            "output": OutputConfig}
 
 
 @dataclass(frozen=True)
@@ -354,6 +460,7 @@ class CaseConfig:
     adapt: AdaptConfig = field(default_factory=AdaptConfig)
     analysis: AnalysisConfig = field(default_factory=AnalysisConfig)
     blocks: BlocksConfig = field(default_factory=BlocksConfig)
+    dem: DemConfig = field(default_factory=DemConfig)
     pulse: PulseConfig = field(default_factory=PulseConfig)
     output: OutputConfig = field(default_factory=OutputConfig)
     source: str = "<dict>"
@@ -544,6 +651,14 @@ def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> l
         if n > bl["max_blocks"]:
             out.append(f"[analysis] blocks = true needs about {n} blocks ((H/a)(L/2c + 1)): "
                        f"out of range: allowed up to [blocks] max_blocks = {bl['max_blocks']} "
+                       "(larger blocks a, c, or raise max_blocks)")
+    dm = v.get("dem", {})
+    if (not mesh_only and an.get("dem") and has(w, "H", "L") and has(m, "a", "c")
+            and has(dm, "max_blocks")):
+        n = math.ceil(w["H"] / m["a"]) * (math.ceil(w["L"] / (2 * m["c"])) + 1)
+        if n > dm["max_blocks"]:
+            out.append(f"[analysis] dem = true needs about {n} blocks ((H/a)(L/2c + 1)): out "
+                       f"of range: allowed up to [dem] max_blocks = {dm['max_blocks']} "
                        "(larger blocks a, c, or raise max_blocks)")
     pulse_fe = "FE" in (v.get("pulse", {}).get("mechanisms") or ())   # `pulse` runs the FE path
     fe = mesh_only or an.get("fe", False) or pulse_fe

@@ -1,0 +1,267 @@
+"""The DEM's doors (issue 29): ``[analysis] dem = true`` in ``homlimit run`` and
+``homlimit table1 --dem``, over the explicit rigid-block DEM of ``homlimit.dem``.
+
+A case's [dem] section (``config.DemConfig``, validated with the rest of the case) gives the
+DEM's parameters (``dem_params``) and the load: the ideal impulse (the threshold is v̄_g) or a
+base-acceleration pulse of duration/period ``pulse_period`` (the threshold is its amplitude
+a_g; ``dynamics.pulses.make_pulse``). The model is the case's T-section as blocks with the
+façade "through" (``blocks.geometry.t_section_blocks``, the paper's UDEC model). The threshold
+is ``dem.threshold.collapse_threshold``; its trials are logged on stderr as they end.
+
+The first trial (``[dem] guess``, 0: automatic) only sets where the bracket search starts
+(steps of ×1.5); the threshold does not depend on it beyond the bisection's tolerance. The
+automatic guess of the ideal impulse is the paper's v̄_g rounded to 0.1 m/s for a Table 1
+wall (what benchmarks/dem_table1.py used for docs/dem.md, so the doors reproduce that table
+trial for trial), mechanism I's closed-form v̄_g rounded so otherwise; of a pulse, mechanism
+I's static collapse acceleration (multiplier × g).
+
+``table1_dem_records`` runs the 12 walls of Table 1 (or some) with one parameter set, one wall
+per task of ``map`` (``engine.Engine.stored_map``: each wall's record stored as it ends, read
+back on a rerun; the command line's ``table1 --dem`` holds them in a result set).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ..errors import ParameterError, check_choice
+from .config import CaseConfig, DemConfig
+
+__all__ = ["DEM_PAIRS", "DemRun", "dem_params", "dem_section", "dem_threshold",
+           "table1_dem_records", "wall_record", "write_files"]
+
+log = logging.getLogger(__name__)
+
+#: the block-size ratios of v̄_g/√(gb): same wall and façade, smaller blocks over larger
+DEM_PAIRS = ("B4/B1", "B5/B2", "B6/B3", "C4/C1", "C5/C2", "C6/C3")
+
+
+def dem_params(dem: DemConfig):
+    """The ``dem.DEMParams`` of a [dem] section (facade_stiffness 0: "rho")."""
+    from ..dem import DEMParams
+
+    names = {f.name for f in dataclasses.fields(DEMParams)}
+    kw = {k: v for k, v in dataclasses.asdict(dem).items() if k in names}
+    kw["facade_stiffness"] = "rho" if dem.facade_stiffness == 0 else dem.facade_stiffness
+    return DEMParams(**kw)
+
+
+def _pulse(dem: DemConfig, amplitude: float):
+    from ..dynamics.pulses import make_pulse
+
+    return make_pulse(dem.loading, dem.pulse_period, amplitude, dem.polarity)
+
+
+def _guess(case, dem: DemConfig) -> float:
+    """The first trial (module docstring)."""
+    if dem.guess > 0:
+        return dem.guess
+    from ..closed_form.mechanisms import mechanism_I
+    from ..closed_form.paper import dem_row
+
+    if dem.loading != "impulse":
+        return mechanism_I(case).multiplier * case.wall.g
+    row = dem_row(case)
+    v = row.vg if row is not None else mechanism_I(case).vg
+    return round(v, 1) or v
+
+
+def _load(dem: DemConfig):
+    """amplitude -> keyword arguments of ``dem.run``."""
+    if dem.loading == "impulse":
+        return lambda v: {"v_g": v}
+    return lambda a: {"pulse": _pulse(dem, a)}
+
+
+@dataclass
+class DemRun:
+    """One case's DEM threshold: loading ("impulse" or a pulse kind), the threshold
+    (``dem.threshold.Threshold``: v = the amplitude, v̄_g [m/s] or a_g [m/s²]), the model and
+    its settled state (for the files), b and g of the case, wall-clock seconds."""
+
+    dem: DemConfig
+    threshold: Any
+    model: Any
+    settled: Any
+    b: float
+    g: float
+    seconds: float
+
+    @property
+    def impulse(self) -> bool:
+        return self.dem.loading == "impulse"
+
+    @property
+    def pgv(self) -> float:
+        """v̄_g (ideal impulse), or the peak ground velocity of the threshold pulse [m/s]."""
+        return self.threshold.v if self.impulse else _pulse(self.dem, self.threshold.v).pgv
+
+    def as_dict(self) -> dict:
+        """summary.json's "dem": the threshold and its bracket (vg or pga), h, λ = h/b, the
+        failing part's base z0, the slide flags and largest slips, trials, CPU, wall time."""
+        th = self.threshold
+        k = "vg" if self.impulse else "pga"
+        d = {"loading": self.dem.loading}
+        if not self.impulse:
+            d.update(pulse_period=self.dem.pulse_period, polarity=self.dem.polarity)
+        d.update({k: th.v, f"{k}_lo": th.lo, f"{k}_hi": th.hi, "pgv": self.pgv,
+                  "vnorm": self.pgv / math.sqrt(self.g * self.b), "rel_tol": th.rel_tol,
+                  "h": th.h, "lam": th.h / self.b, "z0": th.z0, "base_slid": th.base_slid,
+                  "hinge_slid": th.hinge_slid, "base_slip": th.base_slip,
+                  "hinge_slip": th.hinge_slip, "n_trials": len(th.trials),
+                  "trials": [{k: v, "collapsed": c, "t_end": t} for v, c, t in th.trials],
+                  "cpu": th.cpu, "seconds": self.seconds, "dt": th.dt,
+                  "n_blocks": self.model.n_blocks,
+                  "settle_time": th.settle.get("time"),
+                  "settle_converged": th.settle.get("converged")})
+        return d
+
+    def label(self) -> str:
+        if self.impulse:
+            return "DEM (homlimit.dem), ideal impulse"
+        return (f"DEM (homlimit.dem), {self.dem.loading} pulse {self.dem.pulse_period:g} s: "
+                "its pgv")
+
+    def lines(self) -> str:
+        """The summary's DEM lines: threshold bracket, slides, trials, time."""
+        th = self.threshold
+        unit = "m/s" if self.impulse else "m/s^2"
+        what = "vg" if self.impulse else "a_g"
+        yn = {True: "yes", False: "no"}
+        return (f"DEM: {what} = {th.v:.4g} {unit} (safe {th.lo:.4g}, collapsed {th.hi:.4g}, "
+                f"±{100 * th.rel_tol:g} %); failing height h = {th.h:.2f} m from z = "
+                f"{th.z0:.2f} m; base slid {yn[th.base_slid]} ({1e3 * th.base_slip:.0f} mm), "
+                f"hinge slid {yn[th.hinge_slid]} ({1e3 * th.hinge_slip:.0f} mm); "
+                f"{len(th.trials)} trials, {th.cpu:.0f} s CPU, {self.seconds:.0f} s")
+
+
+def _model(case, dem: DemConfig):
+    from ..blocks.geometry import t_section_blocks
+    from ..dem import build_model
+
+    return build_model(t_section_blocks(case, facade="through"), dem_params(dem))
+
+
+def _logger(what: str, unit: str):
+    def progress(v, collapsed, t_end, trials):
+        safe = [a for a, c, _ in trials if not c]
+        fell = [a for a, c, _ in trials if c]
+        br = (f"{max(safe):.4g} .. {min(fell):.4g} {unit}" if safe and fell else "open")
+        log.info("DEM trial %d: %s = %.4g %s %s at %.2f s; bracket %s", len(trials), what, v,
+                 unit, "collapsed" if collapsed else "stood", t_end, br)
+    return progress
+
+
+def dem_threshold(config: CaseConfig) -> DemRun:
+    """The DEM threshold of a validated case (its [dem] section; module docstring)."""
+    from ..dem import settle
+    from ..dem.threshold import collapse_threshold
+
+    dem, case = config.dem, config.case
+    t0 = time.perf_counter()
+    model = _model(case, dem)
+    log.info("DEM: %d blocks, dt = %.3g s; settling under gravity", model.n_blocks, model.dt)
+    settled, info = settle(model)
+    log.info("DEM: settled in %.2f s of simulated time (%s)", info["time"],
+             "converged" if info["converged"] else "not converged: settle_time reached")
+    what, unit = ("vg", "m/s") if dem.loading == "impulse" else ("a_g", "m/s^2")
+    th = collapse_threshold(model, settled, guess=_guess(case, dem), rel_tol=dem.rel_tol,
+                            t_max=dem.t_max, load=_load(dem), progress=_logger(what, unit))
+    th = dataclasses.replace(th, settle=info)
+    return DemRun(dem, th, model, settled, case.wall.b, case.wall.g, time.perf_counter() - t0)
+
+
+def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") -> dict:
+    """The files of a DEM run into ``staging`` (a result set's), under the names they will
+    have in ``out``: with [output] vtu, the ParaView series dem.pvd + dem/*.vtu of the lowest
+    collapsing trial; with png, dem_snapshots.png of it. Returns key → final path."""
+    from ..dem.output import plot_snapshots, record_frames, write_series
+
+    if not (output.vtu or output.png):
+        return {}
+    th = run.threshold
+    log.info("DEM: recording the lowest collapsing trial (%.4g) every %g s", th.hi,
+             run.dem.frame_interval)
+    frames = record_frames(run.model, run.settled, t_max=run.dem.t_max,
+                           interval=run.dem.frame_interval, **_load(run.dem)(th.hi))
+    files = {}
+    if output.vtu:
+        write_series(staging, run.model, run.settled, frames, name="dem")
+        files["dem_pvd"] = out / "dem.pvd"
+    if output.png:
+        unit = "m/s" if run.impulse else "m/s²"
+        plot_snapshots(staging / "dem_snapshots.png", run.model, run.settled, frames,
+                       title=f"{title}: DEM at {th.hi:.4g} {unit} (lowest collapsing trial)")
+        files["dem_snapshots_png"] = out / "dem_snapshots.png"
+    return files
+
+
+# ----------------------------------------------------------------------------- Table 1
+def wall_record(item: dict) -> dict:
+    """One Table 1 wall's DEM threshold (a task: ``item`` = {"test": name, "dem": the [dem]
+    section as a dict}): the record of a row of table1_dem.csv."""
+    from ..closed_form.paper import table1
+
+    row = {t.test: t for t in table1()}[item["test"]]
+    dem = DemConfig(**item["dem"])
+    cfg = CaseConfig(case=row.case, dem=dem)
+    r = dem_threshold(cfg)
+    d = r.as_dict()
+    g, b = row.case.wall.g, row.case.wall.b
+    return {"test": row.test, "vg_udec": row.vg, "h_udec": row.h_v,
+            "vnorm_udec": row.vg_norm, "vg": d["vg"], "vg_lo": d["vg_lo"],
+            "vg_hi": d["vg_hi"], "h": d["h"], "vnorm": d["vg"] / math.sqrt(g * b),
+            "dem_over_udec": d["vg"] / row.vg, "base_slid": d["base_slid"],
+            "hinge_slid": d["hinge_slid"], "base_slip": d["base_slip"],
+            "hinge_slip": d["hinge_slip"], "n_trials": d["n_trials"],
+            "n_blocks": d["n_blocks"], "cpu": d["cpu"], "seconds": d["seconds"]}
+
+
+def table1_dem_records(tests: list[str] | None = None, dem: DemConfig | None = None,
+                       map=None) -> tuple[list[dict], dict]:
+    """Table 1's DEM column: one row per wall (``wall_record``) and the block-size ratios
+    (``DEM_PAIRS``) of v̄_g/√(gb), this DEM's and UDEC's. One parameter set (``dem``, default
+    [dem]'s defaults) for every wall; ideal impulse only. ``map(fn, items)``: runs the walls
+    (default: one after the other here), the costliest first."""
+    from ..closed_form.paper import table1
+
+    dem = dem or DemConfig()
+    if dem.loading != "impulse":
+        raise ParameterError(f"[dem] loading = {dem.loading!r} is out of range for table1 "
+                             "--dem: allowed 'impulse' (Table 1 is the ideal impulse's)")
+    walls = {t.test: t for t in table1()}
+    for t in tests or ():
+        check_choice("test", t, tuple(walls))
+    names = [t for t in walls if not tests or t in tests]
+    # the costliest first (blocks × steps per second ~ 1/a), so two workers end together
+    names.sort(key=lambda t: -(walls[t].case.wall.H / walls[t].case.masonry.a) ** 2
+               * walls[t].case.wall.L / walls[t].case.masonry.c)
+    items = [{"test": t, "dem": dataclasses.asdict(dem)} for t in names]
+    recs = (map or (lambda fn, xs: [fn(x) for x in xs]))(wall_record, items)
+    by = {r["test"]: r for r in recs}
+    rows = [by[t] for t in walls if t in by]
+    ratios = {}
+    for pair in DEM_PAIRS:
+        hi, lo = pair.split("/")
+        if hi in by and lo in by:
+            ratios[pair] = {"vnorm": by[hi]["vnorm"] / by[lo]["vnorm"],
+                            "vnorm_udec": by[hi]["vnorm_udec"] / by[lo]["vnorm_udec"]}
+    return rows, ratios
+
+
+def dem_section(overrides: list[str] | None) -> DemConfig:
+    """The [dem] section that "dem.key=value" overrides make of the defaults, checked like a
+    case file's (ConfigError naming key, value and range); another section is refused."""
+    from .config import case_data, load_case
+
+    bad = [o for o in overrides or () if not str(o).strip().startswith("dem.")]
+    if bad:
+        raise ParameterError(f"--set {bad[0]!r} is out of range for table1 --dem: allowed "
+                             "dem.KEY=VALUE (the [dem] section; the walls are Table 1's)")
+    return load_case(case_data(None)[0], list(overrides or ()), source="table1 --dem").dem
