@@ -8,6 +8,8 @@ wall's threshold (that is benchmarks/dem_table1.py's, minutes per wall).
 from __future__ import annotations
 
 import dataclasses
+import json
+import math
 
 import pytest
 from typer.testing import CliRunner
@@ -63,3 +65,73 @@ def test_cli_bad_dem_value_exits_2_before_any_work(tmp_path):
     assert "[dem] rel_tol = 0 is out of range: allowed 0 < rel_tol <= 0.5" in res.output
     assert "Traceback" not in res.output
     assert not out.exists()
+
+
+# ----------------------------------------------------------------------------- homlimit run
+#: a small T-section (4 courses, 13 blocks): a threshold in about a second
+SMALL = {"name": "small",
+         "wall": {"H": 1.2, "L": 0.8, "s": 0.3, "b": 0.3, "l": 1.2},
+         "masonry": {"a": 0.3, "c": 0.2, "f": 0.6},
+         "analysis": {"fe": False, "hinge_check": False, "dem": True},
+         "dem": {"rel_tol": 0.05, "t_max": 2.0, "frame_interval": 0.1}}
+
+
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    from homlimit.app import pipeline
+
+    out = tmp_path_factory.mktemp("small")
+    return pipeline.run(SMALL, out=out), out
+
+
+def test_run_with_dem_brackets_its_threshold_and_reports_it(small_run):
+    from homlimit.blocks.geometry import t_section_blocks
+    from homlimit.dem import build_model, run, settle
+
+    result, out = small_run
+    d = json.loads((out / "summary.json").read_text(encoding="utf-8"))["dem"]
+    assert d["loading"] == "impulse" and d["n_trials"] == len(d["trials"]) >= 2
+    assert d["vg_lo"] < d["vg"] < d["vg_hi"]
+    assert (d["vg_hi"] - d["vg_lo"]) / (d["vg_hi"] + d["vg_lo"]) <= 0.05
+    assert d["vnorm"] == pytest.approx(d["vg"] / math.sqrt(9.81 * 0.3), rel=1e-12)
+    # the failing part is whole courses of a = 0.3 m, at most the wall
+    assert 0 < d["h"] <= 1.2 and d["h"] / 0.3 == pytest.approx(round(d["h"] / 0.3), abs=1e-9)
+    assert isinstance(d["base_slid"], bool) and isinstance(d["hinge_slid"], bool)
+    # the bracket holds when the engine is called directly on the same model: the lower end
+    # stands for t_max, the upper collapses
+    model = build_model(t_section_blocks(result.case, facade="through"))
+    settled, _ = settle(model)
+    assert not run(model, settled, v_g=d["vg_lo"], t_max=2.0).collapsed
+    assert run(model, settled, v_g=d["vg_hi"], t_max=2.0).collapsed
+    text = result.summary()
+    assert "DEM (homlimit.dem), ideal impulse" in text
+    assert f"{d['n_trials']} trials" in text and "base slid" in text
+    assert d["seconds"] > 0 and d["cpu"] > 0
+    assert json.loads((out / "summary.json").read_text())["units"]["results"]["vg_lo"] == "m/s"
+
+
+def test_dem_is_off_by_default(tmp_path):
+    from homlimit.app import pipeline
+
+    res = pipeline.run({**SMALL, "analysis": {"fe": False, "hinge_check": False}},
+                       out=tmp_path / "o")
+    assert res.dem_run is None
+    assert json.loads((tmp_path / "o" / "summary.json").read_text())["dem"] is None
+    assert not (tmp_path / "o" / "dem.pvd").exists()
+
+
+def test_pulse_loading_finds_the_pulse_amplitude(tmp_path):
+    from homlimit.app import pipeline
+    from homlimit.dynamics.pulses import make_pulse
+
+    case = {**SMALL, "dem": {**SMALL["dem"], "loading": "rectangular", "pulse_period": 0.3,
+                             "rel_tol": 0.1, "t_max": 1.5},
+            "output": {"vtu": False, "png": False}}
+    res = pipeline.run(case, out=tmp_path / "o")
+    d = res.to_dict()["dem"]
+    assert d["loading"] == "rectangular" and d["pulse_period"] == 0.3
+    assert d["pga_lo"] < d["pga"] < d["pga_hi"]
+    # a rectangular pulse's pgv is a_g × Δt
+    assert d["pgv"] == pytest.approx(make_pulse("rectangular", 0.3, d["pga"]).pgv, rel=1e-12)
+    assert d["pgv"] == pytest.approx(0.3 * d["pga"], rel=1e-9)
+    assert not (tmp_path / "o" / "dem.pvd").exists()

@@ -87,6 +87,7 @@ class Result:
     dem: DemResult | None = None
     hinges: dict[str, Any] = field(default_factory=dict)   # name → dynamics.HoldingPulse
     blocks: Any = None                   # blocks.BlocksAnalysis ([analysis] blocks)
+    dem_run: Any = None                  # app.dem_stage.DemRun ([analysis] dem)
     files: dict[str, Path] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
 
@@ -129,6 +130,7 @@ class Result:
             "blocks": None if self.blocks is None else self.blocks.summary(),
             "critical": self.critical(),
             "dem_table1": None if self.dem is None else self.dem.as_dict(),
+            "dem": None if self.dem_run is None else self.dem_run.as_dict(),
             "files": {k: str(v) for k, v in self.files.items()},
             "timings_s": self.timings,
         }
@@ -788,6 +790,12 @@ def compute(config: CaseConfig) -> Result:
             result.blocks = analyse_blocks(case, b.facade, b.friction, b.step,
                                            b.non_associative_check, _solver_options(an.tol))
         result.mechanisms["blocks"] = result.blocks
+    if an.dem:
+        from .dem_stage import dem_threshold
+
+        with _stage(result.timings, "DEM threshold", f"{config.dem.loading}, bisection to "
+                                                      f"±{100 * config.dem.rel_tol:g} %"):
+            result.dem_run = dem_threshold(config)
     return conclude(result)
 
 

@@ -76,6 +76,13 @@ UNITS: dict[str, str] = {
                     "sqrt_cf_a".split(), "-"),
     "z0_exact": "m", "seconds": "s", "mesh_seconds": "s",
     "adapt": "",                     # summary fe.adapt: the cycles' table, units per column
+    # the rigid-block DEM (summary "dem", table1_dem.csv; app.dem_stage)
+    **dict.fromkeys("vg_lo vg_hi vg_udec pgv".split(), "m/s"),
+    **dict.fromkeys("pga_lo pga_hi".split(), "m/s^2"),
+    **dict.fromkeys("h_udec base_slip hinge_slip".split(), "m"),
+    **dict.fromkeys("pulse_period t_end cpu dt settle_time".split(), "s"),
+    **dict.fromkeys("vnorm_udec dem_over_udec rel_tol n_trials n_blocks".split(), "-"),
+    **dict.fromkeys("loading base_slid hinge_slid collapsed settle_converged".split(), ""),
 }
 #: every file name a homlimit command writes (result sets written before manifests existed
 #: are recognised by these, ``_io.is_result_set``)
@@ -87,7 +94,8 @@ OUTPUT_NAMES = ("summary.json", "vg_lambda.png", "mesh.png", "mechanism.png", "s
                 "blocks_whole.png", "blocks_scan.csv", "table1_blocks.csv",
                 "table1_blocks_ratios.json", "sweep.json", "results.parquet", "results.csv",
                 "vnorm_swept.png", "critical_map.png", "tanpsi.png", "vg_histogram.png",
-                "verify.json", "verify.csv", "fe_adapt.csv", "adapt.png")
+                "verify.json", "verify.csv", "fe_adapt.csv", "adapt.png", "dem.pvd",
+                "dem_snapshots.png", "table1_dem.csv", "table1_dem_ratios.json")
 OUTPUT_NAMES += tuple(n + ".json" for n in OUTPUT_NAMES if n.endswith(".csv"))  # sidecars
 
 
@@ -220,7 +228,7 @@ def units_table(summary: Mapping) -> dict:
     every result quantity the summary holds (by name; "-" dimensionless, "" text)."""
     inputs = {sec: dict(u) if isinstance(u, dict) else u for sec, u in input_units().items()}
     found: set[str] = set()
-    for k in ("derived", "mechanisms", "hinges", "fe", "critical", "dem_table1"):
+    for k in ("derived", "mechanisms", "hinges", "fe", "critical", "dem_table1", "dem"):
         found |= _leaf_keys(summary.get(k))
     _unknown_units(found)
     return {"inputs": inputs, "results": {k: UNITS.get(k) for k in sorted(found)},
@@ -289,6 +297,10 @@ def summary_text(result) -> str:
     if result.dem:
         d = result.dem
         rows.append(["DEM, paper's Table 1", d.lam_v, d.h_v, d.vg, d.vg_norm])
+    run = getattr(result, "dem_run", None)
+    if run is not None:
+        d = run.as_dict()
+        rows.append([run.label(), d["lam"], d["h"], d["pgv"], d["vnorm"]])
     head = (f"case {result.name}: H={c.wall.H:g} m, L={c.wall.L:g} m, s={c.wall.s:g} m, "
             f"b={c.wall.b:g} m, l={c.wall.l:g} m; a={c.masonry.a:g} m, c={c.masonry.c:g} m, "
             f"f={c.masonry.f:g}\n"
@@ -305,6 +317,8 @@ def summary_text(result) -> str:
     if statics:
         out += ["", "collapse acceleration a/g of a static check (smallest over h): "
                 + "; ".join(statics)]
+    if run is not None:
+        out += ["", run.lines()]
     if result.fe:
         out += ["", _fe_lines(result.fe, c)]
     if result.hinges:

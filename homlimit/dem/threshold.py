@@ -76,13 +76,15 @@ def failing_part(model: DEMModel, settled: DEMState, out: Outcome, slide_tol: fl
 
 def collapse_threshold(model: DEMModel, settled: DEMState | None = None, *, guess: float = 0.5,
                        rel_tol: float = 0.01, t_max: float = 5.0, load=None,
-                       slide_tol: float = 1e-3, max_trials: int = 40) -> Threshold:
+                       slide_tol: float = 1e-3, max_trials: int = 40,
+                       progress=None) -> Threshold:
     """The smallest collapsing amplitude by bisection (module docstring).
 
     load: amplitude -> keyword arguments of ``run`` (default: the ideal impulse,
     {"v_g": amplitude}); e.g. ``lambda v: {"velocity": field(v)}`` or
     ``lambda a: {"pulse": pulse.with_pga(a)}``. settled: a settled state (default: settle
-    here)."""
+    here). progress(amplitude, collapsed, t_end, trials): called after each trial (e.g. a
+    line on stderr); it changes nothing."""
     guess = check_range("guess", guess, 0.0, lo_open=True)
     rel_tol = check_range("rel_tol", rel_tol, 0.0, 0.5, lo_open=True)
     settle_info = {}
@@ -102,6 +104,8 @@ def collapse_threshold(model: DEMModel, settled: DEMState | None = None, *, gues
         trials.append((v, o.collapsed, o.t_end))
         cpu += o.cpu
         outs[v] = o
+        if progress is not None:
+            progress(v, o.collapsed, o.t_end, tuple(trials))
         return o.collapsed
 
     lo, hi = None, None
