@@ -135,3 +135,56 @@ def test_pulse_loading_finds_the_pulse_amplitude(tmp_path):
     assert d["pgv"] == pytest.approx(make_pulse("rectangular", 0.3, d["pga"]).pgv, rel=1e-12)
     assert d["pgv"] == pytest.approx(0.3 * d["pga"], rel=1e-9)
     assert not (tmp_path / "o" / "dem.pvd").exists()
+
+
+# ----------------------------------------------------------------------------- table1 --dem
+#: a cheap, coarse setting for the door only (never the table's): short trials from a high
+#: first guess, so a wall takes three trials
+CHEAP = ["--set", "dem.t_max=0.2", "--set", "dem.rel_tol=0.5", "--set", "dem.settle_time=0.05",
+         "--set", "dem.guess=20"]
+
+
+@pytest.mark.slow
+def test_table1_dem_runs_walls_on_dask_beside_udec_and_resumes(tmp_path, table1_ref):
+    out = tmp_path / "t1"
+    args = ["table1", "--dem", "-t", "C4", "-t", "C1", *CHEAP, "--workers", "2", "--json",
+            "--out", str(out)]
+    res = CliRunner().invoke(app, args)
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.stdout)
+    rows = {r["test"]: r for r in data["rows"]}
+    assert list(rows) == ["C1", "C4"]                       # Table 1's order
+    for t, r in rows.items():
+        ref = table1_ref[t]
+        assert (r["vg_udec"], r["h_udec"], r["vnorm_udec"]) == (ref["vg"], ref["h_v"],
+                                                                ref["vg_norm"])
+        assert r["vg_lo"] < r["vg"] < r["vg_hi"] and r["n_trials"] == 3
+        assert r["dem_over_udec"] == pytest.approx(r["vg"] / ref["vg"], rel=1e-12)
+        assert r["vnorm"] == pytest.approx(r["vg"] / math.sqrt(9.81 * ref["b"]), rel=1e-12)
+    ratio = data["ratios"]["C4/C1"]
+    assert ratio["vnorm_udec"] == pytest.approx(table1_ref["C4"]["vg_norm"]
+                                                / table1_ref["C1"]["vg_norm"], rel=1e-12)
+    assert ratio["vnorm"] == pytest.approx(rows["C4"]["vnorm"] / rows["C1"]["vnorm"])
+    records = sorted((out / "records").glob("[!.]*.json"))
+    assert len(records) == 2
+    stamps = [p.stat().st_mtime_ns for p in records]
+    # a rerun reads the walls back from the records instead of running them again
+    again = CliRunner().invoke(app, args)
+    assert again.exit_code == 0, again.output
+    assert json.loads(again.stdout)["rows"] == data["rows"]
+    assert [p.stat().st_mtime_ns for p in sorted((out / "records").glob("[!.]*.json"))] == stamps
+    assert (out / "table1_dem.csv").is_file() and (out / "table1_dem_ratios.json").is_file()
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--set", "dem.kn=0"], "[dem] kn = 0 Pa/m is out of range: allowed 100000 <= kn"),
+    (["--set", "wall.H=3"], "--set 'wall.H=3' is out of range for table1 --dem"),
+    (["--set", "dem.loading=ricker"], "[dem] loading = 'ricker' is out of range for table1"),
+    (["-t", "B9"], "test = 'B9'"),
+])
+def test_table1_dem_refuses_bad_input_before_any_work(tmp_path, extra, message):
+    out = tmp_path / "t1"
+    res = CliRunner().invoke(app, ["table1", "--dem", *extra, "--out", str(out)])
+    assert res.exit_code == 2, res.output
+    assert message in res.output and "Traceback" not in res.output
+    assert not out.exists()

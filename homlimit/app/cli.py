@@ -2,7 +2,8 @@
 
     homlimit run [CASE.toml]      the full pipeline for one wall (no case: the embedded B1 wall)
     homlimit demo                 the embedded default case (Table 1's B1)
-    homlimit table1 [--fe]        the paper's Table 1 beside the closed forms (and the FE body)
+    homlimit table1 [--fe|--dem]  the paper's Table 1 beside the closed forms (and the FE body,
+                                  or this package's rigid-block DEM)
     homlimit figure2              the paper's Figure 2 as a PNG
     homlimit crack-study          the crack-angle study over a grid of c/a and f
     homlimit pulse [CASE.toml]    overturning spectra of real pulses (rocking time histories)
@@ -315,17 +316,56 @@ def table1(as_json: JsonOpt = False, out: _out(
            = False,
            blocks_facade: Annotated[str, typer.Option(help="Façade of the block model: "
                                                       "through or running-bond (with "
-                                                      "--blocks).")] = "through"):
+                                                      "--blocks).")] = "through",
+           dem: Annotated[bool, typer.Option("--dem", help="Instead: this package's "
+                                             "rigid-block DEM (homlimit.dem) beside UDEC, "
+                                             "every wall a Dask task (slow: minutes of CPU "
+                                             "per wall; docs/dem.md).")] = False,
+           overrides: Annotated[list[str] | None, typer.Option(
+               "--set", "-s", help="With --dem: a [dem] key for every wall, e.g. --set "
+                                   "dem.kn=3e9 (repeatable; docs/case-file.md).")] = None,
+           resume: Annotated[bool, typer.Option(
+               "--resume/--no-resume", help="With --dem: keep the walls recorded in "
+                                            "OUT/records/ by an earlier run.")] = True):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
     from . import plots, report
     from .pipeline import result_folder, table1_blocks_records, table1_records
 
-    variant = "--blocks" if blocks else "--fe" if fe else ""
+    variant = "--dem" if dem else "--blocks" if blocks else "--fe" if fe else ""
     tests = sorted(set(test or ()))
     out = out or _table1_folder(variant, tests)
     owner = dict(command=f"table1 {variant}".strip(),
                  source="embedded:table1" + (f":{','.join(tests)}" if tests else ""))
     _logging(verbose, quiet, as_json)
+    if dem:   # validated before any work, then every wall a Dask task, its record kept
+        from dataclasses import asdict
+
+        from .dem_stage import dem_section, table1_dem_records
+        from .engine import RecordStore
+
+        section = dem_section(overrides)
+        table1_dem_records(tests, section, map=lambda fn, walls: [])
+        store = RecordStore(out / "records")
+        with _stdout_quiet(as_json or verbose) as stdout, _interruptible(store.folder), \
+                result_folder(out, **owner) as staging:
+            if not resume:
+                store.clear()
+            with _engine(workers, scheduler, quiet or as_json) as engine:
+                rows, ratios = table1_dem_records(tests, section, map=engine.stored_map(
+                    store, "table1-dem", "DEM walls"))
+            report.write(staging / "table1_dem.csv", rows)
+            report.write(staging / "table1_dem_ratios.json", {
+                "ratios": ratios, "dem": asdict(section),
+                "units": {"ratios": "-", "dem": report.input_units()["dem"]}})
+        files = [out / "table1_dem.csv", out / "table1_dem_ratios.json"]
+        cols = ["test", "vg", "vg_udec", "dem_over_udec", "h", "h_udec", "vnorm",
+                "vnorm_udec", "base_slid", "hinge_slid", "n_trials", "cpu"]
+        _show(stdout, as_json, {"rows": rows, "ratios": ratios}, rows, cols,
+              "Table 1 with this package's DEM (ideal impulse) beside UDEC: vg [m/s], h [m], "
+              "vnorm = vg/sqrt(gb); block-size ratios of vnorm: "
+              + ", ".join(f"{k} {v['vnorm']:.2f} (UDEC {v['vnorm_udec']:.2f})"
+                          for k, v in ratios.items()), files)
+        return
     if blocks:
         with _stdout_quiet(as_json or verbose) as stdout, \
                 result_folder(out, **owner) as staging:
