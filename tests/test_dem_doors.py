@@ -10,7 +10,9 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import xml.etree.ElementTree as ET
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -188,3 +190,75 @@ def test_table1_dem_refuses_bad_input_before_any_work(tmp_path, extra, message):
     assert res.exit_code == 2, res.output
     assert message in res.output and "Traceback" not in res.output
     assert not out.exists()
+
+
+# ----------------------------------------------------------------------------- outputs
+def test_paraview_series_reads_back_and_ends_in_the_models_state(small_run):
+    import meshio
+
+    from homlimit.dem import run
+
+    result, out = small_run
+    dr = result.dem_run
+    root = ET.parse(out / "dem.pvd").getroot()
+    sets = root.findall("./Collection/DataSet")
+    blocks = [s for s in sets if s.get("part") == "0"]
+    contacts = [s for s in sets if s.get("part") == "1"]
+    assert len(blocks) == len(contacts) >= 2
+    times = [float(s.get("timestep")) for s in blocks]
+    assert times[0] == 0 and np.all(np.diff(times) > 0)
+    n = dr.model.n_blocks
+    last = meshio.read(out / blocks[-1].get("file"))
+    assert sum(len(c.data) for c in last.cells) == n
+    rot = np.concatenate(last.cell_data["rotation"])
+    idx = np.concatenate(last.cell_data["block"])
+    # the same history run in one piece by the engine ends in the state of the last frame
+    whole = run(dr.model, dr.settled, v_g=dr.threshold.hi,
+                t_max=times[-1] - 0.5 * dr.model.dt, stop_on_collapse=False)
+    top = int(np.argmax(dr.model.assembly.bounds()[:, 3] * dr.model.watch))
+    assert rot[idx == top][0] == pytest.approx(whole.state.th[top], rel=1e-9, abs=1e-12)
+    np.testing.assert_allclose(rot[np.argsort(idx)], whole.state.th, rtol=1e-9, atol=1e-12)
+    assert abs(whole.state.th[top]) > 0.05           # the frame shows the collapse
+    # the settled frame's contacts carry the weight: the ground's reactions sum to m g
+    first = meshio.read(out / contacts[0].get("file"))
+    on_ground = first.point_data["other"] == 0
+    assert first.point_data["force"][on_ground, 1].sum() == pytest.approx(
+        9.81 * dr.model.assembly.mass[~dr.model.assembly.fixed].sum(), rel=1e-3)
+    assert (out / "dem_snapshots.png").stat().st_size > 10_000
+    assert not any(p.name.startswith(".") for p in (out / "dem").iterdir())
+
+
+def test_series_is_written_whole_or_not_at_all(tmp_path, monkeypatch):
+    from homlimit.blocks.geometry import stack
+    from homlimit.dem import build_model, settle
+    from homlimit.dem.output import record_frames, write_series
+    from homlimit.errors import OutputError
+    from homlimit.fe import mesh as fe_mesh
+
+    model = build_model(stack([0.5, 0.45], [1.0, 1.0], density=2000.0, meta={"f": 0.6}))
+    settled, _ = settle(model)
+    frames = record_frames(model, settled, v_g=0.3, t_max=0.1, interval=0.05)
+    pvd = write_series(tmp_path, model, settled, frames)          # a first, whole series
+    before = pvd.read_text()
+    real, calls = fe_mesh.write, []
+
+    def failing(mesh, path):
+        calls.append(path)
+        if len(calls) == 3:
+            raise OSError(28, "No space left on device")
+        return real(mesh, path)
+
+    monkeypatch.setattr(fe_mesh, "write", failing)
+    with pytest.raises(OutputError, match="No space left on device"):
+        write_series(tmp_path, model, settled, frames)
+    # the previous series is kept whole (every frame its .pvd lists), no temporary left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dem", "dem.pvd"]
+    assert pvd.read_text() == before
+    listed = [d.get("file") for d in ET.parse(pvd).getroot().iter("DataSet")]
+    assert sorted(listed) == sorted(f"dem/{p.name}" for p in (tmp_path / "dem").iterdir())
+    # a new series replaces it
+    monkeypatch.setattr(fe_mesh, "write", real)
+    short = write_series(tmp_path, model, settled, frames[:2])
+    assert len(list(ET.parse(short).getroot().iter("DataSet"))) == 4
+    assert len(list((tmp_path / "dem").iterdir())) == 4
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dem", "dem.pvd"]

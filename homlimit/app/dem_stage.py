@@ -27,13 +27,14 @@ import logging
 import math
 import time
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError, check_choice
 from .config import CaseConfig, DemConfig
 
 __all__ = ["DEM_PAIRS", "DemRun", "dem_params", "dem_section", "dem_threshold",
-           "table1_dem_records", "wall_record"]
+           "table1_dem_records", "wall_record", "write_files"]
 
 log = logging.getLogger(__name__)
 
@@ -174,6 +175,31 @@ def dem_threshold(config: CaseConfig) -> DemRun:
                             t_max=dem.t_max, load=_load(dem), progress=_logger(what, unit))
     th = dataclasses.replace(th, settle=info)
     return DemRun(dem, th, model, settled, case.wall.b, case.wall.g, time.perf_counter() - t0)
+
+
+def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") -> dict:
+    """The files of a DEM run into ``staging`` (a result set's), under the names they will
+    have in ``out``: with [output] vtu, the ParaView series dem.pvd + dem/*.vtu of the lowest
+    collapsing trial; with png, dem_snapshots.png of it. Returns key → final path."""
+    from ..dem.output import plot_snapshots, record_frames, write_series
+
+    if not (output.vtu or output.png):
+        return {}
+    th = run.threshold
+    log.info("DEM: recording the lowest collapsing trial (%.4g) every %g s", th.hi,
+             run.dem.frame_interval)
+    frames = record_frames(run.model, run.settled, t_max=run.dem.t_max,
+                           interval=run.dem.frame_interval, **_load(run.dem)(th.hi))
+    files = {}
+    if output.vtu:
+        write_series(staging, run.model, run.settled, frames, name="dem")
+        files["dem_pvd"] = out / "dem.pvd"
+    if output.png:
+        unit = "m/s" if run.impulse else "m/s²"
+        plot_snapshots(staging / "dem_snapshots.png", run.model, run.settled, frames,
+                       title=f"{title}: DEM at {th.hi:.4g} {unit} (lowest collapsing trial)")
+        files["dem_snapshots_png"] = out / "dem_snapshots.png"
+    return files
 
 
 # ----------------------------------------------------------------------------- Table 1

@@ -705,6 +705,11 @@ def _write(result: Result, staging: Path, out: Path) -> dict[str, Path]:
         for key, (name, data) in _outputs(result).items():
             report.write(staging / name, data)
             files[key] = out / name
+        if result.dem_run is not None:
+            from .dem_stage import write_files
+
+            files.update(write_files(result.dem_run, result.config.output, staging, out,
+                                     f"case {result.name}"))
         if result.config.output.json:
             files["summary_json"] = out / "summary.json"
             result.files = files
