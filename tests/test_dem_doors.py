@@ -262,3 +262,12 @@ def test_series_is_written_whole_or_not_at_all(tmp_path, monkeypatch):
     assert len(list(ET.parse(short).getroot().iter("DataSet"))) == 4
     assert len(list((tmp_path / "dem").iterdir())) == 4
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dem", "dem.pvd"]
+
+
+def test_a_sweep_case_with_the_dem_is_not_batched_as_closed_form_only():
+    from homlimit.app.sweep import SweepCase
+
+    closed = load_case({**B1, "analysis": {"fe": False}})
+    dem = load_case({**B1, "analysis": {"fe": False, "dem": True}})
+    assert SweepCase(0, {}, "k", closed).closed_form_only
+    assert not SweepCase(0, {}, "k", dem).closed_form_only      # run_case runs its DEM

@@ -90,9 +90,9 @@ class SweepCase:
 
     @property
     def closed_form_only(self) -> bool:
-        """Evaluated in a vectorised batch: closed forms on, FE off."""
+        """Evaluated in a vectorised batch: closed forms on, FE and the DEM off."""
         an = self.config.analysis if self.config else None
-        return bool(an and an.closed_form and not an.fe)
+        return bool(an and an.closed_form and not an.fe and not an.dem)
 
 
 @dataclass
