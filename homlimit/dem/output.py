@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from .._io import write_figure, write_text
+from ..blocks.geometry import FACADE
 from ..errors import OutputError, ParameterError, check_range
 from .model import DEMModel, DEMState, run
 
@@ -241,7 +242,8 @@ def write_series(folder, model: DEMModel, settled: DEMState, frames: list[Frame]
 def plot_snapshots(path, model: DEMModel, settled: DEMState, frames: list[Frame],
                    n: int = 4, title: str | None = None) -> Path:
     """PNG of ``n`` frames side by side (the first, the last and evenly between): the blocks
-    coloured by their rotation from the settled state [rad], the ground grey."""
+    coloured by their rotation from the settled state [rad] (the scale: the façade's largest,
+    if there is a façade), the ground grey."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -256,7 +258,10 @@ def plot_snapshots(path, model: DEMModel, settled: DEMState, frames: list[Frame]
     bb = a.bounds()
     x0, x1 = bb[real, 0].min(), bb[real, 2].max()
     z1 = bb[real, 3].max()
-    rots = [frames[k].state.th[real] - settled.th[real] for k in pick]
+    # the colour scale spans the façade's rotation (a T-section's loose toothing blocks may
+    # tumble by radians); beyond it the colours saturate
+    scale = real & (a.kind == FACADE) if np.any(real & (a.kind == FACADE)) else real
+    rots = [frames[k].state.th[scale] - settled.th[scale] for k in pick]
     vmax = max(float(np.abs(np.concatenate(rots)).max()), 1e-9)
 
     cmap = plt.get_cmap("coolwarm").with_extremes(bad="0.7")      # the ground grey
@@ -279,7 +284,8 @@ def plot_snapshots(path, model: DEMModel, settled: DEMState, frames: list[Frame]
             ax.set_title(f"t = {frames[k].t:.2f} s", fontsize=9)
             ax.set_xlabel("x [m]")
         axes[0][0].set_ylabel("z [m]")
-        fig.colorbar(pc, ax=list(axes[0]), shrink=0.8, label="rotation from settled [rad]")
+        fig.colorbar(pc, ax=list(axes[0]), shrink=0.8, extend="both",
+                     label="rotation from settled [rad]")
         if title:
             fig.suptitle(title, fontsize=10)
         fig.savefig(p, dpi=110)
