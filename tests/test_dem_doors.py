@@ -192,6 +192,14 @@ def test_table1_dem_refuses_bad_input_before_any_work(tmp_path, extra, message):
     assert not out.exists()
 
 
+def test_table1_set_needs_dem(tmp_path):
+    out = tmp_path / "t1"
+    res = CliRunner().invoke(app, ["table1", "--set", "dem.kn=3e9", "--out", str(out)])
+    assert res.exit_code == 2, res.output
+    assert "--set 'dem.kn=3e9' is out of range without --dem" in res.output
+    assert not out.exists()
+
+
 # ----------------------------------------------------------------------------- outputs
 def test_paraview_series_reads_back_and_ends_in_the_models_state(small_run):
     import meshio

@@ -331,6 +331,9 @@ def table1(as_json: JsonOpt = False, out: _out(
     from . import plots, report
     from .pipeline import result_folder, table1_blocks_records, table1_records
 
+    if overrides and not dem:
+        raise ParameterError(f"--set {overrides[0]!r} is out of range without --dem: allowed "
+                             "only with table1 --dem (its [dem] keys)")
     variant = "--dem" if dem else "--blocks" if blocks else "--fe" if fe else ""
     tests = sorted(set(test or ()))
     out = out or _table1_folder(variant, tests)
