@@ -137,3 +137,17 @@ def test_an_unregistered_name_is_refused_naming_the_allowed_ones():
 def test_a_name_is_registered_once():
     with pytest.raises(ParameterError, match="name = 'FE' is already registered"):
         registry.register(Mechanism("FE", model="fe"))
+
+
+def test_a_sweep_batches_a_case_only_when_all_its_models_batch():
+    """The closed forms alone go in vectorised batches; a case that asks for the rigid blocks
+    too (or for a registered toy) is run whole, so no model is skipped."""
+    from homlimit.app.config import load_case
+    from homlimit.app.sweep import SweepCase
+
+    closed = load_case(None, ["analysis.fe=false"])
+    blocks = load_case(None, ["analysis.fe=false", "analysis.blocks=true"])
+    assert SweepCase(0, {}, "a", closed).closed_form_only
+    assert not SweepCase(1, {}, "b", blocks).closed_form_only
+    with registry.registered(Model("toy", lambda config: True, run_toy)):
+        assert not SweepCase(0, {}, "a", closed).closed_form_only

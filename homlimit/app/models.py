@@ -333,7 +333,8 @@ def rocker_fe(case, mechanism, gravity_I="linearised", restitution=0.0):
 CLOSED = dict(model="closed_forms", checked=("lam", "h", "vg", "vnorm", "theta_m", "W_m"),
               body_checked=("m", "x_G", "z_G", "I_O"), static=True, marker="o", size=8)
 registry.register(
-    Model("closed_forms", lambda config: config.analysis.closed_form, run_closed_forms),
+    Model("closed_forms", lambda config: config.analysis.closed_form, run_closed_forms,
+          batched=True),
     Model("fe", lambda config: config.analysis.fe, run_fe, check_fe),
     Model("blocks", lambda config: config.analysis.blocks, run_blocks),
     Mechanism("I", rocker=rocker_I, alone=lambda config: mech.mechanism_I(config.case),

@@ -4,7 +4,8 @@ A *model* turns a validated case into results (``Model``): the closed forms, the
 rigid blocks (``app.models`` registers them), and later the DEM. A *mechanism* is what a model
 produces: a rigid body turning about a hinge (``Mechanism`` says what the app may ask of it).
 The objects a model puts in ``pipeline.Result.mechanisms`` offer ``name``, ``label``, ``lam``,
-``h``, ``vg``, ``vnorm``, ``hinge_ratio`` and ``as_dict()``; where the package computes them,
+``h``, ``vg``, ``vnorm`` and ``as_dict()`` (and ``hinge_ratio`` with a rocker: the hinge
+check's |P_x/P_z| under the ideal impulse); where the package computes them,
 also ``body`` (an ``impulse.RigidBody``: mass m, centre of gravity x_G, z_G and inertia I_O
 about the hinge, i.e. ∫dm, ∫x dm = m x_G, ∫z dm = m z_G and ∫(x² + z²) dm = I_O), ``theta_m``
 and ``W_m`` (the peak of W(θ), eqs 4–7), or ``impulse`` (the FE body's one-DOF impulse), and
@@ -66,12 +67,15 @@ class Model:
     """A model: ``enabled(config)`` says whether the case asks for it; ``run(config, result)``
     fills the ``pipeline.Result`` (its ``mechanisms``, and what else the model owns: curves,
     the FE path, the blocks), logging and timing its stages itself; ``check(result)``: a
-    ``ResultError`` for what it owns beyond its mechanisms that is not a finite number."""
+    ``ResultError`` for what it owns beyond its mechanisms that is not a finite number;
+    ``batched``: a sweep evaluates its cases in vectorised batches (``sweep.batch_closed_form``,
+    the closed forms) when it is the only kind of model a case asks for."""
 
     name: str
     enabled: Callable[[Any], bool]
     run: Callable[[Any, Any], None]
     check: Callable[[Any], None] | None = None
+    batched: bool = False
 
 
 _MODELS: dict[str, Model] = {}
