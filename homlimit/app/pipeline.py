@@ -4,14 +4,14 @@
 call ``run`` below, which
 
 1. validates the case (``config``), before any computation;
-2. evaluates the closed-form mechanisms I (eqs 8–14) and II (eqs 16–20) at their critical
-   slenderness, and their v̄_g(λ) curves (``closed_form.mechanisms``);
-3. when ``[analysis] fe`` is on, runs the finite-element path (``mechanism.analysis``): the
-   impulse scan over collapse heights, the whole wall's mechanism and crack, and its static
-   lower bound on the same mesh;
-4. checks that every result is a finite number (``ResultError`` naming the mechanism and the
+2. runs every registered model the case enables (``registry``, ``models``): the closed-form
+   mechanisms I (eqs 8–14) and II (eqs 16–20) at their critical slenderness and their
+   v̄_g(λ) curves; with ``[analysis] fe`` the finite-element path (the impulse scan over
+   collapse heights, the whole wall's mechanism and crack, its static lower bound); with
+   ``[analysis] blocks`` the rigid blocks;
+3. checks that every result is a finite number (``ResultError`` naming the mechanism and the
    quantity otherwise);
-5. writes the result files (``report.write``) as one result set (``result_folder``): into a
+4. writes the result files (``report.write``) as one result set (``result_folder``): into a
    staging folder that replaces the output folder in one rename at the end, so the folder holds
    the previous set or the new one, never a mix. The output folder is checked (and the staging
    folder created) before any computation.
@@ -69,12 +69,13 @@ log = logging.getLogger(__name__)
 class Result:
     """Everything one ``run`` produced.
 
-    mechanisms: name → mechanism ("I", "II": ``closed_form.mechanisms.MechanismResult``;
-    "FE": the critical ``mechanism.analysis.FEMechanism``), each with ``label``, ``lam``,
-    ``h``, ``vg``, ``vnorm``, ``hinge_ratio`` and ``as_dict()``; fe: the whole FE path
-    (``FEResult``); curves: λ and v̄_g(λ) of the closed forms; dem: the paper's Table 1 row of
-    this wall; hinges: per mechanism, the shortest rectangular pulse whose acceleration the
-    hinge holds (a_g <= f g) that still overturns it (``dynamics.holding_pulse``).
+    mechanisms: name → mechanism, in the registry's order (``registry``: what each offers;
+    "I", "II": ``closed_form.mechanisms.MechanismResult``, "FE": the critical
+    ``mechanism.analysis.FEMechanism``, "blocks": ``blocks.BlocksAnalysis``); fe: the whole
+    FE path (``FEResult``); curves: name → (λ, v̄_g(λ), label) of the closed forms; dem: the
+    paper's Table 1 row of this wall; hinges: per mechanism with a rocker, the shortest
+    rectangular pulse whose acceleration the hinge holds (a_g <= f g) that still overturns
+    it (``dynamics.holding_pulse``).
     """
 
     config: CaseConfig
