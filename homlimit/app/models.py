@@ -34,12 +34,12 @@ from ..blocks import analyse_blocks
 from ..closed_form import mechanisms as mech
 from ..dynamics import GeneralisedRocker, MechanismIRocker, RigidRocker
 from ..errors import OutputError, ParameterError, ResultError
-from ..fe.mesh import cache_dir
+from ..fe.mesh import cache_dir, from_skfem
 from ..fe.solver import SolverOptions
 from ..impulse import RigidBody
 from ..mechanism.analysis import FEResult, fe_result
 from ..mechanism.fe_impulse import GeneralisedImpulse
-from . import registry
+from . import plots, registry, report
 from .config import CaseConfig
 from .registry import Mechanism, Model
 
@@ -259,6 +259,16 @@ def run_closed_forms(config, result) -> None:
         result.mechanisms.update(mechanisms)
 
 
+def closed_form_files(result) -> dict:
+    """vg_lambda.png: the curves v̄_g(λ), every mechanism's critical point, the FE scan and
+    the paper's DEM value."""
+    if not (result.config.output.png and result.curves):
+        return {}
+    return {"vg_lambda_png": ("vg_lambda.png", lambda p: plots.plot_vg_lambda(
+        p, result.curves, result.mechanisms, fe=result.fe, dem=result.dem,
+        title=f"case {result.name}", b=result.case.wall.b))}
+
+
 def run_fe(config, result) -> None:
     """The FE path (``fe_result``): on the adaptive bracket's mesh (``adaptive``) or the
     case's; its critical body becomes mechanism "FE" when the scan found one."""
@@ -301,6 +311,33 @@ def check_fe(result) -> None:
                           "written ([analysis] fe = false skips the FE path)")
 
 
+def fe_files(result) -> dict:
+    """The FE path's files: mesh.png, mechanism.png, stress.png (static bound), fe_adapt.csv
+    and adapt.png (adaptive bracket), fe_scan.csv, mechanism.vtu."""
+    art, cfg, title = result.fe, result.config.output, f"case {result.name}"
+    if art is None:
+        return {}
+    out = {}
+    if cfg.png:
+        out["mesh_png"] = ("mesh.png", lambda p: plots.plot_mesh(
+            p, from_skfem(art.whole.problem.mesh), title=title))
+        out["mechanism_png"] = ("mechanism.png", lambda p: plots.plot_mechanism(
+            p, art.whole.drawing(), result.case, title=title))
+        if art.static is not None:
+            out["stress_png"] = ("stress.png", lambda p: plots.plot_stress(
+                p, art.static, title=f"{title}: lower-bound stress field, λ⁻ = "
+                                     f"{art.static.multiplier:.4g}"))
+    if art.adapt is not None:
+        cycles = [c.as_dict() for c in art.adapt.cycles]
+        out["fe_adapt_csv"] = ("fe_adapt.csv", cycles)
+        if cfg.png:
+            out["adapt_png"] = ("adapt.png", lambda p: plots.plot_adapt(p, cycles, title=title))
+    out["fe_scan_csv"] = ("fe_scan.csv", [m.record() for m in art.scan])
+    if cfg.vtu:
+        out["mechanism_vtu"] = ("mechanism.vtu", report.mechanism_mesh(art))
+    return out
+
+
 def run_blocks(config, result) -> None:
     b = config.blocks
     with stage(result.timings, "rigid blocks", f"façade {b.facade}, {b.friction}"):
@@ -308,6 +345,16 @@ def run_blocks(config, result) -> None:
                                        b.non_associative_check,
                                        solver_options(config.analysis.tol))
     result.mechanisms[result.blocks.name] = result.blocks
+
+
+def blocks_files(result) -> dict:
+    """The rigid blocks' files (``BlocksAnalysis.files``), pictures and meshes as asked."""
+    if result.blocks is None:
+        return {}
+    cfg = result.config.output
+    return {name.replace(".", "_"): (name, data)
+            for name, data in result.blocks.files().items()
+            if (cfg.png or not name.endswith(".png")) and (cfg.vtu or not name.endswith(".vtu"))}
 
 
 # ----------------------------------------------------------------------------- the rockers
@@ -334,9 +381,9 @@ CLOSED = dict(model="closed_forms", checked=("lam", "h", "vg", "vnorm", "theta_m
               body_checked=("m", "x_G", "z_G", "I_O"), static=True, marker="o", size=8)
 registry.register(
     Model("closed_forms", lambda config: config.analysis.closed_form, run_closed_forms,
-          batched=True),
-    Model("fe", lambda config: config.analysis.fe, run_fe, check_fe),
-    Model("blocks", lambda config: config.analysis.blocks, run_blocks),
+          batched=True, files=closed_form_files),
+    Model("fe", lambda config: config.analysis.fe, run_fe, check_fe, files=fe_files),
+    Model("blocks", lambda config: config.analysis.blocks, run_blocks, files=blocks_files),
     Mechanism("I", rocker=rocker_I, alone=lambda config: mech.mechanism_I(config.case),
               colour="tab:blue", **CLOSED),
     Mechanism("II", rocker=rigid_rocker, alone=lambda config: mech.mechanism_II(config.case),

@@ -463,41 +463,12 @@ def _warn_implausible(points) -> None:
 
 # ----------------------------------------------------------------------------- the outputs
 def _outputs(result: Result) -> dict[str, tuple[str, object]]:
-    """Key → (file name, what ``report.write`` writes there) for the files the case asks for."""
-    from . import plots
-
-    cfg, art, title = result.config.output, result.fe, f"case {result.name}"
+    """Key → (file name, what ``report.write`` writes there) for the files the case asks for:
+    each model's (``registry.Model.files``), in the registry's order."""
     out: dict[str, tuple[str, object]] = {}
-    if cfg.png:
-        if result.curves:
-            out["vg_lambda_png"] = ("vg_lambda.png", lambda p: plots.plot_vg_lambda(
-                p, result.curves, result.mechanisms, fe=art, dem=result.dem, title=title,
-                b=result.case.wall.b))
-        if art is not None:
-            from ..fe.mesh import from_skfem
-
-            out["mesh_png"] = ("mesh.png", lambda p: plots.plot_mesh(
-                p, from_skfem(art.whole.problem.mesh), title=title))
-            out["mechanism_png"] = ("mechanism.png", lambda p: plots.plot_mechanism(
-                p, art.whole.drawing(), result.case, title=title))
-            if art.static is not None:
-                out["stress_png"] = ("stress.png", lambda p: plots.plot_stress(
-                    p, art.static, title=f"{title}: lower-bound stress field, λ⁻ = "
-                                         f"{art.static.multiplier:.4g}"))
-    if art is not None and art.adapt is not None:
-        cycles = [c.as_dict() for c in art.adapt.cycles]
-        out["fe_adapt_csv"] = ("fe_adapt.csv", cycles)
-        if cfg.png:
-            out["adapt_png"] = ("adapt.png", lambda p: plots.plot_adapt(p, cycles, title=title))
-    if art is not None:
-        out["fe_scan_csv"] = ("fe_scan.csv", [m.record() for m in art.scan])
-        if cfg.vtu:
-            out["mechanism_vtu"] = ("mechanism.vtu", report.mechanism_mesh(art))
-    if result.blocks is not None:
-        out.update({name.replace(".", "_"): (name, data)
-                    for name, data in result.blocks.files().items()
-                    if (cfg.png or not name.endswith(".png"))
-                    and (cfg.vtu or not name.endswith(".vtu"))})
+    for model in registry.models():
+        if model.files is not None:
+            out.update(model.files(result))
     return out
 
 

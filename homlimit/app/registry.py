@@ -69,13 +69,16 @@ class Model:
     the FE path, the blocks), logging and timing its stages itself; ``check(result)``: a
     ``ResultError`` for what it owns beyond its mechanisms that is not a finite number;
     ``batched``: a sweep evaluates its cases in vectorised batches (``sweep.batch_closed_form``,
-    the closed forms) when it is the only kind of model a case asks for."""
+    the closed forms) when it is the only kind of model a case asks for; ``files(result)``:
+    key → (file name, data for ``report.write``) of the files it adds to a run's result set,
+    as ``[output]`` asks (its pictures, tables, meshes; {} when it did not run)."""
 
     name: str
     enabled: Callable[[Any], bool]
     run: Callable[[Any, Any], None]
     check: Callable[[Any], None] | None = None
     batched: bool = False
+    files: Callable[[Any], dict] | None = None
 
 
 _MODELS: dict[str, Model] = {}
