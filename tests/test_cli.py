@@ -26,7 +26,7 @@ from test_report import assert_png
 from typer.testing import CliRunner
 
 import homlimit
-from homlimit.app import models, pipeline
+from homlimit.app import models
 from homlimit.app.cli import app
 from homlimit.errors import SolverError
 
