@@ -107,3 +107,87 @@ def test_the_checker_sees_imports():
     mods = _modules()
     deps = _imports("homlimit.mechanism.analysis", mods["homlimit.mechanism.analysis"], mods)
     assert {"homlimit.params", "homlimit.fe.problems", "homlimit.mechanism.crack"} <= deps
+
+
+# ----------------------------------------------------------------------------- issue 28
+MECHANISM_NAMES = {"I", "II", "FE"}
+REGISTRY = "homlimit.app.registry"     # the one module that may compare mechanism names
+
+
+def _literal_names(node: ast.AST) -> set[str]:
+    """The mechanism names a comparison operand spells literally (a string, or a tuple, list
+    or set of strings)."""
+    items = node.elts if isinstance(node, (ast.Tuple, ast.List, ast.Set)) else [node]
+    return {e.value for e in items if isinstance(e, ast.Constant) and e.value in MECHANISM_NAMES}
+
+
+def _name_comparisons(source: str) -> list[tuple[int, str]]:
+    """(line, names) of every comparison (==, !=, in, not in, is, match case) against a
+    literal mechanism name, and of every loop over a literal list of them."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Compare):
+            names = set().union(*(_literal_names(x) for x in [node.left, *node.comparators]))
+        elif isinstance(node, ast.MatchValue):
+            names = _literal_names(node.value)
+        elif isinstance(node, (ast.For, ast.comprehension)) and not isinstance(
+                node.iter, ast.Constant):
+            names = _literal_names(node.iter)
+        else:
+            continue
+        if names:
+            line = node.iter.lineno if isinstance(node, ast.comprehension) else node.lineno
+            found.append((line, ", ".join(sorted(names))))
+    return sorted(found)
+
+
+def test_no_module_compares_mechanism_names():
+    """Models and mechanisms live in the registry (``app.registry``): no other module
+    switches on the names "I", "II" or "FE" (issue 28)."""
+    bad = [f"{name}:{line}: compares against {names}"
+           for name, path in sorted(_modules().items()) if name != REGISTRY
+           for line, names in _name_comparisons(path.read_text(encoding="utf-8"))]
+    assert not bad, "mechanism names compared outside the registry:\n  " + "\n  ".join(bad)
+
+
+def test_the_name_check_sees_comparisons():
+    src = ('if m == "I": pass\nif "FE" in x: pass\nif k in ("I", "II"): pass\n'
+           'match m:\n    case "II": pass\nif m != "blocks": pass\nd = {"I": 1}\n'
+           'for k in ["I", "FE"]: pass\nx = [k for k in ("II",)]\nfor c in "FE": pass\n')
+    assert _name_comparisons(src) == [(1, "I"), (2, "FE"), (3, "I, II"), (5, "II"),
+                                      (8, "FE, I"), (9, "II")]
+
+
+def _private_imports(name: str, path: Path, modules: dict[str, Path]) -> list[str]:
+    """``from X import _y`` where ``_y`` is a private name of another module X (importing a
+    module whose file name starts with "_", such as ``_io``, is importing a module, allowed)."""
+    is_pkg = path.name == "__init__.py"
+    base = name.split(".") if is_pkg else name.split(".")[:-1]
+    bad = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if not isinstance(node, ast.ImportFrom):
+            continue
+        if node.level:
+            root = ".".join(base[:len(base) - node.level + 1])
+            mod = f"{root}.{node.module}" if node.module else root
+        else:
+            mod = node.module or ""
+        for a in node.names:
+            private = a.name.startswith("_") and not a.name.startswith("__")
+            if private and f"{mod}.{a.name}" not in modules and mod != name:
+                bad.append(f"{name}:{node.lineno}: from {mod} import {a.name}")
+    return bad
+
+
+def test_no_module_imports_another_modules_private_name():
+    mods = _modules()
+    bad = [b for name, path in sorted(mods.items()) for b in _private_imports(name, path, mods)]
+    assert not bad, "private names imported from another module:\n  " + "\n  ".join(bad)
+
+
+def test_the_private_import_check_sees_one(tmp_path):
+    mods = {"homlimit.app.a": tmp_path / "a.py", "homlimit.app._b": tmp_path / "_b.py"}
+    mods["homlimit.app.a"].write_text("from .pipeline import _hinges\nfrom . import _b\n"
+                                      "from .pipeline import run\nimport numpy._core\n")
+    assert _private_imports("homlimit.app.a", mods["homlimit.app.a"], mods) == [
+        "homlimit.app.a:1: from homlimit.app.pipeline import _hinges"]

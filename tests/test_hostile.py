@@ -17,7 +17,7 @@ import pytest
 from typer.testing import CliRunner
 
 from homlimit import _io
-from homlimit.app import pipeline
+from homlimit.app import models, pipeline
 from homlimit.app.cli import app
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -49,9 +49,9 @@ def no_compute(monkeypatch):
     def boom(*a, **k):  # pragma: no cover - must never run
         raise AssertionError("computation started")
 
-    for name in ("compute", "table1_records", "crack_study_records", "_whole_problem",
-                 "pulse_records"):
+    for name in ("compute", "table1_records", "crack_study_records", "pulse_records"):
         monkeypatch.setattr(pipeline, name, boom)
+    monkeypatch.setattr(models, "whole_problem", boom)
     import homlimit.fe.problems
 
     monkeypatch.setattr(homlimit.fe.problems, "t_section", boom)
@@ -246,8 +246,8 @@ def no_meshing(monkeypatch):
 
     for mod in (homlimit.fe.problems, homlimit.app.studies, homlimit.mechanism.analysis):
         monkeypatch.setattr(mod, "t_section", boom)
-    monkeypatch.setattr(pipeline, "fe_result", boom)
-    monkeypatch.setattr(pipeline, "_whole_problem", boom)
+    monkeypatch.setattr(models, "fe_result", boom)
+    monkeypatch.setattr(models, "whole_problem", boom)
 
 
 def test_the_triangle_budget_stops_before_meshing(sandbox, no_meshing):
@@ -309,14 +309,14 @@ def test_internal_names_never_reach_the_user(sandbox, no_compute, sets, message)
 
 
 def test_a_non_finite_result_is_exit_3_naming_mechanism_and_quantity(sandbox, monkeypatch):
-    real = pipeline._closed_form
+    real = models.closed_forms
 
     def nan_II(config):
         mechs, curves = real(config)
         mechs["II"] = types.SimpleNamespace(**{**vars(mechs["II"]), "vg": float("nan")})
         return mechs, curves
 
-    monkeypatch.setattr(pipeline, "_closed_form", nan_II)
+    monkeypatch.setattr(models, "closed_forms", nan_II)
     res = invoke("demo", "--set", "analysis.fe=false", "--json")
     assert res.exit_code == 3 and res.stdout == ""
     assert doc("no result: mechanism II: vg = nan is not a finite number") in res.stderr
@@ -326,9 +326,9 @@ def test_a_non_finite_result_is_exit_3_naming_mechanism_and_quantity(sandbox, mo
 def test_no_fe_collapse_velocity_is_exit_3(sandbox, monkeypatch):
     whole = types.SimpleNamespace(multiplier=0.15, vg=float("nan"),
                                   vg_method="not available: no block")
-    monkeypatch.setattr(pipeline, "_whole_problem",
+    monkeypatch.setattr(models, "whole_problem",
                         lambda config: types.SimpleNamespace(n_triangles=10))
-    monkeypatch.setattr(pipeline, "fe_result", lambda *a, **k: types.SimpleNamespace(
+    monkeypatch.setattr(models, "fe_result", lambda *a, **k: types.SimpleNamespace(
         whole=whole, critical=None, static=None, lower_bound=None))
     res = invoke("demo")
     assert res.exit_code == 3

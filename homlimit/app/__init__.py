@@ -1,1 +1,3 @@
 """The application layer: case files, the pipeline, reports, pictures and the command line."""
+
+from . import models  # noqa: F401  (registers the built-in models and mechanisms)

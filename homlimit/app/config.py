@@ -48,7 +48,7 @@ from ..params import (
     Masonry,
     Wall,
 )
-from . import budget
+from . import budget, registry
 
 __all__ = ["AnalysisConfig", "BlocksConfig", "CaseConfig", "ConfigError", "DemConfig", "Key",
            "MeshConfig", "OutputConfig", "PulseConfig", "SCHEMA", "case_data", "check_base",
@@ -312,7 +312,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "polarities": Key(list, [1, -1], item=int, choices=(1, -1),
                           doc="pulse polarities: +1 pushes the ground towards +x first (the "
                               "façade's inertia outwards)"),
-        "mechanisms": Key(list, ["I", "II"], item=str, choices=("I", "II", "FE"),
+        "mechanisms": Key(list, ["I", "II"], item=str, choices=registry.PULSE_CHOICES,
                           doc="mechanisms whose spectra are computed (FE runs the FE path "
                               "first: its critical body, rigid or one-DOF)"),
         "gravity_I": Key(str, "linearised", choices=("linearised", "exact"),
@@ -660,7 +660,7 @@ def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> l
             out.append(f"[analysis] dem = true needs about {n} blocks ((H/a)(L/2c + 1)): out "
                        f"of range: allowed up to [dem] max_blocks = {dm['max_blocks']} "
                        "(larger blocks a, c, or raise max_blocks)")
-    pulse_fe = "FE" in (v.get("pulse", {}).get("mechanisms") or ())   # `pulse` runs the FE path
+    pulse_fe = registry.needs_mesh(v.get("pulse", {}).get("mechanisms") or ())  # FE for `pulse`
     fe = mesh_only or an.get("fe", False) or pulse_fe
     if not (fe and has(me, "size", "max_triangles") and has(w, "H", "b", "L")):
         return out

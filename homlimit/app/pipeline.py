@@ -4,14 +4,14 @@
 call ``run`` below, which
 
 1. validates the case (``config``), before any computation;
-2. evaluates the closed-form mechanisms I (eqs 8–14) and II (eqs 16–20) at their critical
-   slenderness, and their v̄_g(λ) curves (``closed_form.mechanisms``);
-3. when ``[analysis] fe`` is on, runs the finite-element path (``mechanism.analysis``): the
-   impulse scan over collapse heights, the whole wall's mechanism and crack, and its static
-   lower bound on the same mesh;
-4. checks that every result is a finite number (``ResultError`` naming the mechanism and the
+2. runs every registered model the case enables (``registry``, ``models``): the closed-form
+   mechanisms I (eqs 8–14) and II (eqs 16–20) at their critical slenderness and their
+   v̄_g(λ) curves; with ``[analysis] fe`` the finite-element path (the impulse scan over
+   collapse heights, the whole wall's mechanism and crack, its static lower bound); with
+   ``[analysis] blocks`` the rigid blocks;
+3. checks that every result is a finite number (``ResultError`` naming the mechanism and the
    quantity otherwise);
-5. writes the result files (``report.write``) as one result set (``result_folder``): into a
+4. writes the result files (``report.write``) as one result set (``result_folder``): into a
    staging folder that replaces the output folder in one rename at the end, so the folder holds
    the previous set or the new one, never a mix. The output folder is checked (and the staging
    folder created) before any computation.
@@ -24,13 +24,10 @@ commands' work is here too: ``table1_records``, ``crack_study_records``, ``mesh_
 from __future__ import annotations
 
 import dataclasses
-import functools
 import hashlib
-import json
 import logging
 import math
 import os
-import time
 import unicodedata
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -43,41 +40,42 @@ from .. import _io
 from .._version import package_version
 from ..closed_form import mechanisms as mech
 from ..closed_form.paper import DemResult, dem_row, table1, table1_rows
-from ..errors import OutputError, ParameterError, ResultError, check_choice, check_range
+from ..dynamics import holding_pulse
+from ..errors import ParameterError, ResultError, check_choice, check_range
 from ..mechanism.analysis import FEResult, fe_result
 from ..params import FACADE_DEFAULT, FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case
-from . import budget, report
+from . import budget, models, registry, report
 from .config import CaseConfig, check_mesh, load_case
+from .models import (
+    FERocker,
+    fe_cache_path,
+    fe_rocker,
+    finite,
+    read_fe_cache,
+    solver_options,
+    stage,
+    write_fe_cache,
+)
 
 __all__ = ["FERocker", "Result", "check_results", "conclude", "crack_study_records",
            "fe_cache_path", "fe_rocker", "figure2_curves", "folder_name", "mesh_case",
-           "output_dir", "package_version", "pulse_records", "result_folder", "run",
-           "source_of", "table1_blocks_records", "table1_records"]
+           "output_dir", "package_version", "pulse_records", "read_fe_cache", "result_folder",
+           "run", "source_of", "table1_blocks_records", "table1_records", "write_fe_cache"]
 
 log = logging.getLogger(__name__)
-
-
-@contextmanager
-def _stage(timings: dict[str, float], name: str, detail: str = ""):
-    """Log a stage's start and end and add its wall time to ``timings``."""
-    log.info("%s%s ...", name, f" ({detail})" if detail else "")
-    t0 = time.perf_counter()
-    yield
-    dt = time.perf_counter() - t0
-    timings[name] = timings.get(name, 0.0) + dt
-    log.info("%s done in %.2f s", name, dt)
 
 
 @dataclass
 class Result:
     """Everything one ``run`` produced.
 
-    mechanisms: name → mechanism ("I", "II": ``closed_form.mechanisms.MechanismResult``;
-    "FE": the critical ``mechanism.analysis.FEMechanism``), each with ``label``, ``lam``,
-    ``h``, ``vg``, ``vnorm``, ``hinge_ratio`` and ``as_dict()``; fe: the whole FE path
-    (``FEResult``); curves: λ and v̄_g(λ) of the closed forms; dem: the paper's Table 1 row of
-    this wall; hinges: per mechanism, the shortest rectangular pulse whose acceleration the
-    hinge holds (a_g <= f g) that still overturns it (``dynamics.holding_pulse``).
+    mechanisms: name → mechanism, in the registry's order (``registry``: what each offers;
+    "I", "II": ``closed_form.mechanisms.MechanismResult``, "FE": the critical
+    ``mechanism.analysis.FEMechanism``, "blocks": ``blocks.BlocksAnalysis``); fe: the whole
+    FE path (``FEResult``); curves: name → (λ, v̄_g(λ), label) of the closed forms; dem: the
+    paper's Table 1 row of this wall; hinges: per mechanism with a rocker, the shortest
+    rectangular pulse whose acceleration the hinge holds (a_g <= f g) that still overturns
+    it (``dynamics.holding_pulse``).
     """
 
     config: CaseConfig
@@ -224,79 +222,6 @@ def announce(config: CaseConfig):
         log.warning("warning: %s", w)
 
 
-def _solver_options(tol: float | None = None):
-    """Solver settings of a run: the measured defaults, the solver log when debugging."""
-    from ..fe.solver import SolverOptions
-
-    return SolverOptions(tol=tol or None, verbose=log.isEnabledFor(logging.DEBUG))
-
-
-# ----------------------------------------------------------------------------- the analyses
-def _closed_form(config: CaseConfig) -> tuple[dict, dict]:
-    """Mechanisms I and II at their critical λ, and v̄_g(λ) over 0 < λ <= H/b."""
-    case, an = config.case, config.analysis
-    m1 = mech.mechanism_I(case)
-    m2 = mech.mechanism_II(case, tanpsi=an.tanpsi or None)  # 0: eq. 16's √(cf/a)
-    w = case.wall
-    lam = np.linspace(w.lam_max / an.lam_points, w.lam_max, an.lam_points)
-    scale = math.sqrt(w.g * w.b)
-    lam2 = lam[lam <= m2.lam_max * (1 + 1e-12)]
-    curves = {"lam_I": lam, "vg_I": mech.vnorm_I(lam, case.rho, case.alpha, case.beta) * scale,
-              "lam_II": lam2, "vg_II": mech.vnorm_II(lam2, case.rho, m2.tanpsi) * scale}
-    return {"I": m1, "II": m2}, curves
-
-
-def _hinges(case: Case, mechanisms: dict) -> dict:
-    """Per mechanism, the shortest rectangular pulse of a_g = f g (the most the bed joint under
-    the hinge holds) that still overturns it (``dynamics.holding_pulse``): the ideal impulse
-    needs |P_x/P_z| (``hinge_ratio``), more than f for the Table 1 walls."""
-    from ..dynamics import case_rockers, holding_pulse
-
-    closed = [k for k in ("I", "II") if k in mechanisms]   # (no rocker of the blocks yet)
-    rockers = case_rockers(case, closed, fe_body=mechanisms.get("FE"))
-    return {k: holding_pulse(rk, case.masonry.f) for k, rk in rockers.items()}
-
-
-def _adaptive(config: CaseConfig) -> bool:
-    """The whole wall's bracket is adaptive on unstructured gmsh meshes (``[mesh] mesher =
-    "gmsh"``) with the static bound on and more than one cycle allowed."""
-    return (config.mesh.mesher == "gmsh" and config.analysis.static
-            and config.adapt.max_cycles > 1)
-
-
-def _adaptive_bracket(config: CaseConfig, timings: dict):
-    """``mechanism.adaptive.adaptive_bracket`` of the whole wall, each cycle logged."""
-    from ..fe.adapt import AdaptOptions
-    from ..mechanism.adaptive import adaptive_bracket
-
-    ad = config.adapt
-    opts = AdaptOptions(target_gap=ad.target_gap, max_cycles=ad.max_cycles,
-                        min_size=ad.min_size, max_triangles=config.mesh.max_triangles)
-
-    def progress(c):
-        log.info("  adaptive bracket, cycle %d: %d triangles, %.5g <= multiplier <= %.5g; "
-                 "best %.5g .. %.5g (gap %.2f %%), %.1f s", c.cycle, c.triangles, c.lower,
-                 c.upper, c.best_lower, c.best_upper, 100 * c.rel_gap, c.seconds)
-
-    with _stage(timings, "adaptive bracket", f"target gap {100 * ad.target_gap:g} %, at most "
-                f"{ad.max_cycles} meshes"):
-        res = adaptive_bracket(config.case, config.analysis.facade, config.mesh.size, opts,
-                               _solver_options(config.analysis.tol), progress)
-    if not res.converged:
-        log.warning("warning: the adaptive bracket stopped (%s) at a gap of %.2f %%, above "
-                    "its target %g %%", res.stop, 100 * res.cycles[-1].rel_gap,
-                    100 * ad.target_gap)
-    return res
-
-
-def _whole_problem(config: CaseConfig):
-    """The whole wall's T-section problem (``problems.t_section``, base at z = 0)."""
-    from ..fe.problems import t_section
-
-    return t_section(config.case, facade=config.analysis.facade, h=config.mesh.size,
-                     mesher=config.mesh.mesher)
-
-
 # ----------------------------------------------------------------------------- other commands
 def _check_budget(option: str, cases, size: float, max_triangles: int, scan: bool = True,
                   mesher: str = MESHER_DEFAULT):
@@ -339,17 +264,17 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
         _check_budget("--mesh-size", [c for t, c in cases.items() if not tests or t in tests],
                       mesh_size, max_triangles, mesher=mesher)
     timings: dict[str, float] = {}
-    with _stage(timings, "closed forms for Table 1"):
+    with stage(timings, "closed forms for Table 1"):
         rows = [r for r in table1_rows() if not tests or r["test"] in tests]
     walls = [cases[row["test"]] for row in rows] if fe else []
     results = []
     if walls:
-        with _stage(timings, "FE body", f"{len(walls)} walls"):
+        with stage(timings, "FE body", f"{len(walls)} walls"):
             if fe_results is None:
-                results = [fe_result(case, mesh_size, facade, _solver_options(),
+                results = [fe_result(case, mesh_size, facade, solver_options(),
                                      heights=heights, mesher=mesher) for case in walls]
             else:
-                results = fe_results(walls, mesh_size, facade, heights, _solver_options(),
+                results = fe_results(walls, mesh_size, facade, heights, solver_options(),
                                      mesher)
     for row, res in zip(rows, results):
         crit = res.critical
@@ -376,7 +301,7 @@ def table1_blocks_records(tests: list[str] | None = None, step: int = 1,
     names = [t.test for t in table1()]
     for t in tests or ():
         check_choice("test", t, names)
-    return table1_blocks(step, facade, non_associative_check, _solver_options(), tests=tests)
+    return table1_blocks(step, facade, non_associative_check, solver_options(), tests=tests)
 
 
 def figure2_curves(rho=None) -> dict:
@@ -439,7 +364,7 @@ def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quic
     grid = {k: tuple(v) for k, v in (("c_over_a", c_over_a), ("frictions", frictions),
                                      ("facades", facades)) if v}
     return crack_angle_study(mesh_size=mesh_size, finer=finer, quick=quick,
-                             options=_solver_options(), map=map, mesher=mesher, **grid)
+                             options=solver_options(), map=map, mesher=mesher, **grid)
 
 
 def mesh_case(config: CaseConfig, out: Path) -> dict:
@@ -451,7 +376,7 @@ def mesh_case(config: CaseConfig, out: Path) -> dict:
 
     check_mesh(config)
     with result_folder(out, "mesh", case=config.name, **source_of(config)) as staging:
-        m = from_skfem(_whole_problem(config).mesh)
+        m = from_skfem(models.whole_problem(config).mesh)
         _, tri, region, names = plots.triangle_regions(m)
         report.write(staging / "mesh.vtu", m)
         plots.plot_mesh(staging / "mesh.png", m, title=f"case {config.name}")
@@ -462,146 +387,15 @@ def mesh_case(config: CaseConfig, out: Path) -> dict:
             "files": {k: str(v) for k, v in files.items()}}
 
 
-# ----------------------------------------------------------------------------- the FE cache
-FE_CACHE_FORMAT = "homlimit FE rocker 1"
-
-
-@dataclass(frozen=True)
-class FERocker:
-    """What the pulse spectra need of the FE path (``dynamics.case_rockers``' ``fe_body``):
-    the critical mechanism's one-DOF impulse (``fe_impulse.GeneralisedImpulse``), its height
-    h [m] and v̄_g [m/s]; ``cache``: its entry in the FE cache, ``from_cache``: read from it
-    (rather than computed now)."""
-
-    impulse: Any
-    h: float
-    vg: float
-    cache: Path | None = None
-    from_cache: bool = False
-
-
-@functools.cache
-def _fe_code_digest() -> str:
-    """SHA-256 of the source of every module the FE path runs (fe, mechanism, impulse,
-    params): a cache entry made by other code is never read, whatever the version says."""
-    root = Path(__file__).resolve().parents[1]
-    h = hashlib.sha256()
-    for path in sorted([*root.joinpath("fe").rglob("*.py"), *root.joinpath("mechanism")
-                        .rglob("*.py"), *root.joinpath("impulse").rglob("*.py"),
-                        root / "params.py"]):
-        h.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
-    return h.hexdigest()
-
-
-def fe_cache_inputs(config: CaseConfig) -> dict:
-    """Every input the FE path of ``config`` depends on: the case's wall, masonry, mesh and
-    analysis sections, the solver settings, the package version and its FE source code."""
-    opts = dataclasses.asdict(_solver_options(config.analysis.tol))
-    opts.pop("verbose")                       # the solver log changes no number
-    d = config.as_dict()
-    return {"format": FE_CACHE_FORMAT, **{k: d[k] for k in ("wall", "masonry", "mesh",
-                                                            "analysis")},
-            "solver": opts, "homlimit_version": package_version(), "code": _fe_code_digest()}
-
-
-def fe_cache_path(config: CaseConfig) -> Path:
-    """The FE cache entry of ``config``: ``fe-<hash of fe_cache_inputs>.json`` in the
-    package's cache folder (``fe.mesh.cache_dir()``, ``$HOMLIMIT_MESH_CACHE``)."""
-    from ..fe.mesh import cache_dir
-
-    text = _io.json_bytes(fe_cache_inputs(config), sort_keys=True)
-    return cache_dir() / f"fe-{hashlib.sha256(text).hexdigest()[:24]}.json"
-
-
-def _checksum(entry: dict) -> str:
-    return hashlib.sha256(_io.json_bytes({k: v for k, v in entry.items() if k != "sha256"},
-                                         sort_keys=True)).hexdigest()
-
-
-def write_fe_cache(config: CaseConfig, fe: FEResult) -> Path | None:
-    """Keep the critical FE mechanism's one-DOF impulse of ``fe`` (the FE path of ``config``)
-    in the FE cache, atomically, with its inputs and a checksum; None (and a warning) when
-    the cache folder cannot be written, which fails nothing else."""
-    crit = fe.critical
-    if crit is None or crit.impulse is None:
-        return None
-    gi = crit.impulse
-    entry = {"inputs": fe_cache_inputs(config),
-             "impulse": {**{k: getattr(gi, k) for k in ("M", "Pi", "W_m", "q_m", "vg",
-                                                        "lift_rest", "M_rest_share",
-                                                        "W_rest_share")},
-                         "block": dataclasses.asdict(gi.block)},
-             "h": crit.h, "vg": crit.vg, "scan": [m.record() for m in fe.scan]}
-    entry["sha256"] = _checksum(entry)
-    path = fe_cache_path(config)
-    try:      # the exact floats: json writes the shortest repr that reads back the same
-        _io.write_text(path, json.dumps(_io.to_jsonable(entry), indent=1) + "\n")
-    except (OSError, OutputError) as exc:
-        log.warning("warning: FE cache %s not written: %s", path, exc)
-        return None
-    return path
-
-
-def read_fe_cache(config: CaseConfig) -> FERocker | None:
-    """The FE cache entry of ``config`` (``fe_cache_path``) if there is one and it is sound:
-    its checksum holds, its inputs are ``config``'s, its impulse a valid one. A corrupt or
-    foreign entry is never trusted: None (and a warning), so that the caller computes the
-    FE path again and rewrites it."""
-    from ..impulse import RigidBody
-    from ..mechanism.fe_impulse import GeneralisedImpulse
-
-    path = fe_cache_path(config)
-    if not path.is_file():
-        return None
-    try:
-        entry = json.loads(path.read_text(encoding="utf-8"))
-        if entry.get("sha256") != _checksum(entry):
-            raise ValueError("checksum mismatch")
-        if entry["inputs"] != json.loads(_io.json_bytes(fe_cache_inputs(config))):
-            raise ValueError("inputs differ")
-        imp = dict(entry["impulse"])
-        gi = GeneralisedImpulse(block=RigidBody(**imp.pop("block")),
-                                **{k: float(v) for k, v in imp.items()})
-        if not all(math.isfinite(getattr(gi, k)) and getattr(gi, k) > 0
-                   for k in ("M", "Pi", "W_m", "vg")):
-            raise ValueError("impulse not positive and finite")
-        return FERocker(gi, float(entry["h"]), float(entry["vg"]), path, True)
-    except (OSError, ValueError, KeyError, TypeError, AttributeError, ParameterError) as exc:
-        log.warning("warning: FE cache entry %s ignored (%s): computing the FE path again",
-                    path, exc)
-        return None
-
-
-def fe_rocker(config: CaseConfig) -> FERocker:
-    """The FE path's critical mechanism for the pulse spectra: read from the FE cache (which
-    ``run`` fills) when the entry is sound, else computed (``fe_result``, as ``run`` without
-    the static bound) and written to the cache."""
-    cached = read_fe_cache(config)
-    if cached is not None:
-        log.info("FE result read from cache %s", cached.cache)
-        return cached
-    case, an = config.case, config.analysis
-    with _stage({}, "FE path for the FE rocker"):
-        fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
-                       heights=an.heights, divisions=config.mesh.part_divisions,
-                       mesher=config.mesh.mesher)
-    if fe.critical is None:
-        raise ParameterError("[pulse] mechanisms = 'FE': the FE scan found no mechanism "
-                             "with a v̄_g (see fe_scan's vg_method)")
-    path = write_fe_cache(config, fe)
-    if path is not None:
-        log.info("FE result written to cache %s", path)
-    return FERocker(fe.critical.impulse, fe.critical.h, fe.critical.vg, path, False)
-
-
+# ----------------------------------------------------------------------------- pulse spectra
 def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
     """The overturning spectra of ``[pulse]`` (``homlimit.dynamics``): every pulse kind ×
     mechanism × polarity × period, and the critical scale of ``[pulse] record`` if given.
-    Mechanism "FE" takes the FE path's critical mechanism from the FE cache, or runs the FE
-    path (as ``run``, without the static bound) and caches it (``fe_rocker``). Returns the
-    spectrum points and the FE rocker (None without "FE"), which says whether it came from
-    the cache."""
-    from ..dynamics import RecordPulse, case_rockers, overturning_spectrum
+    Each chosen mechanism (in the registry's order) comes from its ``alone`` (``registry``):
+    the FE body from the FE cache, or the FE path (as ``run``, without the static bound),
+    which is then cached (``models.fe_rocker``). Returns the spectrum points and the FE
+    rocker (None unless chosen), which says whether it came from the cache."""
+    from ..dynamics import RecordPulse, overturning_spectrum
     from ..dynamics.spectra import record_thresholds
 
     case, pc = config.case, config.pulse
@@ -624,21 +418,33 @@ def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
             raise ParameterError(f"[pulse] record = {pc.record!r}: {e}") from None
         for note in record.warnings:
             log.warning("warning: [pulse] record = %r: %s", pc.record, note)
-    fe = fe_rocker(config) if "FE" in pc.mechanisms else None
-    rockers = case_rockers(case, [m for m in pc.mechanisms if m != "FE"], fe_body=fe,
-                           gravity_I=pc.gravity_I, restitution=pc.restitution)
+    chosen = {e.name: _alone(e, config) for e in registry.mechanisms()
+              if e.name in pc.mechanisms}
+    rockers = {name: registry.mechanism(name).rocker(case, m, gravity_I=pc.gravity_I,
+                                                     restitution=pc.restitution)
+               for name, m in chosen.items()}
     kw = dict(b=w.b, g=w.g, rtol=pc.rtol, scan_ratio=pc.scan_ratio)
     points = []
     for kind in pc.kinds:
-        with _stage({}, "overturning spectrum", f"{kind}, {len(rockers)} mechanisms"):
+        with stage({}, "overturning spectrum", f"{kind}, {len(rockers)} mechanisms"):
             points += overturning_spectrum(
                 rockers, kind, pc.periods, polarities=pc.polarities,
                 pulse_options={"gamma": pc.gamma, "nu": pc.nu} if kind == "mp" else None, **kw)
     if record is not None:
-        with _stage({}, "critical scale of the record", pc.record):
+        with stage({}, "critical scale of the record", pc.record):
             points += record_thresholds(rockers, record, **kw)
     _warn_implausible(points)
-    return points, fe
+    return points, next((m for m in chosen.values() if isinstance(m, FERocker)), None)
+
+
+def _alone(entry: registry.Mechanism, config: CaseConfig):
+    """The mechanism ``entry`` of the case for the pulse spectra: its ``alone`` (the FE
+    path's through the FE cache), else what its model gives on the case."""
+    if entry.alone is not None:
+        return entry.alone(config)
+    result = Result(config=config)
+    registry.model(entry.model).run(config, result)
+    return result.mechanisms[entry.name]
 
 
 def _warn_implausible(points) -> None:
@@ -659,41 +465,12 @@ def _warn_implausible(points) -> None:
 
 # ----------------------------------------------------------------------------- the outputs
 def _outputs(result: Result) -> dict[str, tuple[str, object]]:
-    """Key → (file name, what ``report.write`` writes there) for the files the case asks for."""
-    from . import plots
-
-    cfg, art, title = result.config.output, result.fe, f"case {result.name}"
+    """Key → (file name, what ``report.write`` writes there) for the files the case asks for:
+    each model's (``registry.Model.files``), in the registry's order."""
     out: dict[str, tuple[str, object]] = {}
-    if cfg.png:
-        if "I" in result.mechanisms and "II" in result.mechanisms:
-            out["vg_lambda_png"] = ("vg_lambda.png", lambda p: plots.plot_vg_lambda(
-                p, result.curves, result.mechanisms, fe=art, dem=result.dem, title=title,
-                b=result.case.wall.b))
-        if art is not None:
-            from ..fe.mesh import from_skfem
-
-            out["mesh_png"] = ("mesh.png", lambda p: plots.plot_mesh(
-                p, from_skfem(art.whole.problem.mesh), title=title))
-            out["mechanism_png"] = ("mechanism.png", lambda p: plots.plot_mechanism(
-                p, art.whole.drawing(), result.case, title=title))
-            if art.static is not None:
-                out["stress_png"] = ("stress.png", lambda p: plots.plot_stress(
-                    p, art.static, title=f"{title}: lower-bound stress field, λ⁻ = "
-                                         f"{art.static.multiplier:.4g}"))
-    if art is not None and art.adapt is not None:
-        cycles = [c.as_dict() for c in art.adapt.cycles]
-        out["fe_adapt_csv"] = ("fe_adapt.csv", cycles)
-        if cfg.png:
-            out["adapt_png"] = ("adapt.png", lambda p: plots.plot_adapt(p, cycles, title=title))
-    if art is not None:
-        out["fe_scan_csv"] = ("fe_scan.csv", [m.record() for m in art.scan])
-        if cfg.vtu:
-            out["mechanism_vtu"] = ("mechanism.vtu", report.mechanism_mesh(art))
-    if result.blocks is not None:
-        out.update({name.replace(".", "_"): (name, data)
-                    for name, data in result.blocks.files().items()
-                    if (cfg.png or not name.endswith(".png"))
-                    and (cfg.vtu or not name.endswith(".vtu"))})
+    for model in registry.models():
+        if model.files is not None:
+            out.update(model.files(result))
     return out
 
 
@@ -701,7 +478,7 @@ def _write(result: Result, staging: Path, out: Path) -> dict[str, Path]:
     """Write every output of ``result`` into ``staging`` (a ``result_folder``), under the names
     they will have in ``out``; summary.json last, listing them all. Returns key → final path."""
     files = {}
-    with _stage(result.timings, "writing files"):
+    with stage(result.timings, "writing files"):
         for key, (name, data) in _outputs(result).items():
             report.write(staging / name, data)
             files[key] = out / name
@@ -717,43 +494,24 @@ def _write(result: Result, staging: Path, out: Path) -> dict[str, Path]:
     return files
 
 
-def _finite(x) -> bool:
-    try:
-        return x is not None and math.isfinite(float(x))
-    except (TypeError, ValueError):
-        return False
-
-
 def check_results(result: Result):
     """Every result a run reports is a finite number: ResultError naming the mechanism and
     the quantity otherwise (never a summary with ``null`` where a number belongs). Quantities
     that do not apply (mechanism I's tan ψ, the crack of a distributed mechanism, a scan
     height without a block, whose ``vg_method`` says why) are exempt."""
     for name, m in result.mechanisms.items():
-        quantities = ["lam", "h", "vg", "vnorm"]
-        if name in ("I", "II"):
-            quantities += ["theta_m", "W_m"]
-        for q in quantities:
-            if not _finite(getattr(m, q)):
+        entry = registry.mechanism(name)
+        for q in entry.checked:
+            if not finite(getattr(m, q)):
                 raise ResultError(f"mechanism {name}: {q} = {getattr(m, q)!r} is not a finite "
                                   f"number for this case ({_what(q)}); nothing written")
-        body = getattr(m, "body", None)
-        for q in ("m", "x_G", "z_G", "I_O") if name in ("I", "II") else ():
-            if not _finite(getattr(body, q)):
-                raise ResultError(f"mechanism {name}: body {q} = {getattr(body, q)!r} is not "
+        for q in entry.body_checked:
+            if not finite(getattr(m.body, q)):
+                raise ResultError(f"mechanism {name}: body {q} = {getattr(m.body, q)!r} is not "
                                   "a finite number for this case; nothing written")
-    fe = result.fe
-    if fe is not None:
-        if not _finite(fe.whole.multiplier):
-            raise ResultError(f"mechanism FE: the whole wall's multiplier = "
-                              f"{fe.whole.multiplier!r} is not a finite number; nothing written")
-        if fe.static is not None and not _finite(fe.lower_bound):
-            raise ResultError(f"mechanism FE: the static lower bound = {fe.lower_bound!r} is "
-                              "not a finite number; nothing written")
-        if fe.critical is None:
-            raise ResultError("mechanism FE: no collapse height of the scan gave a collapse "
-                              f"velocity vg (whole wall: {fe.whole.vg_method}); nothing "
-                              "written ([analysis] fe = false skips the FE path)")
+    for model in registry.models():
+        if model.check is not None:
+            model.check(result)
     if result.critical() is None:
         raise ResultError("no mechanism gave a collapse velocity vg; nothing written")
 
@@ -767,40 +525,12 @@ def _what(q: str) -> str:
 
 
 def compute(config: CaseConfig) -> Result:
-    """The analyses of a validated case (closed forms, FE), results checked and the hinge
-    check added (``conclude``); writes nothing."""
-    case, an = config.case, config.analysis
-    result = Result(config=config, dem=dem_row(case))
-    if an.closed_form:
-        with _stage(result.timings, "closed-form mechanisms I and II"):
-            mechanisms, result.curves = _closed_form(config)
-            result.mechanisms.update(mechanisms)
-    if an.fe:
-        adapted = _adaptive_bracket(config, result.timings) if _adaptive(config) else None
-        whole = _whole_problem(config) if adapted is None else adapted.problem
-        with _stage(result.timings, "FE analyses",
-                    f"scan from one course to H, whole wall {whole.n_triangles} triangles"
-                    f"{', static bound' if an.static else ''}"):
-            result.fe = fe_result(case, config.mesh.size, an.facade, _solver_options(an.tol),
-                                  whole=whole, static=an.static, heights=an.heights,
-                                  divisions=config.mesh.part_divisions,
-                                  mesher=config.mesh.mesher, adapted=adapted)
-        if result.fe.critical is not None:
-            result.mechanisms["FE"] = result.fe.critical
-    if an.blocks:
-        from ..blocks import analyse_blocks
-
-        b = config.blocks
-        with _stage(result.timings, "rigid blocks", f"façade {b.facade}, {b.friction}"):
-            result.blocks = analyse_blocks(case, b.facade, b.friction, b.step,
-                                           b.non_associative_check, _solver_options(an.tol))
-        result.mechanisms["blocks"] = result.blocks
-    if an.dem:
-        from .dem_stage import dem_threshold
-
-        with _stage(result.timings, "DEM threshold", f"{config.dem.loading}, bisection to "
-                                                      f"±{100 * config.dem.rel_tol:g} %"):
-            result.dem_run = dem_threshold(config)
+    """The models the case asks for (``registry.models``: the closed forms, the FE path, the
+    rigid blocks, ...), in the registry's order, then ``conclude``; writes nothing."""
+    result = Result(config=config, dem=dem_row(config.case))
+    for model in registry.models():
+        if model.enabled(config):
+            model.run(config, result)
     return conclude(result)
 
 
@@ -811,9 +541,22 @@ def conclude(result: Result) -> Result:
     each mechanism (``_hinges``). Returns ``result``, its ``hinges`` filled in."""
     check_results(result)
     if result.mechanisms and result.config.analysis.hinge_check:
-        with _stage(result.timings, "hinge check", "the shortest pulse the hinge holds"):
-            result.hinges = _hinges(result.case, result.mechanisms)
+        with stage(result.timings, "hinge check", "the shortest pulse the hinge holds"):
+            result.hinges = _hinges(result)
     return result
+
+
+def _hinges(result: Result) -> dict:
+    """Per mechanism with a rocker (``registry``), the shortest rectangular pulse of a_g = f g
+    (the most the bed joint under the hinge holds) that still overturns it
+    (``dynamics.holding_pulse``): the ideal impulse needs |P_x/P_z| (``hinge_ratio``), more
+    than f for the Table 1 walls."""
+    case, out = result.case, {}
+    for name, m in result.mechanisms.items():
+        rocker = registry.mechanism(name).rocker
+        if rocker is not None:
+            out[name] = holding_pulse(rocker(case, m), case.masonry.f)
+    return out
 
 
 def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,

@@ -13,6 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from . import registry
+
 __all__ = ["figure2", "plot_crack_study", "plot_mechanism", "plot_mesh", "plot_spectra",
            "plot_stress", "plot_table1", "plot_vg_lambda", "pyplot", "save_png",
            "triangle_regions"]
@@ -102,36 +104,35 @@ def plot_vg_lambda(path: str | Path, curves: dict, mechanisms: dict, *, fe=None,
                    title: str = "", b: float | None = None) -> Path:
     """Collapse ground velocity v̄_g against slenderness λ = h/b (eq. 7).
 
-    Mechanism I (eq. 10) and II (eqs 17–20) as curves; every mechanism of ``mechanisms``
+    ``curves``: name → (λ, v̄_g(λ), label), e.g. mechanism I (eq. 10) and II (eqs 17–20);
+    every mechanism of ``mechanisms``
     (name → object with ``lam``, ``vg``) at its critical point; the FE scan over collapse
     heights (``fe``: a ``mechanism.analysis.FEResult``) and the paper's DEM value (``dem``: a
     ``paper.DemResult``) when given.
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 5.5))
-    ax.plot(curves["lam_I"], curves["vg_I"], color="C0", label="mechanism I (detachment)")
-    ax.plot(curves["lam_II"], curves["vg_II"], color="C1",
-            label=f"mechanism II (diagonal crack, tan ψ = {mechanisms['II'].tanpsi:.3f})")
+    for name, (lam, vg, label) in curves.items():
+        ax.plot(lam, vg, color=registry.mechanism(name).colour, label=label)
     if fe is not None:
         pts = sorted((m.lam, m.vg) for m in fe.scan if math.isfinite(m.vg))
         if pts:
             ax.plot(*zip(*pts), "s--", color="C2", mec="k",
                     label="finite-element body (one analysis per collapse height)")
-    styles = {"I": ("o", "C0", 8), "II": ("o", "C1", 8), "FE": ("*", "C2", 16)}
     for name, m in mechanisms.items():
-        marker, col, ms = styles.get(name, ("^", "C4", 10))
+        look = registry.mechanism(name)
         if math.isfinite(m.vg):
-            ax.plot([m.lam], [m.vg], marker, color=col, ms=ms, mec="k",
+            ax.plot([m.lam], [m.vg], look.marker, color=look.colour, ms=look.size, mec="k",
                     label=f"critical {name}: λ = {m.lam:.2f}, v̄_g = {m.vg:.3f} m/s")
     if dem is not None:
         ax.plot([dem.lam_v], [dem.vg], "D", color="C3", ms=9, mec="k",
                 label=f"DEM, paper's Table 1 ({dem.test}): λ = {dem.lam_v:g}, "
                       f"v̄_g = {dem.vg:g} m/s")
-    finite = np.concatenate([np.asarray(curves["vg_I"]), np.asarray(curves["vg_II"])])
+    finite = np.concatenate([np.asarray(vg, float) for _, vg, _ in curves.values()])
     finite = finite[np.isfinite(finite)]
-    top = min(float(np.max(finite)), 2.5 * max(mechanisms["I"].vg, mechanisms["II"].vg))
+    top = min(float(np.max(finite)), 2.5 * max(mechanisms[name].vg for name in curves))
     ax.set_ylim(0.0, top * 1.05)
-    ax.set_xlim(0.0, float(np.max(curves["lam_I"])) * 1.02)
+    ax.set_xlim(0.0, max(float(np.max(lam)) for lam, _, _ in curves.values()) * 1.02)
     ax.set_xlabel("slenderness of the failing part λ = h/b [-]")
     ax.set_ylabel("collapse ground velocity v̄_g [m/s]")
     if b:

@@ -30,6 +30,7 @@ import numpy as np
 from .._io import write_output
 from ..errors import ParameterError
 from ..fe import mesh as fe_mesh
+from . import registry
 
 __all__ = ["OUTPUT_NAMES", "UNITS", "WRITERS", "csv_header", "format_spectra", "format_table",
            "mechanism_mesh", "read_csv", "summary_text", "units_table", "write"]
@@ -313,7 +314,7 @@ def summary_text(result) -> str:
     out = [head, "", format_table(["mechanism", "lambda=h/b", "h [m]", "vg [m/s]",
                                    "vg/sqrt(gb)"], rows)]
     statics = [f"{k} {m.multiplier:.4g} at h = {m.lam_multiplier * c.wall.b:.2f} m"
-               for k, m in result.mechanisms.items() if k in ("I", "II")]
+               for k, m in result.mechanisms.items() if registry.mechanism(k).static]
     if statics:
         out += ["", "collapse acceleration a/g of a static check (smallest over h): "
                 + "; ".join(statics)]

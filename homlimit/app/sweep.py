@@ -42,6 +42,7 @@ import numpy as np
 
 from .._io import sidecar, write_output
 from ..errors import ParameterError, check_range
+from . import registry
 from .config import (
     SCHEMA,
     TOP_LEVEL,
@@ -90,9 +91,12 @@ class SweepCase:
 
     @property
     def closed_form_only(self) -> bool:
-        """Evaluated in a vectorised batch: closed forms on, FE and the DEM off."""
-        an = self.config.analysis if self.config else None
-        return bool(an and an.closed_form and not an.fe and not an.dem)
+        """Evaluated in a vectorised batch (``batch_closed_form``): every model the case asks
+        for is a batched one (``registry.Model.batched``: the closed forms)."""
+        if self.config is None:
+            return False
+        on = [m for m in registry.models() if m.enabled(self.config)]
+        return bool(on) and all(m.batched for m in on)
 
 
 @dataclass
@@ -439,7 +443,8 @@ def _batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
         try:
             if isinstance(m2, Exception):
                 raise m2
-            res = Result(config=config, dem=dem_row(config.case), mechanisms={"I": m1, "II": m2})
+            res = Result(config=config, dem=dem_row(config.case),
+                         mechanisms={m1.name: m1, m2.name: m2})
             conclude(res)          # as compute(): results checked, then the hinge check
             rec = {**res.to_dict(), "status": "ok"}
             rec.pop("files", None)

@@ -21,11 +21,11 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParameterError
+from . import registry
 from .plots import pyplot, save_png
 
 __all__ = ["load_results", "report"]
 
-COLOURS = {"I": "tab:blue", "II": "tab:orange", "FE": "tab:green"}
 #: bytes of a sweep.json at most (100 000 cases take about 20 MB)
 MAX_META_BYTES = 1 << 30
 
@@ -133,7 +133,8 @@ def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
     plt = pyplot()
     files = {}
     num = [k for k in swept if _numeric(ok, k)]
-    mechs = [m for m in ("I", "II", "FE") if f"mechanisms.{m}.vnorm" in ok[0]
+    colour = {m.name: m.colour for m in registry.mechanisms()}
+    mechs = [m for m in colour if f"mechanisms.{m}.vnorm" in ok[0]
              or any(r.get(f"mechanisms.{m}.vnorm") is not None for r in ok)]
     crit = [str(r.get("critical.mechanism") or "none") for r in ok]
     if num:
@@ -146,7 +147,7 @@ def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
             x = _col(ok, key)
             for m in mechs:
                 ax.plot(x, _col(ok, f"mechanisms.{m}.vnorm"), "o", ms=3, alpha=0.5,
-                        color=COLOURS[m], label=m)
+                        color=colour[m], label=m)
             ax.plot(x, _col(ok, "critical.vnorm"), "k_", ms=9, label="governing")
             ax.set_xlabel(key)
             ax.set_ylabel("v̄_g / √(g b)")
@@ -161,7 +162,7 @@ def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
         y = _col(ok, num[1]) if len(num) > 1 else np.zeros(len(ok))
         for m in sorted(set(crit)):
             sel = np.array([c == m for c in crit])
-            ax.scatter(x[sel], y[sel], s=25, color=COLOURS.get(m, "grey"), label=m)
+            ax.scatter(x[sel], y[sel], s=25, color=colour.get(m, "grey"), label=m)
         ax.set_xlabel(num[0])
         ax.set_ylabel(num[1] if len(num) > 1 else "")
         ax.legend(title="governing")
@@ -170,7 +171,7 @@ def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
     if any(r.get("fe.tanpsi") is not None for r in ok):
         fig, ax = plt.subplots(figsize=(5, 5))
         pred, meas = _col(ok, "fe.sqrt_cf_a"), _col(ok, "fe.tanpsi")
-        ax.plot(pred, meas, "o", color=COLOURS["FE"])
+        ax.plot(pred, meas, "o", color="tab:green")
         lim = [0, np.nanmax(np.r_[pred, meas]) * 1.1]
         ax.plot(lim, lim, "k--", lw=1, label="tan ψ = √(cf/a) (eq. 16)")
         ax.set_xlabel("predicted tan ψ = √(cf/a)")
@@ -186,7 +187,7 @@ def _draw(rows, ok, swept, staging: Path) -> dict[str, Path]:
     a1.set_title(f"{len(ok)} cases: median {np.nanmedian(vg):.3g} m/s")
     names = sorted(set(crit))
     share = [100 * crit.count(m) / len(crit) for m in names]
-    a2.bar(names, share, color=[COLOURS.get(m, "grey") for m in names])
+    a2.bar(names, share, color=[colour.get(m, "grey") for m in names])
     a2.set_ylabel("share of cases governed [%]")
     a2.set_title("governing mechanism")
     fig.tight_layout()

@@ -332,7 +332,7 @@ class MechanismResult:
     @property
     def label(self) -> str:
         """The row label of the summary table."""
-        if self.name == "I":
+        if self.tanpsi is None:        # mechanism I: no crack
             return "I  detachment (eqs 10, 7)"
         return f"II diagonal crack tan psi={self.tanpsi:.3f} (eqs 17-20)"
 

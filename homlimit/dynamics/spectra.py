@@ -159,6 +159,14 @@ def _hinge_ratio_of(rocker: Rocker, th) -> float:
     return float(np.max(np.abs(Px) / Pz))
 
 
+#: the closed-form mechanisms' rockers: (case, gravity_I, restitution) → Rocker
+_CLOSED_FORM_ROCKERS = {
+    "I": lambda case, gravity_I, restitution: MechanismIRocker(
+        case, gravity=gravity_I, restitution=restitution),
+    "II": lambda case, gravity_I, restitution: RigidRocker(
+        mechanism_II(case).body, g=case.wall.g, restitution=restitution, name="II")}
+
+
 def case_rockers(case: Case, mechanisms: Sequence[str] = ("I", "II"),
                  fe_body=None, gravity_I: str = "linearised",
                  restitution: float = 0.0) -> dict[str, Rocker]:
@@ -171,14 +179,11 @@ def case_rockers(case: Case, mechanisms: Sequence[str] = ("I", "II"),
         raise ParameterError(f"case = {case!r} is not a homlimit.params.Case")
     out = {}
     for m in mechanisms:
-        if m == "I":
-            out["I"] = MechanismIRocker(case, gravity=gravity_I, restitution=restitution)
-        elif m == "II":
-            out["II"] = RigidRocker(mechanism_II(case).body, g=case.wall.g,
-                                    restitution=restitution, name="II")
-        else:
-            raise ParameterError(f"mechanism = {m!r} is out of range: allowed 'I', 'II' "
-                                 "(the FE body comes as fe_body)")
+        if m not in _CLOSED_FORM_ROCKERS:
+            raise ParameterError(f"mechanism = {m!r} is out of range: allowed "
+                                 + ", ".join(map(repr, _CLOSED_FORM_ROCKERS))
+                                 + " (the FE body comes as fe_body)")
+        out[m] = _CLOSED_FORM_ROCKERS[m](case, gravity_I, restitution)
     if isinstance(fe_body, RigidBody):
         out["FE"] = RigidRocker(fe_body, g=case.wall.g, restitution=restitution, name="FE")
     elif fe_body is not None:

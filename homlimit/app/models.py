@@ -1,0 +1,406 @@
+"""The built-in models and their mechanisms, registered in ``app.registry``.
+
+- the closed forms (``closed_form.mechanisms``): mechanisms I (eqs 8–14) and II (eqs 16–20) at
+  their critical slenderness, and their v̄_g(λ) curves;
+- the finite-element path (``mechanism.analysis.fe_result``): the impulse scan over collapse
+  heights, the whole wall's mechanism and crack, its static lower bound (on the same mesh, or
+  the adaptive bracket's), and mechanism "FE", its critical body; the FE cache keeps that
+  body's one-DOF impulse for ``homlimit pulse``;
+- the rigid blocks (``blocks.analyse_blocks``): mechanism "blocks".
+
+Each model runs when the case asks for it (``[analysis] closed_form``, ``fe``, ``blocks``) and
+fills the ``pipeline.Result``. ``stage`` and ``solver_options`` serve every command.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import json
+import logging
+import math
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import _io
+from .._version import package_version
+from ..blocks import analyse_blocks
+from ..closed_form import mechanisms as mech
+from ..dynamics import GeneralisedRocker, MechanismIRocker, RigidRocker
+from ..errors import OutputError, ParameterError, ResultError
+from ..fe.mesh import cache_dir, from_skfem
+from ..fe.solver import SolverOptions
+from ..impulse import RigidBody
+from ..mechanism.analysis import FEResult, fe_result
+from ..mechanism.fe_impulse import GeneralisedImpulse
+from . import plots, registry, report
+from .config import CaseConfig
+from .registry import Mechanism, Model
+
+__all__ = ["FERocker", "adaptive", "adaptive_bracket_of", "closed_forms", "fe_cache_inputs",
+           "fe_cache_path", "fe_rocker", "read_fe_cache", "rigid_rocker", "solver_options",
+           "stage", "whole_problem", "write_fe_cache"]
+
+log = logging.getLogger(__name__)
+
+
+@contextmanager
+def stage(timings: dict[str, float], name: str, detail: str = ""):
+    """Log a stage's start and end and add its wall time to ``timings``."""
+    log.info("%s%s ...", name, f" ({detail})" if detail else "")
+    t0 = time.perf_counter()
+    yield
+    dt = time.perf_counter() - t0
+    timings[name] = timings.get(name, 0.0) + dt
+    log.info("%s done in %.2f s", name, dt)
+
+
+def solver_options(tol: float | None = None):
+    """Solver settings of a run: the measured defaults, the solver log when debugging."""
+    return SolverOptions(tol=tol or None, verbose=log.isEnabledFor(logging.DEBUG))
+
+
+# ----------------------------------------------------------------------------- closed forms
+def closed_forms(config) -> tuple[dict, dict]:
+    """Mechanisms I and II at their critical λ, and their curves name → (λ, v̄_g(λ), label)
+    over 0 < λ <= H/b (II: up to its wedge's limit)."""
+    case, an = config.case, config.analysis
+    m1 = mech.mechanism_I(case)
+    m2 = mech.mechanism_II(case, tanpsi=an.tanpsi or None)  # 0: eq. 16's √(cf/a)
+    w = case.wall
+    lam = np.linspace(w.lam_max / an.lam_points, w.lam_max, an.lam_points)
+    scale = math.sqrt(w.g * w.b)
+    lam2 = lam[lam <= m2.lam_max * (1 + 1e-12)]
+    curves = {m1.name: (lam, mech.vnorm_I(lam, case.rho, case.alpha, case.beta) * scale,
+                        "mechanism I (detachment)"),
+              m2.name: (lam2, mech.vnorm_II(lam2, case.rho, m2.tanpsi) * scale,
+                        f"mechanism II (diagonal crack, tan ψ = {m2.tanpsi:.3f})")}
+    return {m1.name: m1, m2.name: m2}, curves
+
+
+# ----------------------------------------------------------------------------- the FE path
+def adaptive(config: CaseConfig) -> bool:
+    """The whole wall's bracket is adaptive on unstructured gmsh meshes (``[mesh] mesher =
+    "gmsh"``) with the static bound on and more than one cycle allowed."""
+    return (config.mesh.mesher == "gmsh" and config.analysis.static
+            and config.adapt.max_cycles > 1)
+
+
+def adaptive_bracket_of(config: CaseConfig, timings: dict):
+    """``mechanism.adaptive.adaptive_bracket`` of the whole wall, each cycle logged."""
+    from ..fe.adapt import AdaptOptions
+    from ..mechanism.adaptive import adaptive_bracket
+
+    ad = config.adapt
+    opts = AdaptOptions(target_gap=ad.target_gap, max_cycles=ad.max_cycles,
+                        min_size=ad.min_size, max_triangles=config.mesh.max_triangles)
+
+    def progress(c):
+        log.info("  adaptive bracket, cycle %d: %d triangles, %.5g <= multiplier <= %.5g; "
+                 "best %.5g .. %.5g (gap %.2f %%), %.1f s", c.cycle, c.triangles, c.lower,
+                 c.upper, c.best_lower, c.best_upper, 100 * c.rel_gap, c.seconds)
+
+    with stage(timings, "adaptive bracket", f"target gap {100 * ad.target_gap:g} %, at most "
+                f"{ad.max_cycles} meshes"):
+        res = adaptive_bracket(config.case, config.analysis.facade, config.mesh.size, opts,
+                               solver_options(config.analysis.tol), progress)
+    if not res.converged:
+        log.warning("warning: the adaptive bracket stopped (%s) at a gap of %.2f %%, above "
+                    "its target %g %%", res.stop, 100 * res.cycles[-1].rel_gap,
+                    100 * ad.target_gap)
+    return res
+
+
+def whole_problem(config: CaseConfig):
+    """The whole wall's T-section problem (``problems.t_section``, base at z = 0)."""
+    from ..fe.problems import t_section  # here: tests replace it to forbid meshing
+
+    return t_section(config.case, facade=config.analysis.facade, h=config.mesh.size,
+                     mesher=config.mesh.mesher)
+
+
+FE_CACHE_FORMAT = "homlimit FE rocker 1"
+
+
+@dataclass(frozen=True)
+class FERocker:
+    """What the pulse spectra need of the FE path (``dynamics.case_rockers``' ``fe_body``):
+    the critical mechanism's one-DOF impulse (``fe_impulse.GeneralisedImpulse``), its height
+    h [m] and v̄_g [m/s]; ``cache``: its entry in the FE cache, ``from_cache``: read from it
+    (rather than computed now)."""
+
+    impulse: Any
+    h: float
+    vg: float
+    cache: Path | None = None
+    from_cache: bool = False
+    name = "FE"                  # the mechanism it stands for (not a field)
+
+
+@functools.cache
+def _fe_code_digest() -> str:
+    """SHA-256 of the source of every module the FE path runs (fe, mechanism, impulse,
+    params): a cache entry made by other code is never read, whatever the version says."""
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256()
+    for path in sorted([*root.joinpath("fe").rglob("*.py"), *root.joinpath("mechanism")
+                        .rglob("*.py"), *root.joinpath("impulse").rglob("*.py"),
+                        root / "params.py"]):
+        h.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
+    return h.hexdigest()
+
+
+def fe_cache_inputs(config: CaseConfig) -> dict:
+    """Every input the FE path of ``config`` depends on: the case's wall, masonry, mesh and
+    analysis sections, the solver settings, the package version and its FE source code."""
+    opts = dataclasses.asdict(solver_options(config.analysis.tol))
+    opts.pop("verbose")                       # the solver log changes no number
+    d = config.as_dict()
+    return {"format": FE_CACHE_FORMAT, **{k: d[k] for k in ("wall", "masonry", "mesh",
+                                                            "analysis")},
+            "solver": opts, "homlimit_version": package_version(), "code": _fe_code_digest()}
+
+
+def fe_cache_path(config: CaseConfig) -> Path:
+    """The FE cache entry of ``config``: ``fe-<hash of fe_cache_inputs>.json`` in the
+    package's cache folder (``fe.mesh.cache_dir()``, ``$HOMLIMIT_MESH_CACHE``)."""
+    text = _io.json_bytes(fe_cache_inputs(config), sort_keys=True)
+    return cache_dir() / f"fe-{hashlib.sha256(text).hexdigest()[:24]}.json"
+
+
+def _checksum(entry: dict) -> str:
+    return hashlib.sha256(_io.json_bytes({k: v for k, v in entry.items() if k != "sha256"},
+                                         sort_keys=True)).hexdigest()
+
+
+def write_fe_cache(config: CaseConfig, fe: FEResult) -> Path | None:
+    """Keep the critical FE mechanism's one-DOF impulse of ``fe`` (the FE path of ``config``)
+    in the FE cache, atomically, with its inputs and a checksum; None (and a warning) when
+    the cache folder cannot be written, which fails nothing else."""
+    crit = fe.critical
+    if crit is None or crit.impulse is None:
+        return None
+    gi = crit.impulse
+    entry = {"inputs": fe_cache_inputs(config),
+             "impulse": {**{k: getattr(gi, k) for k in ("M", "Pi", "W_m", "q_m", "vg",
+                                                        "lift_rest", "M_rest_share",
+                                                        "W_rest_share")},
+                         "block": dataclasses.asdict(gi.block)},
+             "h": crit.h, "vg": crit.vg, "scan": [m.record() for m in fe.scan]}
+    entry["sha256"] = _checksum(entry)
+    path = fe_cache_path(config)
+    try:      # the exact floats: json writes the shortest repr that reads back the same
+        _io.write_text(path, json.dumps(_io.to_jsonable(entry), indent=1) + "\n")
+    except (OSError, OutputError) as exc:
+        log.warning("warning: FE cache %s not written: %s", path, exc)
+        return None
+    return path
+
+
+def read_fe_cache(config: CaseConfig) -> FERocker | None:
+    """The FE cache entry of ``config`` (``fe_cache_path``) if there is one and it is sound:
+    its checksum holds, its inputs are ``config``'s, its impulse a valid one. A corrupt or
+    foreign entry is never trusted: None (and a warning), so that the caller computes the
+    FE path again and rewrites it."""
+    path = fe_cache_path(config)
+    if not path.is_file():
+        return None
+    try:
+        entry = json.loads(path.read_text(encoding="utf-8"))
+        if entry.get("sha256") != _checksum(entry):
+            raise ValueError("checksum mismatch")
+        if entry["inputs"] != json.loads(_io.json_bytes(fe_cache_inputs(config))):
+            raise ValueError("inputs differ")
+        imp = dict(entry["impulse"])
+        gi = GeneralisedImpulse(block=RigidBody(**imp.pop("block")),
+                                **{k: float(v) for k, v in imp.items()})
+        if not all(math.isfinite(getattr(gi, k)) and getattr(gi, k) > 0
+                   for k in ("M", "Pi", "W_m", "vg")):
+            raise ValueError("impulse not positive and finite")
+        return FERocker(gi, float(entry["h"]), float(entry["vg"]), path, True)
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, ParameterError) as exc:
+        log.warning("warning: FE cache entry %s ignored (%s): computing the FE path again",
+                    path, exc)
+        return None
+
+
+def fe_rocker(config: CaseConfig) -> FERocker:
+    """The FE path's critical mechanism for the pulse spectra: read from the FE cache (which
+    ``run`` fills) when the entry is sound, else computed (``fe_result``, as ``run`` without
+    the static bound) and written to the cache."""
+    cached = read_fe_cache(config)
+    if cached is not None:
+        log.info("FE result read from cache %s", cached.cache)
+        return cached
+    case, an = config.case, config.analysis
+    with stage({}, "FE path for the FE rocker"):
+        fe = fe_result(case, config.mesh.size, an.facade, solver_options(an.tol),
+                       heights=an.heights, divisions=config.mesh.part_divisions,
+                       mesher=config.mesh.mesher)
+    if fe.critical is None:
+        raise ParameterError("[pulse] mechanisms = 'FE': the FE scan found no mechanism "
+                             "with a v̄_g (see fe_scan's vg_method)")
+    path = write_fe_cache(config, fe)
+    if path is not None:
+        log.info("FE result written to cache %s", path)
+    return FERocker(fe.critical.impulse, fe.critical.h, fe.critical.vg, path, False)
+
+
+# ----------------------------------------------------------------------------- the models
+def run_closed_forms(config, result) -> None:
+    with stage(result.timings, "closed-form mechanisms I and II"):
+        mechanisms, result.curves = closed_forms(config)
+        result.mechanisms.update(mechanisms)
+
+
+def closed_form_files(result) -> dict:
+    """vg_lambda.png: the curves v̄_g(λ), every mechanism's critical point, the FE scan and
+    the paper's DEM value."""
+    if not (result.config.output.png and result.curves):
+        return {}
+    return {"vg_lambda_png": ("vg_lambda.png", lambda p: plots.plot_vg_lambda(
+        p, result.curves, result.mechanisms, fe=result.fe, dem=result.dem,
+        title=f"case {result.name}", b=result.case.wall.b))}
+
+
+def run_fe(config, result) -> None:
+    """The FE path (``fe_result``): on the adaptive bracket's mesh (``adaptive``) or the
+    case's; its critical body becomes mechanism "FE" when the scan found one."""
+    an = config.analysis
+    adapted = adaptive_bracket_of(config, result.timings) if adaptive(config) else None
+    whole = whole_problem(config) if adapted is None else adapted.problem
+    with stage(result.timings, "FE analyses",
+               f"scan from one course to H, whole wall {whole.n_triangles} triangles"
+               f"{', static bound' if an.static else ''}"):
+        result.fe = fe_result(config.case, config.mesh.size, an.facade,
+                              solver_options(an.tol), whole=whole, static=an.static,
+                              heights=an.heights, divisions=config.mesh.part_divisions,
+                              mesher=config.mesh.mesher, adapted=adapted)
+    if result.fe.critical is not None:
+        result.mechanisms[result.fe.critical.name] = result.fe.critical
+
+
+def finite(x) -> bool:
+    """Whether ``x`` is a finite number (None and text are not)."""
+    try:
+        return x is not None and math.isfinite(float(x))
+    except (TypeError, ValueError):
+        return False
+
+
+def check_fe(result) -> None:
+    """The FE path's multiplier and static bound are finite, and its scan found a body."""
+    fe = result.fe
+    if fe is None:
+        return
+    if not finite(fe.whole.multiplier):
+        raise ResultError(f"mechanism FE: the whole wall's multiplier = "
+                          f"{fe.whole.multiplier!r} is not a finite number; nothing written")
+    if fe.static is not None and not finite(fe.lower_bound):
+        raise ResultError(f"mechanism FE: the static lower bound = {fe.lower_bound!r} is "
+                          "not a finite number; nothing written")
+    if fe.critical is None:
+        raise ResultError("mechanism FE: no collapse height of the scan gave a collapse "
+                          f"velocity vg (whole wall: {fe.whole.vg_method}); nothing "
+                          "written ([analysis] fe = false skips the FE path)")
+
+
+def fe_files(result) -> dict:
+    """The FE path's files: mesh.png, mechanism.png, stress.png (static bound), fe_adapt.csv
+    and adapt.png (adaptive bracket), fe_scan.csv, mechanism.vtu."""
+    art, cfg, title = result.fe, result.config.output, f"case {result.name}"
+    if art is None:
+        return {}
+    out = {}
+    if cfg.png:
+        out["mesh_png"] = ("mesh.png", lambda p: plots.plot_mesh(
+            p, from_skfem(art.whole.problem.mesh), title=title))
+        out["mechanism_png"] = ("mechanism.png", lambda p: plots.plot_mechanism(
+            p, art.whole.drawing(), result.case, title=title))
+        if art.static is not None:
+            out["stress_png"] = ("stress.png", lambda p: plots.plot_stress(
+                p, art.static, title=f"{title}: lower-bound stress field, λ⁻ = "
+                                     f"{art.static.multiplier:.4g}"))
+    if art.adapt is not None:
+        cycles = [c.as_dict() for c in art.adapt.cycles]
+        out["fe_adapt_csv"] = ("fe_adapt.csv", cycles)
+        if cfg.png:
+            out["adapt_png"] = ("adapt.png", lambda p: plots.plot_adapt(p, cycles, title=title))
+    out["fe_scan_csv"] = ("fe_scan.csv", [m.record() for m in art.scan])
+    if cfg.vtu:
+        out["mechanism_vtu"] = ("mechanism.vtu", report.mechanism_mesh(art))
+    return out
+
+
+def run_blocks(config, result) -> None:
+    b = config.blocks
+    with stage(result.timings, "rigid blocks", f"façade {b.facade}, {b.friction}"):
+        result.blocks = analyse_blocks(config.case, b.facade, b.friction, b.step,
+                                       b.non_associative_check,
+                                       solver_options(config.analysis.tol))
+    result.mechanisms[result.blocks.name] = result.blocks
+
+
+def blocks_files(result) -> dict:
+    """The rigid blocks' files (``BlocksAnalysis.files``), pictures and meshes as asked."""
+    if result.blocks is None:
+        return {}
+    cfg = result.config.output
+    return {name.replace(".", "_"): (name, data)
+            for name, data in result.blocks.files().items()
+            if (cfg.png or not name.endswith(".png")) and (cfg.vtu or not name.endswith(".vtu"))}
+
+
+def run_dem(config, result) -> None:
+    """The DEM's collapse threshold (``app.dem_stage``): a model that returns v̄_g, the failing
+    height and the slide flags directly, not a mechanism; its series is written by
+    ``dem_stage.write_files``."""
+    from .dem_stage import dem_threshold
+
+    dem = config.dem
+    with stage(result.timings, "DEM threshold", f"{dem.loading}, bisection to "
+                                                f"±{100 * dem.rel_tol:g} %"):
+        result.dem_run = dem_threshold(config)
+
+
+# ----------------------------------------------------------------------------- the rockers
+def rigid_rocker(case, mechanism, gravity_I="linearised", restitution=0.0):
+    """The rocker of a mechanism with a rigid ``body`` (exact geometry)."""
+    return RigidRocker(mechanism.body, g=case.wall.g, restitution=restitution,
+                       name=mechanism.name)
+
+
+def rocker_I(case, mechanism, gravity_I="linearised", restitution=0.0):
+    """Mechanism I's rocker: the façade strip with the abutment friction of eq. 9, at the
+    critical λ, its gravity linearised (eq. 10) or exact (``gravity_I``)."""
+    return MechanismIRocker(case, gravity=gravity_I, restitution=restitution)
+
+
+def rocker_fe(case, mechanism, gravity_I="linearised", restitution=0.0):
+    """The FE body's one-DOF rocker: the body inside the 50 % line turning exactly, the rest
+    linearised (``mechanism`` an ``FEMechanism`` or an ``FERocker``: its ``impulse``)."""
+    return GeneralisedRocker.from_impulse(mechanism.impulse, g=case.wall.g,
+                                          restitution=restitution, name=mechanism.name)
+
+
+CLOSED = dict(model="closed_forms", checked=("lam", "h", "vg", "vnorm", "theta_m", "W_m"),
+              body_checked=("m", "x_G", "z_G", "I_O"), static=True, marker="o", size=8)
+registry.register(
+    Model("closed_forms", lambda config: config.analysis.closed_form, run_closed_forms,
+          batched=True, files=closed_form_files),
+    Model("fe", lambda config: config.analysis.fe, run_fe, check_fe, files=fe_files),
+    Model("blocks", lambda config: config.analysis.blocks, run_blocks, files=blocks_files),
+    Model("dem", lambda config: config.analysis.dem, run_dem),
+    Mechanism("I", rocker=rocker_I, alone=lambda config: mech.mechanism_I(config.case),
+              colour="tab:blue", **CLOSED),
+    Mechanism("II", rocker=rigid_rocker, alone=lambda config: mech.mechanism_II(config.case),
+              colour="tab:orange", **CLOSED),
+    Mechanism("FE", model="fe", rocker=rocker_fe, alone=fe_rocker, colour="tab:green",
+              marker="*", size=16, needs_mesh=True),
+    Mechanism("blocks", model="blocks"))
