@@ -29,6 +29,7 @@ __all__ = ["SolverOptions", "Solved", "solve_cvxpy", "solve_clarabel", "run_ladd
 
 SOLVERS = ("CLARABEL", "HIGHS")
 DIRECT_METHODS = ("qdldl", "faer", "auto")
+STRESS_DEGREES = (1, 2)
 BACKENDS = ("direct", "cvxpy")
 #: the programs of the chain: what names them in a message, their interior-point iteration
 #: limit, whether an unset factorisation becomes faer on one thread above FAER_ABOVE
@@ -106,6 +107,9 @@ class SolverOptions:
                          path; 4x slower); HiGHS always runs through cvxpy
     stress_scale         static bound: reference stress [Pa] of the scaled unknowns; None: the
                          largest of the strengths, body force × domain size and tractions
+    stress_degree        static bound: 1 (linear stresses, three vertex values per triangle) or
+                         2 (quadratic, six Bernstein coefficients; the strength condition on
+                         every coefficient keeps the bound rigorous: docs/static.md)
     """
 
     solver: str = "CLARABEL"
@@ -120,6 +124,7 @@ class SolverOptions:
     settings: Mapping | None = None
     backend: str = "direct"
     stress_scale: float | None = None
+    stress_degree: int = 1
 
     def __post_init__(self):
         check_choice("solver", self.solver, SOLVERS)
@@ -129,6 +134,7 @@ class SolverOptions:
             check_range("tol", self.tol, 0.0, 1e-2, lo_open=True)
         if self.max_iter is not None:
             check_range("max_iter", self.max_iter, 1)
+        check_choice("stress_degree", self.stress_degree, STRESS_DEGREES)
         if self.stress_scale is not None:
             check_range("stress_scale", self.stress_scale, 0.0, lo_open=True, unit="Pa")
         if not isinstance(self.settings, Mapping | None):

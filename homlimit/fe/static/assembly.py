@@ -1,11 +1,20 @@
 """The static program's rows: equilibrium, traction continuity, boundary, joints, bodies, strength.
 
-Unknowns x = (σ̂ at the 3 vertices of every triangle, λ, extra columns): σ = s_ref σ̂ with the
-reference stress s_ref; column 9 e + 3 i + c is σ_c at local vertex i of triangle e, column
-9 nt is λ, then the joints' σ_j, the recession-cone forces, the reactions on rigid bodies and
+Unknowns x = (σ̂ at the n_loc points of every triangle, λ, extra columns): σ = s_ref σ̂ with
+the reference stress s_ref; column 3 n_loc e + 3 i + c is σ_c at local point i of triangle e,
+column 3 n_loc nt is λ, then the joints' σ_j, the recession-cone forces, the reactions on rigid bodies and
 the cones' auxiliaries, in the order the steps add them. Every step is index arithmetic over
 all triangles or edges at once: the only loops run over the few equation kinds, the 3
 vertices, the 2 edge ends and the 2 components.
+
+Degree 1 (n_loc = 3): σ linear, its values at the vertices. Degree 2 (n_loc = 6): σ quadratic
+in Bernstein form, σ = Σ_α c_α B_α(λ₁, λ₂, λ₃) with control coefficients c_α at the vertices
+(i = 0, 1, 2: B = λ_i², where c is the vertex value) and at the edges (i = 3, 4, 5 for the
+edges 01, 12, 20: B = 2λ_iλ_j). The B_α are non-negative and sum to 1, so σ(x) is a convex
+combination of the c_α: c_α ∈ G for all six makes σ ∈ G everywhere, and traction continuity
+holds along an edge when its three Bernstein coefficients (σ n at the edge's three control
+points) agree. div σ is linear with vertex values 2 Σ_k c_{jk} ∇λ_k (c_{jj} the vertex
+coefficient), so equilibrium is three rows per component.
 """
 
 from __future__ import annotations
@@ -21,7 +30,11 @@ from ..operators import COMPONENTS
 from ..strength import Rigid
 from .bodies import NodalForces, rigid_bodies
 
-__all__ = ["StaticProgram", "triangle_gradients", "edge_tables"]
+__all__ = ["StaticProgram", "triangle_gradients", "edge_tables", "EDGE_CONTROL"]
+
+# local control point of the edge between local vertices i and j, indexed by i + j
+# (01 → 3, 12 → 4, 20 → 5)
+EDGE_CONTROL = np.array([-1, 3, 5, 4])
 
 
 def triangle_gradients(p: np.ndarray, t: np.ndarray):
@@ -100,8 +113,9 @@ class _Coo:
 class StaticProgram:
     """The static program of a ``problems.Problem``, its rows added by the numbered steps."""
 
-    def __init__(self, problem, stress_scale: float | None = None):
+    def __init__(self, problem, stress_scale: float | None = None, degree: int = 1):
         mesh = self.mesh = problem.mesh
+        self.degree, self.nloc = degree, (3 if degree == 1 else 6)
         p, t = self.p, self.t = np.asarray(mesh.p, float), np.asarray(mesh.t)
         nt = self.nt = t.shape[1]
         self.dNdx, self.dNdz, self.area = triangle_gradients(p, t)
@@ -137,6 +151,10 @@ class StaticProgram:
         for _, f in self.interfaces.values():
             self.is_joint[f] = True
         self.fix[:, self.is_joint] = True  # the joint's traction is unknown, tested by its domain
+        if degree == 2 and (self.rigid.any() or self.interfaces):
+            raise ParameterError(f"stress_degree = 2 is out of range for problem "
+                                 f"{problem.name!r}, which has rigid regions or joints: allowed 1 "
+                                 f"(quadratic stresses on bodies and joints are not built)")
         loaded = np.any(self.t_live != 0, axis=(0, 1)) | np.any(self.t_dead != 0, axis=(0, 1))
         if np.any(loaded & E["interior"]):
             raise ParameterError("a traction is prescribed on interior edges; allowed: tractions "
@@ -148,31 +166,40 @@ class StaticProgram:
         self.s_ref = stress_scale or max(
             e_max, np.abs(self.b_dead).max() * ell, np.abs(self.b_live).max() * ell,
             np.abs(self.t_dead).max(initial=0.0), np.abs(self.t_live).max(initial=0.0))
-        self.n_sig = 9 * nt
+        self.n_sig = 3 * self.nloc * nt
         self.lam = self.n_sig          # the column of λ
         self.n_var = self.n_sig + 1
         self.eq, self.joint_rows = _Coo(), _Coo()
+        self.eq_mid = _Coo()           # degree 2: rows at the edges' middle control points
         self.row_node = []             # the mesh node of every vertex-local row of ``eq``
         self.n_equil = 0               # rows of ``eq`` before the vertex-local ones
         self.forces = NodalForces(p, t, E, self.body, self.n_body, self.area)
         self.joint_cones = []          # (static cone block, columns (n, 3) of its σ_j)
         self.cones = []                # (block, elements or None, stacked rows) per part
 
+    @property
+    def edge_points(self) -> tuple[int, ...]:
+        """Where traction rows are written along an edge: its two ends (k = 0, 1) and, for
+        degree 2, its middle control point (k = 2)."""
+        return (0, 1) if self.degree == 1 else (0, 1, 2)
+
     def columns(self, m: int) -> np.ndarray:
         """m new unknowns."""
         self.n_var += m
         return self.n_var - m + np.arange(m)
 
-    @staticmethod
-    def sig(e, i, c):
-        """Column of σ_c at local vertex i of element e."""
-        return 9 * e + 3 * i + c
+    def sig(self, e, i, c):
+        """Column of σ_c at local point i of element e."""
+        return 3 * self.nloc * e + 3 * i + c
 
     def traction_terms(self, side, k, comp, f):
-        """σ n at end k of edges f from side ``side``: x: σ_x n_x + τ n_z, z: σ_z n_z + τ n_x."""
+        """σ n at end k of edges f from side ``side``: x: σ_x n_x + τ n_z, z: σ_z n_z + τ n_x.
+        k = 2: at the edge's middle control point (degree 2)."""
         E = self.E
         nx, nz = E["n"]
-        tri, loc = E["tri"][side, f], E["loc"][side, k, f]
+        tri = E["tri"][side, f]
+        loc = (E["loc"][side, k, f] if k < 2
+               else EDGE_CONTROL[E["loc"][side, 0, f] + E["loc"][side, 1, f]])
         if comp == 0:
             return [(self.sig(tri, loc, 0), nx[f]), (self.sig(tri, loc, 2), nz[f])]
         return [(self.sig(tri, loc, 1), nz[f]), (self.sig(tri, loc, 2), nx[f])]
@@ -183,13 +210,18 @@ class StaticProgram:
         (their region is one body, step 4b)."""
         e_all = np.flatnonzero(~self.rigid)
         h_e = np.sqrt(2.0 * self.area[e_all])
+        # the vertex values of div σ: degree 1 one constant, degree 2 one per vertex j
+        points = ([(None, [(i, 1.0) for i in range(3)])] if self.degree == 1 else
+                  [(j, [(j if k == j else EDGE_CONTROL[j + k], 2.0) for k in range(3)])
+                   for j in range(3)])
         for comp, terms in ((0, ((0, self.dNdx), (2, self.dNdz))),
                             (1, ((2, self.dNdx), (1, self.dNdz)))):
-            rows = self.eq.new(e_all.size, h_e * self.b_dead[e_all, comp] / self.s_ref)
-            self.eq.add(rows, [(self.sig(e_all, i, c), h_e * g[i, e_all])
-                               for c, g in terms for i in range(3)])
-            self.eq.add(rows, [(np.full(e_all.size, self.lam),
-                                h_e * self.b_live[e_all, comp] / self.s_ref)])
+            for _, ctrl in points:
+                rows = self.eq.new(e_all.size, h_e * self.b_dead[e_all, comp] / self.s_ref)
+                self.eq.add(rows, [(self.sig(e_all, i, c), w * h_e * g[k, e_all])
+                                   for c, g in terms for k, (i, w) in enumerate(ctrl)])
+                self.eq.add(rows, [(np.full(e_all.size, self.lam),
+                                    h_e * self.b_live[e_all, comp] / self.s_ref)])
         self.n_equil = self.eq.n
 
     def continuity(self):
@@ -197,12 +229,14 @@ class StaticProgram:
         (4 rows per edge)."""
         E, sr = self.E, self.side_rigid
         fi = np.flatnonzero(E["interior"] & ~sr[0] & ~sr[1])
-        for k in (0, 1):
+        for k in self.edge_points:
             for comp in (0, 1):
-                rows = self.eq.new(fi.size)
-                self.row_node.append(E["ends"][k, fi])
+                coo = self.eq if k < 2 else self.eq_mid
+                rows = coo.new(fi.size)
+                if k < 2:
+                    self.row_node.append(E["ends"][k, fi])
                 for side, sgn in ((0, 1.0), (1, -1.0)):
-                    self.eq.add(rows, self.traction_terms(side, k, comp, fi), sgn)
+                    coo.add(rows, self.traction_terms(side, k, comp, fi), sgn)
 
     def boundary(self):
         """3. t = λ t_live + t_dead at both ends of boundary edges, per unsupported component."""
@@ -210,12 +244,17 @@ class StaticProgram:
         fb = np.flatnonzero(~E["interior"] & ~self.side_rigid[0])
         for comp in (0, 1):
             fc = fb[~self.fix[comp, fb]]
-            for k in (0, 1):
-                rows = self.eq.new(fc.size, -self.t_dead[comp, k, fc] / self.s_ref)
-                self.row_node.append(E["ends"][k, fc])
-                self.eq.add(rows, self.traction_terms(0, k, comp, fc))
-                self.eq.add(rows, [(np.full(fc.size, self.lam),
-                                    -self.t_live[comp, k, fc] / self.s_ref)])
+            for k in self.edge_points:
+                # a linear prescribed traction's middle Bernstein coefficient is its mean
+                t_live, t_dead = ((self.t_live[comp, k, fc], self.t_dead[comp, k, fc]) if k < 2
+                                  else (self.t_live[comp, :, fc].mean(axis=1),
+                                        self.t_dead[comp, :, fc].mean(axis=1)))
+                coo = self.eq if k < 2 else self.eq_mid
+                rows = coo.new(fc.size, -t_dead / self.s_ref)
+                if k < 2:
+                    self.row_node.append(E["ends"][k, fc])
+                coo.add(rows, self.traction_terms(0, k, comp, fc))
+                coo.add(rows, [(np.full(fc.size, self.lam), -t_live / self.s_ref)])
 
     def joints(self):
         """4. Joints to a fixed ground: σ n = σ_j n at both ends of each joint edge, σ_j ∈ G_j.
@@ -289,8 +328,9 @@ class StaticProgram:
     def strength(self):
         """5. σ ∈ G at the three vertices of every triangle, domain by domain, and σ_j ∈ G_j at
         the joints: ``conic.stack`` on a 0/1 selection of the σ columns, scaled by s_ref."""
+        nl = self.nloc
         parts = [(dom.static_cone(), els,
-                  np.stack([self.sig(np.repeat(els, 3), np.tile(np.arange(3), els.size), c)
+                  np.stack([self.sig(np.repeat(els, nl), np.tile(np.arange(nl), els.size), c)
                             for c in range(3)], axis=1)) for dom, els in self.parts]
         parts += [(blk, None, cols) for blk, cols in self.joint_cones]
         aux = [self.columns(cols.shape[0] * blk.n_aux) for blk, _, cols in parts]
@@ -311,8 +351,12 @@ class StaticProgram:
         # node
         keep = np.ones(M_eq.shape[0], bool)
         keep[self.n_equil:] = _independent_vertex_rows(M_eq[self.n_equil:, :self.n_sig],
-                                                       np.concatenate(self.row_node), self.t)
+                                                       np.concatenate(self.row_node), self.t,
+                                                       self.nloc)
         blocks, rhs = [M_eq[keep]], [e_eq[keep]]
+        if self.eq_mid.n:
+            blocks.append(self.eq_mid.matrix(n_var)[0])
+            rhs.append(np.concatenate(self.eq_mid.rhs))
         if self.joint_rows.n:
             blocks.append(self.joint_rows.matrix(n_var)[0])
             rhs.append(np.zeros(self.joint_rows.n))
@@ -345,7 +389,7 @@ def _selection(cols: np.ndarray, n_var: int) -> sp.csr_matrix:
 
 
 def _independent_vertex_rows(R: sp.csr_matrix, row_node: np.ndarray, t: np.ndarray,
-                             tol: float = 1e-6) -> np.ndarray:
+                             nloc: int = 3, tol: float = 1e-6) -> np.ndarray:
     """Mask of a maximal independent subset of vertex-local rows (greedy, batched Gram–Schmidt).
 
     Every row of R involves only the stresses at one mesh node (``row_node``) of the triangles
@@ -365,7 +409,8 @@ def _independent_vertex_rows(R: sp.csr_matrix, row_node: np.ndarray, t: np.ndarr
     start = np.concatenate([[0], np.cumsum(ntri)[:-1]])
     slot = np.empty_like(order)
     slot[order] = np.arange(order.size) - start[inc_node[order]]
-    lcol = 3 * slot[R.col // 3] + R.col % 3
+    point = R.col // 3                       # nloc e + i; the rows use vertices only (i < 3)
+    lcol = 3 * slot[3 * (point // nloc) + point % nloc] + R.col % 3
     # local row position within its node
     rorder = np.argsort(row_node, kind="stable")
     nrows_node = np.bincount(row_node, minlength=nn)

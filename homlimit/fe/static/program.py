@@ -18,7 +18,7 @@ __all__ = ["solve_static"]
 def solve_static(problem, options: SolverOptions = SolverOptions(), *,
                  active_tol: float = 1e-6) -> StaticSolution:
     """Largest live multiplier λ⁻ (a lower bound) carried by a statically admissible linear
-    stress field of ``problem``, a ``problems.Problem`` as for ``kinematic.solve_kinematic``.
+    (``options.stress_degree`` 1) or quadratic (2) stress field of ``problem``, a ``problems.Problem`` as for ``kinematic.solve_kinematic``.
 
     options : the ``solver.SolverOptions`` of both bounds. Static-only fields: ``backend``
         ("direct": Clarabel on the assembled matrices, the default; "cvxpy": the same matrices
@@ -34,7 +34,7 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
     options.check_program(any(dom.static_cone().soc for dom in doms))
     timings = {}
     t0 = time.perf_counter()
-    prog = StaticProgram(problem, options.stress_scale)
+    prog = StaticProgram(problem, options.stress_scale, options.stress_degree)
     prog.equilibrium()     # 1. div σ + λ b + b⁰ = 0 in every triangle
     prog.continuity()      # 2. σ n continuous across interior edges
     prog.boundary()        # 3. σ n = λ t + t⁰ on free boundaries
@@ -48,7 +48,7 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
     # the stress columns of rigid elements are unused: leave them out of the program
     live = np.ones(prog.n_var, bool)
     rb = np.flatnonzero(prog.rigid)
-    live[prog.sig(rb[:, None, None], np.arange(3)[:, None], np.arange(3)).ravel()] = False
+    live[prog.sig(rb[:, None, None], np.arange(prog.nloc)[:, None], np.arange(3)).ravel()] = False
     M = M_full[:, live]
     timings["assembly"] = time.perf_counter() - t0
 
@@ -69,8 +69,9 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
         raise SolverError(f"static limit analysis: relative equilibrium residual {resid:.3g} after "
                           f"dropping dependent traction rows; the prescribed tractions are "
                           f"inconsistent at some boundary node", status="Inconsistent")
-    stress = (x[:prog.n_sig] * prog.s_ref).reshape(prog.nt, 3, 3)
-    stress[prog.rigid] = np.nan  # a rigid body's inner stresses are not determined
+    control = (x[:prog.n_sig] * prog.s_ref).reshape(prog.nt, prog.nloc, 3)
+    control[prog.rigid] = np.nan  # a rigid body's inner stresses are not determined
+    stress = control[:, :3].copy()  # the vertex values (a Bernstein vertex coefficient is one)
     active = _active_facets(prog, where, M_full @ x + e, active_tol)
     timings["post"] = time.perf_counter() - t1 - timings["solve"]
     sizes = {"triangles": prog.nt, "variables": int(live.sum()), "rows": M.shape[0],
@@ -79,7 +80,8 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
     return StaticSolution(multiplier=float(x[prog.lam]), stress=stress, active=active,
                           mesh=problem.mesh, status=status, primal_objective=-res["obj"],
                           dual_objective=-res["obj_dual"], iterations=res["iterations"],
-                          sizes=sizes, timings=timings, rigid=prog.rigid)
+                          sizes=sizes, timings=timings, rigid=prog.rigid,
+                          control=control if prog.degree == 2 else None)
 
 
 def _active_facets(prog: StaticProgram, where: list, slack: np.ndarray, active_tol: float):
@@ -100,7 +102,7 @@ def _active_facets(prog: StaticProgram, where: list, slack: np.ndarray, active_t
         sl = np.hstack(cols)
         k = np.argmin(sl, axis=1)
         act = np.where(sl[np.arange(k.size), k] <= active_tol, k, -1)
-        active[els] = act.reshape(els.size, 3)
+        active[els] = act.reshape(els.size, prog.nloc)[:, :3]  # at the vertices
     return active
 
 

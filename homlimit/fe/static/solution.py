@@ -20,7 +20,8 @@ class StaticSolution:
     components (σ_x, σ_z, τ_xz) in Pa; ``active`` (nt, 3) is the index of the active facet of the
     element's strength domain at each vertex (rows of its static cone counted as 'eq' rows
     skipped, each linear row one facet, each second-order cone one facet), or −1 where no facet
-    is active within ``active_tol``. ``rigid`` (nt,) marks elements of rigid regions
+    is active within ``active_tol``. ``control`` (nt, 6, 3), degree 2 only: the Bernstein
+    coefficients (``stress`` holds their vertex values). ``rigid`` (nt,) marks elements of rigid regions
     (``strength.Rigid``): each connected one is a body in equilibrium as a whole, its stress is
     NaN.
     """
@@ -36,6 +37,13 @@ class StaticSolution:
     sizes: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
     rigid: np.ndarray | None = None
+    control: np.ndarray | None = None
+
+    @property
+    def degree(self) -> int:
+        """1: σ linear (``stress`` holds it all); 2: σ quadratic, its six Bernstein coefficients
+        per triangle in ``control`` (nt, 6, 3): vertices 0–2, then the edges 01, 12, 20."""
+        return 1 if self.control is None else 2
 
     @property
     def gap(self) -> float:
