@@ -43,7 +43,8 @@ def gap_contributions(static: StaticSolution, kinematic) -> np.ndarray:
 
     D_e(u) − ∫_e σ : D(u) with D(u) linear (vertex values ``kinematic.strain_rate``) and σ linear
     on the triangle: the product is quadratic, integrated exactly at the edge midpoints with
-    weights area/3. Joint (interface) dissipation is not included (see ``Bracket.joint_gap``);
+    weights area/3; σ quadratic (``static.degree`` 2): cubic, integrated exactly by a
+    degree-4 rule. Joint (interface) dissipation is not included (see ``Bracket.joint_gap``);
     rigid elements (``strength.Rigid``: no stress, D(u) = 0) contribute 0.
     """
     m = static.mesh
@@ -52,12 +53,37 @@ def gap_contributions(static: StaticSolution, kinematic) -> np.ndarray:
         raise ParameterError("gap_contributions needs both bounds on the same mesh; got "
                              f"{kinematic.mesh.t.shape[1]} and {m.t.shape[1]} triangles")
     area = element_areas(m)
-    d, s = kinematic.strain_rate, static.stress  # (nt, vertex, comp)
-    s = np.where(np.isnan(s), 0.0, s)  # rigid elements: no stress, D(u) = 0 and D_e = 0
-    mids = ((0, 1), (1, 2), (2, 0))
-    work = sum(np.einsum("ec,ec->e", 0.5 * (s[:, i] + s[:, j]), 0.5 * (d[:, i] + d[:, j]))
-               for i, j in mids) * area / 3.0
+    d = kinematic.strain_rate  # (nt, vertex, comp)
+    if static.degree == 1:
+        s = np.where(np.isnan(static.stress), 0.0, static.stress)  # rigid: no stress, D = 0
+        mids = ((0, 1), (1, 2), (2, 0))
+        work = sum(np.einsum("ec,ec->e", 0.5 * (s[:, i] + s[:, j]), 0.5 * (d[:, i] + d[:, j]))
+                   for i, j in mids) * area / 3.0
+    else:  # σ quadratic × D linear: cubic, Strang–Fix's 6-point rule is exact to degree 4
+        lam, w = _TRI_RULE
+        work = np.einsum("q,qec,qec->e", w, bernstein2(static.control, lam),
+                         np.einsum("qi,eic->qec", lam, d)) * area
     return kinematic.dissipation - work
+
+
+def bernstein2(control: np.ndarray, lam: np.ndarray) -> np.ndarray:
+    """A quadratic in Bernstein form (control (nt, 6, m): vertices 0–2, edges 01, 12, 20) at
+    barycentric points lam (q, 3): (q, nt, m)."""
+    l0, l1, l2 = lam.T
+    B = np.stack([l0 * l0, l1 * l1, l2 * l2, 2 * l0 * l1, 2 * l1 * l2, 2 * l2 * l0], axis=1)
+    return np.einsum("qk,ekm->qem", B, control)
+
+
+def _strang_fix_6():
+    """Barycentric points (6, 3) and weights (sum 1) of the 6-point degree-4 triangle rule."""
+    a, b = 0.816847572980459, 0.091576213509771
+    c, d = 0.108103018168070, 0.445948490915965
+    wa, wc = 0.109951743655322, 0.223381589678011
+    pts = [(a, b, b), (b, a, b), (b, b, a), (c, d, d), (d, c, d), (d, d, c)]
+    return np.array(pts), np.array([wa] * 3 + [wc] * 3)
+
+
+_TRI_RULE = _strang_fix_6()
 
 
 @dataclass
