@@ -118,6 +118,8 @@ def test_verify_prandtl_brackets_2_plus_pi_within_1_percent(tmp_path):
     assert pr["lower"] <= 2 + math.pi <= pr["upper"]
     assert pr["rel_gap"] <= 0.01
     assert recs["free_block"]["holds"]
+    # quadratic stresses where the problem takes them; the free block's body and joint take 1
+    assert pr["stress_degree"] == 2 and recs["free_block"]["stress_degree"] == 1
     assert (tmp_path / "v" / "verify.json").is_file() and (tmp_path / "v" / "verify.csv").is_file()
 
 
@@ -156,7 +158,8 @@ def test_verify_refuses_bad_input_before_any_work(tmp_path):
 
     for args, message in ((["-p", "nope"], "problem = 'nope' is not a known-answer problem"),
                           (["--target-gap", "0"], "adapt.target_gap = 0"),
-                          (["--max-cycles", "0"], "adapt.max_cycles = 0")):
+                          (["--max-cycles", "0"], "adapt.max_cycles = 0"),
+                          (["--stress-degree", "3"], "stress_degree = 3")):
         res = CliRunner().invoke(app, ["verify", *args, "--out", str(tmp_path / "v")])
         assert res.exit_code == 2, res.output
         assert message in res.stderr and "Traceback" not in res.stderr

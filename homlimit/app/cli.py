@@ -447,12 +447,16 @@ def verify(as_json: JsonOpt = False, out: _out("homlimit-out/verify/") = None,
                help="Stop refining at this relative gap (lambda+ - lambda-)/mean.")] = 0.005,
            max_cycles: Annotated[int, typer.Option(help="At most this many meshes.")] = 6,
            min_size: Annotated[float, typer.Option(help="Smallest element size [m].")] = 1e-3,
-           max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES):
+           max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES,
+           stress_degree: Annotated[int, typer.Option(
+               help="Static bound's stresses: 1 linear, 2 quadratic (Bernstein; the free "
+                    "block takes 1).")] = 2):
     """Known-answer problems through the adaptive bracket (gmsh, both bounds refined where
     their gap is), each against its exact value: Prandtl 2 + pi, the vertical cut
     3.7752-3.7776, the homogenised B1 T-section's hinge + fan (0.15216, fan edges f and c/a),
     a free block b/h. Writes verify.json and verify.csv (every cycle)."""
     from ..fe.adapt import AdaptOptions
+    from ..fe.solver import SolverOptions
     from . import report
     from .pipeline import result_folder
     from .verify import verify_records
@@ -461,8 +465,10 @@ def verify(as_json: JsonOpt = False, out: _out("homlimit-out/verify/") = None,
     _logging(verbose, quiet, as_json)
     opts = AdaptOptions(target_gap=target_gap, max_cycles=max_cycles, min_size=min_size,
                         max_triangles=max_triangles)
+    SolverOptions(stress_degree=stress_degree)   # checked before any work
     with _stdout_quiet(as_json or verbose) as stdout, result_folder(out, "verify") as staging:
-        records = verify_records(problem, opts, progress=lambda n, c: _LOG.info(
+        records = verify_records(problem, opts, stress_degree=stress_degree,
+                                 progress=lambda n, c: _LOG.info(
             "verify %s: cycle %d, %d triangles, %.6g <= lambda <= %.6g; best %.6g .. %.6g "
             "(gap %.3g %%), %.1f s", n, c.cycle, c.triangles, c.lower, c.upper, c.best_lower,
             c.best_upper, 100 * c.rel_gap, c.seconds))

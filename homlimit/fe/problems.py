@@ -129,6 +129,13 @@ class Problem:
                                  f"traction is needed to define the multiplier")
 
     @property
+    def stress_degrees(self) -> tuple[int, ...]:
+        """The static program's stress degrees this problem takes: quadratic stresses are not
+        built on rigid bodies and joints, so (1,) where it has either, else (1, 2)."""
+        rigid = any(isinstance(d, strength.Rigid) for d in self.domains.values())
+        return (1,) if rigid or self.interfaces else (1, 2)
+
+    @property
     def n_triangles(self) -> int:
         return int(self.mesh.t.shape[1])
 

@@ -358,10 +358,16 @@ def solver_failed(program: str, solver: str, exc: Exception) -> SolverError:
 
 
 def check_inputs(problem, options) -> None:
-    """Both bounds take a ``problems.Problem`` and a ``SolverOptions``."""
+    """Both bounds take a ``problems.Problem`` and a ``SolverOptions`` it can take (checked
+    before any work: the static stress degree)."""
     if not isinstance(problem, Problem):
         raise ParameterError(f"problem = {type(problem).__name__} is out of range: allowed a "
                              f"homlimit.fe.problems.Problem")
     if not isinstance(options, SolverOptions):
         raise ParameterError(f"options = {type(options).__name__} is out of range: allowed a "
                              f"homlimit.fe.solver.SolverOptions")
+    if options.stress_degree not in problem.stress_degrees:
+        raise ParameterError(f"stress_degree = {options.stress_degree} is out of range for "
+                             f"problem {problem.name!r}, which has rigid regions or joints: "
+                             f"allowed {problem.stress_degrees} (quadratic stresses on bodies and "
+                             f"joints are not built)")

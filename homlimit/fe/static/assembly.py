@@ -151,10 +151,6 @@ class StaticProgram:
         for _, f in self.interfaces.values():
             self.is_joint[f] = True
         self.fix[:, self.is_joint] = True  # the joint's traction is unknown, tested by its domain
-        if degree == 2 and (self.rigid.any() or self.interfaces):
-            raise ParameterError(f"stress_degree = 2 is out of range for problem "
-                                 f"{problem.name!r}, which has rigid regions or joints: allowed 1 "
-                                 f"(quadratic stresses on bodies and joints are not built)")
         loaded = np.any(self.t_live != 0, axis=(0, 1)) | np.any(self.t_dead != 0, axis=(0, 1))
         if np.any(loaded & E["interior"]):
             raise ParameterError("a traction is prescribed on interior edges; allowed: tractions "
