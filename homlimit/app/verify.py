@@ -13,8 +13,9 @@ values (issue 26, point 5).
                   frictional bed joint
 
 Each runs ``fe.adapt.adapt`` from a gmsh mesh, the static bound with quadratic stresses
-(``STRESS_DEGREE``; linear on the free block, whose rigid body and joint take no other); a bracket "holds" when λ⁻ <= exact_hi and
-exact_lo <= λ⁺ up to the solver's relative tolerance ``TOL``.
+(``STRESS_DEGREE``; linear on the free block, whose rigid body and joint take no other); a
+bracket "holds" when λ⁻ <= exact_hi and exact_lo <= λ⁺ up to the solver's relative tolerance
+``TOL``.
 """
 
 from __future__ import annotations

@@ -2,10 +2,10 @@
 
 Unknowns x = (σ̂ at the n_loc points of every triangle, λ, extra columns): σ = s_ref σ̂ with
 the reference stress s_ref; column 3 n_loc e + 3 i + c is σ_c at local point i of triangle e,
-column 3 n_loc nt is λ, then the joints' σ_j, the recession-cone forces, the reactions on rigid bodies and
-the cones' auxiliaries, in the order the steps add them. Every step is index arithmetic over
-all triangles or edges at once: the only loops run over the few equation kinds, the 3
-vertices, the 2 edge ends and the 2 components.
+column 3 n_loc nt is λ, then the joints' σ_j, the recession-cone forces, the reactions on rigid
+bodies and the cones' auxiliaries, in the order the steps add them. Every step is index
+arithmetic over all triangles or edges at once: the only loops run over the few equation kinds,
+the 3 vertices, the 2 or 3 edge points and the 2 components.
 
 Degree 1 (n_loc = 3): σ linear, its values at the vertices. Degree 2 (n_loc = 6): σ quadratic
 in Bernstein form, σ = Σ_α c_α B_α(λ₁, λ₂, λ₃) with control coefficients c_α at the vertices

@@ -18,7 +18,8 @@ __all__ = ["solve_static"]
 def solve_static(problem, options: SolverOptions = SolverOptions(), *,
                  active_tol: float = 1e-6) -> StaticSolution:
     """Largest live multiplier λ⁻ (a lower bound) carried by a statically admissible linear
-    (``options.stress_degree`` 1) or quadratic (2) stress field of ``problem``, a ``problems.Problem`` as for ``kinematic.solve_kinematic``.
+    (``options.stress_degree`` 1) or quadratic (2) stress field of ``problem``, a
+    ``problems.Problem`` as for ``kinematic.solve_kinematic``.
 
     options : the ``solver.SolverOptions`` of both bounds. Static-only fields: ``backend``
         ("direct": Clarabel on the assembled matrices, the default; "cvxpy": the same matrices

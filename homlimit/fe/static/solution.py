@@ -21,9 +21,9 @@ class StaticSolution:
     element's strength domain at each vertex (rows of its static cone counted as 'eq' rows
     skipped, each linear row one facet, each second-order cone one facet), or −1 where no facet
     is active within ``active_tol``. ``control`` (nt, 6, 3), degree 2 only: the Bernstein
-    coefficients (``stress`` holds their vertex values). ``rigid`` (nt,) marks elements of rigid regions
-    (``strength.Rigid``): each connected one is a body in equilibrium as a whole, its stress is
-    NaN.
+    coefficients (``stress`` holds their vertex values). ``rigid`` (nt,) marks elements of rigid
+    regions (``strength.Rigid``): each connected one is a body in equilibrium as a whole, its
+    stress is NaN.
     """
 
     multiplier: float
