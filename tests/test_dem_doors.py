@@ -292,6 +292,7 @@ def test_run_writes_the_animation_as_a_gif_of_both_trials(small_run):
         assert im.format == "GIF"
         # the standing trial runs t_max = 2 s in frames of 0.1 s: 21 frames, t = 0 included
         assert im.n_frames == 21
+        assert im.info["duration"] == 100          # real time: 0.1 s per frame
         im.seek(0)
         first = np.asarray(im.convert("RGB"), float)
         im.seek(im.n_frames - 1)

@@ -302,9 +302,9 @@ def plot_animation(path, model: DEMModel, settled: DEMState, panels: list[tuple[
     at the animation's time, or its last one once it has ended (a collapsing trial's series
     ends past the collapse criterion). Blocks coloured by their rotation from the settled
     state as in ``plot_snapshots``. fps: frames per second of the GIF (default real time,
-    1/interval, within 1..25); at most ``max_frames`` frames (every k-th frame of the
-    longest panel). Written by matplotlib's PillowWriter through ``_io.write_figure``: the
-    file is whole or absent."""
+    1/interval rounded to whole centiseconds per frame, within 1..25); at most
+    ``max_frames`` frames (every k-th frame of the longest panel). Written by matplotlib's
+    PillowWriter through ``_io.write_figure``: the file is whole or absent."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -323,8 +323,9 @@ def plot_animation(path, model: DEMModel, settled: DEMState, panels: list[tuple[
     step = max(1, math.ceil(len(t_all) / max_frames))
     t_show = t_all[::step]
     if fps is None:
+        # a GIF stores whole centiseconds per frame (PillowWriter truncates 1000/fps ms)
         dtf = float(np.median(np.diff(t_show))) if len(t_show) > 1 else 1.0
-        fps = min(25.0, max(1.0, 1.0 / dtf))
+        fps = 100.0 / min(100, max(4, round(100 * dtf)))
     fps = check_range("fps", fps, 0.0, 100.0, lo_open=True)
     real = ~a.fixed
     bb = a.bounds()
