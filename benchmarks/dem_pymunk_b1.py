@@ -11,6 +11,9 @@ stiffness, so the façade's stiffness factor has no counterpart. Printed: µs pe
 trial, the threshold and its bracket, CPU.
 
     python benchmarks/dem_pymunk_b1.py [--dt 1e-4] [--iterations 10] [--guess 0.8] [--test B1]
+
+Measured (docs/dem.md, section 4): B1 1.056 m/s (1.050–1.0625; 30 iterations 1.055), B4
+0.977 m/s (0.970–0.984), against the default DEM's 0.881 and 0.801; 156–307 s of CPU each.
 """
 
 from __future__ import annotations
