@@ -11,6 +11,7 @@ import dataclasses
 import json
 import math
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -279,3 +280,51 @@ def test_a_sweep_case_with_the_dem_is_not_batched_as_closed_form_only():
     dem = load_case({**B1, "analysis": {"fe": False, "dem": True}})
     assert SweepCase(0, {}, "k", closed).closed_form_only
     assert not SweepCase(0, {}, "k", dem).closed_form_only      # run_case runs its DEM
+
+
+def test_run_writes_the_animation_as_a_gif_of_both_trials(small_run):
+    from PIL import Image
+
+    result, out = small_run
+    th = result.dem_run.threshold
+    gif = out / "dem_animation.gif"
+    with Image.open(gif) as im:
+        assert im.format == "GIF"
+        # the standing trial runs t_max = 2 s in frames of 0.1 s: 21 frames, t = 0 included
+        assert im.n_frames == 21
+        assert im.info["duration"] == 100          # real time: 0.1 s per frame
+        im.seek(0)
+        first = np.asarray(im.convert("RGB"), float)
+        im.seek(im.n_frames - 1)
+        last = np.asarray(im.convert("RGB"), float)
+    assert np.abs(first - last).max() > 50          # the blocks moved between them
+    d = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    assert d["files"]["dem_animation_gif"].endswith("dem_animation.gif")
+    assert th.lo < th.hi
+    assert not any(p.name.startswith(".") for p in out.iterdir()
+                   if p.name != ".homlimit-set.json")
+
+
+def test_animation_is_written_whole_or_not_at_all(tmp_path, monkeypatch):
+    from matplotlib.animation import PillowWriter
+
+    from homlimit.blocks.geometry import stack
+    from homlimit.dem import build_model, settle
+    from homlimit.dem.output import plot_animation, record_frames
+    from homlimit.errors import OutputError
+
+    model = build_model(stack([0.5, 0.45], [1.0, 1.0], density=2000.0, meta={"f": 0.6}))
+    settled, _ = settle(model)
+    frames = record_frames(model, settled, v_g=0.3, t_max=0.2, interval=0.05)
+    gif = plot_animation(tmp_path / "a.gif", model, settled, [("x", frames), ("y", frames[:2])])
+    before = gif.read_bytes()
+
+    def failing(self):            # the disk fills while the GIF is being written
+        Path(self.outfile).write_bytes(b"GIF89a")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(PillowWriter, "finish", failing)
+    with pytest.raises(OutputError, match="No space left on device"):
+        plot_animation(tmp_path / "a.gif", model, settled, [("x", frames)])
+    assert [p.name for p in tmp_path.iterdir()] == ["a.gif"]
+    assert gif.read_bytes() == before

@@ -300,7 +300,11 @@ SCHEMA: dict[str, dict[str, Key]] = {
                               "threshold)"),
         "frame_interval": Key(float, 0.05, "s", 1e-4, 10.0,
                               doc="time between the frames of the ParaView series of the "
-                                  "lowest collapsing trial (dem.pvd)"),
+                                  "lowest collapsing trial (dem.pvd) and of the animation"),
+        "animation": Key(bool, True,
+                         doc="with [output] png, write dem_animation.gif: the lowest "
+                             "collapsing trial beside the highest standing one (one more "
+                             "trial of up to t_max, and the rendering)"),
     },
     "pulse": {
         "kinds": Key(list, ["rectangular", "one-sine"], item=str, choices=tuple(PULSE_KINDS),
@@ -417,6 +421,7 @@ class DemConfig:
     guess: float = 0.0
     max_blocks: int = 5000
     frame_interval: float = 0.05
+    animation: bool = True
 
 
 @dataclass(frozen=True)

@@ -180,8 +180,10 @@ def dem_threshold(config: CaseConfig) -> DemRun:
 def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") -> dict:
     """The files of a DEM run into ``staging`` (a result set's), under the names they will
     have in ``out``: with [output] vtu, the ParaView series dem.pvd + dem/*.vtu of the lowest
-    collapsing trial; with png, dem_snapshots.png of it. Returns key → final path."""
-    from ..dem.output import plot_snapshots, record_frames, write_series
+    collapsing trial; with png, dem_snapshots.png of it and, with [dem] animation,
+    dem_animation.gif of it beside the highest standing trial (re-run for t_max). Returns
+    key → final path."""
+    from ..dem.output import plot_animation, plot_snapshots, record_frames, write_series
 
     if not (output.vtu or output.png):
         return {}
@@ -191,14 +193,24 @@ def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") 
     frames = record_frames(run.model, run.settled, t_max=run.dem.t_max,
                            interval=run.dem.frame_interval, **_load(run.dem)(th.hi))
     files = {}
+    unit = "m/s" if run.impulse else "m/s²"
     if output.vtu:
         write_series(staging, run.model, run.settled, frames, name="dem")
         files["dem_pvd"] = out / "dem.pvd"
     if output.png:
-        unit = "m/s" if run.impulse else "m/s²"
         plot_snapshots(staging / "dem_snapshots.png", run.model, run.settled, frames,
                        title=f"{title}: DEM at {th.hi:.4g} {unit} (lowest collapsing trial)")
         files["dem_snapshots_png"] = out / "dem_snapshots.png"
+    if output.png and run.dem.animation:
+        log.info("DEM: recording the highest standing trial (%.4g) for the animation", th.lo)
+        standing = record_frames(run.model, run.settled, t_max=run.dem.t_max,
+                                 interval=run.dem.frame_interval, **_load(run.dem)(th.lo))
+        what = "vg" if run.impulse else "a_g"
+        plot_animation(staging / "dem_animation.gif", run.model, run.settled,
+                       [(f"{what} = {th.hi:.4g} {unit}: collapsed", frames),
+                        (f"{what} = {th.lo:.4g} {unit}: stood", standing)],
+                       title=f"{title}: DEM at the threshold and just below")
+        files["dem_animation_gif"] = out / "dem_animation.gif"
     return files
 
 

@@ -1,5 +1,5 @@
-"""What a user looks at of a DEM run: a ParaView time series (.pvd + .vtu frames) and snapshot
-PNGs.
+"""What a user looks at of a DEM run: a ParaView time series (.pvd + .vtu frames), snapshot
+PNGs and a GIF animation.
 
 ``record_frames`` runs one time history (``model.run``) in chunks of ``interval`` and keeps the
 state after each; a run continued from a state is the same run (the kernel carries the
@@ -29,7 +29,7 @@ from ..errors import OutputError, ParameterError, check_range
 from .model import DEMModel, DEMState, run
 
 __all__ = ["Frame", "record_frames", "contact_forces", "blocks_mesh", "contacts_mesh",
-           "write_series", "plot_snapshots"]
+           "write_series", "plot_snapshots", "plot_animation"]
 
 
 @dataclass
@@ -289,6 +289,93 @@ def plot_snapshots(path, model: DEMModel, settled: DEMState, frames: list[Frame]
         if title:
             fig.suptitle(title, fontsize=10)
         fig.savefig(p, dpi=110)
+        plt.close(fig)
+
+    return write_figure(path, draw)
+
+
+def plot_animation(path, model: DEMModel, settled: DEMState, panels: list[tuple[str, list]],
+                   fps: float | None = None, max_frames: int = 200,
+                   title: str | None = None) -> Path:
+    """GIF of time histories side by side (``panels``: (label, frames) each, e.g. the lowest
+    collapsing trial and the highest standing one), played in step: panel j shows its frame
+    at the animation's time, or its last one once it has ended (a collapsing trial's series
+    ends past the collapse criterion). Blocks coloured by their rotation from the settled
+    state as in ``plot_snapshots``. fps: frames per second of the GIF (default real time,
+    1/interval rounded to whole centiseconds per frame, within 1..25); at most
+    ``max_frames`` frames (every k-th frame of the longest panel). Written by matplotlib's
+    PillowWriter through ``_io.write_figure``: the file is whole or absent."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import FuncAnimation, PillowWriter
+    from matplotlib.collections import PolyCollection
+
+    if not panels or any(not fr for _, fr in panels):
+        raise ParameterError("panels: allowed at least one panel, each with at least one "
+                             "frame")
+    max_frames = int(check_range("max_frames", max_frames, 2, 10_000))
+    a = model.assembly
+    times = [np.array([f.t for f in fr]) for _, fr in panels]
+    longest = max(range(len(panels)), key=lambda j: times[j][-1])
+    t_all = times[longest]
+    step = max(1, math.ceil(len(t_all) / max_frames))
+    t_show = t_all[::step]
+    if fps is None:
+        # a GIF stores whole centiseconds per frame (PillowWriter truncates 1000/fps ms)
+        dtf = float(np.median(np.diff(t_show))) if len(t_show) > 1 else 1.0
+        fps = 100.0 / min(100, max(4, round(100 * dtf)))
+    fps = check_range("fps", fps, 0.0, 100.0, lo_open=True)
+    real = ~a.fixed
+    bb = a.bounds()
+    x0, x1 = bb[real, 0].min(), bb[real, 2].max()
+    z1 = bb[real, 3].max()
+    scale = real & (a.kind == FACADE) if np.any(real & (a.kind == FACADE)) else real
+    vmax = max(float(max(np.abs(f.state.th[scale] - settled.th[scale]).max()
+                         for _, fr in panels for f in fr)), 1e-9)
+    cmap = plt.get_cmap("coolwarm").with_extremes(bad="0.7")
+    colour = np.where(a.fixed, np.nan, 0.0)
+
+    def polys(state):
+        X = _vertices(model, state)
+        return [X[a.offsets[i]:a.offsets[i + 1]] for i in range(a.n_blocks)]
+
+    def pick(j, t):
+        """panel j's frame at time t: the last one not after it."""
+        return panels[j][1][max(0, int(np.searchsorted(times[j], t + 1e-9, side="right")) - 1)]
+
+    def draw(p):
+        fig, axes = plt.subplots(1, len(panels), figsize=(3.4 * len(panels), 4.4),
+                                 squeeze=False, sharey=True)
+        cols, heads = [], []
+        for ax, (label, fr) in zip(axes[0], panels):
+            pc = PolyCollection(polys(fr[0].state), array=colour.copy(), cmap=cmap,
+                                edgecolors="k", linewidths=0.1 if a.n_blocks > 200 else 0.4)
+            pc.set_clim(-vmax, vmax)
+            ax.add_collection(pc)
+            ax.set_xlim(x0 - 0.35 * (z1 + x1 - x0), x1 + 0.05 * (x1 - x0))
+            ax.set_ylim(-0.05 * z1, 1.05 * z1)
+            ax.set_aspect("equal")
+            ax.set_xlabel("x [m]")
+            cols.append(pc)
+            heads.append(ax.set_title(label, fontsize=8))
+        axes[0][0].set_ylabel("z [m]")
+        fig.colorbar(cols[-1], ax=list(axes[0]), shrink=0.8, extend="both",
+                     label="rotation from settled [rad]")
+        if title:
+            fig.suptitle(title, fontsize=9)
+
+        def update(t):
+            for j, (label, _) in enumerate(panels):
+                f = pick(j, t)
+                cols[j].set_verts(polys(f.state))
+                cols[j].set_array(np.where(a.fixed, np.nan, f.state.th - settled.th))
+                heads[j].set_text(f"{label}\nt = {f.t:.2f} s")
+            return cols + heads
+
+        anim = FuncAnimation(fig, update, frames=list(t_show), blit=False)
+        anim.save(p, writer=PillowWriter(fps=fps), dpi=80)
         plt.close(fig)
 
     return write_figure(path, draw)

@@ -1,0 +1,131 @@
+"""Sensitivity of the DEM's collapse threshold to its unknowns (docs/dem.md, section 8; issue 29
+point 4): one parameter changed at a time from the defaults (``DEMParams()``), the same for
+every wall, nothing tuned per wall.
+
+Variants: kn × 0.3, 3, 10; ks/kn 0.1 and 1 (default 0.5); the base joint tied (default
+frictional); a rectangular base-acceleration pulse of 0.1 s instead of the ideal impulse (its
+threshold given as the pulse's velocity change a_g Δt = its pgv, comparable with v̄_g). Each
+threshold is ``homlimit.dem.threshold.collapse_threshold`` on the T-section with the façade
+"through", bisection to ±1 %, t_max 5 s, the first trial UDEC's v̄_g rounded to 0.1 m/s (as
+benchmarks/dem_table1.py, so the base row repeats docs/dem.md's section 5 trial for trial; a
+pulse's first trial is that over Δt).
+
+Printed: one line per threshold as it ends, then the table as Markdown (the change from the
+wall's base row; the B4/B1 ratio of v̄_g/√(gb) for a variant run on both walls); written as CSV
+(whole or not at all, ``homlimit._io.write_csv``). One threshold costs 1–5 min of CPU on one
+core (kn × 10: dt / √10); the default selection about 25 min.
+
+    python benchmarks/dem_sensitivity.py [--walls B1 B4] [--b4-variants base kn*0.3 ...]
+        [--csv homlimit-out/dem-sensitivity/dem_sensitivity.csv]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+#: name -> (DEMParams overrides, loading); loading None: the ideal impulse, else (kind, Δt)
+VARIANTS = {
+    "base": ({}, None),
+    "kn*0.3": ({"kn": 0.3e9}, None),
+    "kn*3": ({"kn": 3e9}, None),
+    "kn*10": ({"kn": 10e9}, None),
+    "ks/kn=0.1": ({"ks_over_kn": 0.1}, None),
+    "ks/kn=1": ({"ks_over_kn": 1.0}, None),
+    "tied base": ({"base_joint": "tied"}, None),
+    "rect 0.1 s": ({}, ("rectangular", 0.1)),
+}
+#: B4 (the smaller blocks) where cheap enough: without kn × 10 and the pulse
+B4_DEFAULT = ["base", "kn*0.3", "kn*3", "ks/kn=0.1", "ks/kn=1", "tied base"]
+
+
+def threshold(row, name: str) -> dict:
+    """One wall's threshold under one variant: a flat record."""
+    from homlimit.blocks.geometry import t_section_blocks
+    from homlimit.dem import DEMParams, build_model
+    from homlimit.dem.threshold import collapse_threshold
+    from homlimit.dynamics.pulses import make_pulse
+
+    over, loading = VARIANTS[name]
+    params = DEMParams(**over)
+    model = build_model(t_section_blocks(row.case, facade="through"), params)
+    guess = round(row.vg, 1)
+    load = None
+    if loading is not None:
+        kind, period = loading
+        guess /= period
+        load = lambda a: {"pulse": make_pulse(kind, period, a)}   # noqa: E731
+    t0 = time.perf_counter()
+    c0 = time.process_time()
+    th = collapse_threshold(model, guess=guess, rel_tol=0.01, t_max=5.0, load=load)
+    cpu = time.process_time() - c0       # settling included
+    pgv = th.v if loading is None else make_pulse(*loading, th.v).pgv
+    wall = row.case.wall
+    return {"wall": row.test, "variant": name, "kn": params.kn,
+            "ks_over_kn": params.ks_over_kn, "base_joint": params.base_joint,
+            "loading": "impulse" if loading is None else f"{loading[0]} {loading[1]:g} s",
+            "amplitude": th.v, "lo": th.lo, "hi": th.hi, "vg": pgv,
+            "vnorm": pgv / math.sqrt(wall.g * wall.b), "vg_udec": row.vg,
+            "h": th.h, "h_udec": row.h_v, "base_slid": th.base_slid,
+            "hinge_slid": th.hinge_slid, "base_slip": th.base_slip,
+            "hinge_slip": th.hinge_slip, "n_trials": len(th.trials), "dt": th.dt,
+            "cpu": cpu, "wall_clock": time.perf_counter() - t0}
+
+
+def table(rows: list[dict]) -> str:
+    """The Markdown table: per variant, each wall's v̄_g, its change from the base row, h,
+    slips, and the B4/B1 ratio of v̄_g/√(gb) where both walls ran."""
+    base = {r["wall"]: r["vg"] for r in rows if r["variant"] == "base"}
+    by = {(r["wall"], r["variant"]): r for r in rows}
+    out = ["| variant | wall | v̄_g [m/s] (safe–collapsed) | vs base | h [m] | base slip "
+           "[mm] | hinge slip [mm] | trials | dt [s] | CPU [s] | B4/B1 of v̄_g/√(gb) |",
+           "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lo, hi = r["lo"], r["hi"]
+        if r["loading"] != "impulse":      # the bracket in pgv (rectangular: a_g Δt)
+            s = r["vg"] / r["amplitude"]
+            lo, hi = lo * s, hi * s
+        d = (f"{100 * (r['vg'] / base[r['wall']] - 1):+.1f} %"
+             if r["wall"] in base and r["variant"] != "base" else "–")
+        ratio = "–"
+        if r["wall"] == "B4" and ("B1", r["variant"]) in by:
+            ratio = f"{r['vnorm'] / by[('B1', r['variant'])]['vnorm']:.3f}"
+        out.append(f"| {r['variant']} | {r['wall']} | {r['vg']:.3f} ({lo:.4g}–{hi:.4g}) | "
+                   f"{d} | {r['h']:.2f} | {1e3 * r['base_slip']:.0f} | "
+                   f"{1e3 * r['hinge_slip']:.0f} | {r['n_trials']} | {r['dt']:.3g} | "
+                   f"{r['cpu']:.0f} | {ratio} |")
+    return "\n".join(out)
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--walls", nargs="+", default=["B1", "B4"], help="Table 1 walls")
+    ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS),
+                    help="variants of B1 (and of walls other than B4)")
+    ap.add_argument("--b4-variants", nargs="+", default=B4_DEFAULT, choices=list(VARIANTS),
+                    help="variants of B4 (default: without kn*10 and the pulse)")
+    ap.add_argument("--csv", default="homlimit-out/dem-sensitivity/dem_sensitivity.csv",
+                    help="the table as CSV")
+    args = ap.parse_args(argv)
+
+    from homlimit._io import write_csv
+    from homlimit.closed_form.paper import table1
+
+    walls = {r.test: r for r in table1()}
+    rows = []
+    for w in args.walls:
+        for name in (args.b4_variants if w == "B4" else args.variants):
+            r = threshold(walls[w], name)
+            rows.append(r)
+            print(f"{w} {name}: vg {r['vg']:.4f} m/s ({r['lo']:.4g}..{r['hi']:.4g}), "
+                  f"h {r['h']:.2f} m, {r['n_trials']} trials, {r['cpu']:.0f} s CPU, "
+                  f"{r['wall_clock']:.0f} s", flush=True)
+            write_csv(args.csv, rows)           # whole after every threshold
+    print()
+    print(table(rows))
+    print(f"\ntotal CPU {sum(r['cpu'] for r in rows):.0f} s; CSV {args.csv}")
+
+
+if __name__ == "__main__":
+    main()
