@@ -442,6 +442,7 @@ f = 0.6
 [mesh]
 size = 0.6
 part_divisions = 10
+outer_ratio = 0     # the static bound on the mechanism's mesh (test_outer_face: graded)
 [analysis]
 heights = 2
 facade = "homogenised"

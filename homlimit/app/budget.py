@@ -19,6 +19,7 @@ __all__ = ["DEFAULT_MAX_TRIANGLES", "KIB_PER_TRIANGLE", "MEMORY_BUDGET_GIB", "ME
 
 N_B = 4          # columns across the façade (t_section's n_b)
 GROWTH = 1.15    # growth of the crossed mesh's column widths away from the junction
+OUTER_GROWTH = 1.5  # growth of the static mesh's façade columns from the outer face
 # gmsh: triangles per unit area at size h is GMSH_AREA/h² (equilateral: 4/√3 = 2.31), and a
 # band of width b on either side of the junction is refined to min(h, b/N_B), with a linear
 # transition over a further b; coefficients fitted to 46 gmsh meshes (1e2 .. 4e4 triangles):
@@ -44,8 +45,8 @@ MEMORY_BUDGET_GIB = 8.0
 DEFAULT_MAX_TRIANGLES = 150_000
 
 
-def estimate_triangles(H: float, b: float, L: float, h: float, mesher: str = "crossed"
-                       ) -> float:
+def estimate_triangles(H: float, b: float, L: float, h: float, mesher: str = "crossed",
+                       h_outer: float | None = None) -> float:
     """Triangles of ``t_section`` on a part of height H (façade thickness b, wall length L)
     at mesh size h [m], without meshing.
 
@@ -54,6 +55,8 @@ def estimate_triangles(H: float, b: float, L: float, h: float, mesher: str = "cr
     (ln(max/min)/ln(GROWTH)); exact to within +0 .. +32 % above 5 000 triangles.
     gmsh: area over h² (GMSH_AREA) plus the junction band at min(h, b/N_B).
     gmsh-strip: the façade's crossed rows exactly, 4·N_B·max(2, ⌈H/h⌉), plus gmsh's wall.
+    ``h_outer`` (crossed): the façade's columns graded from that width at the outer face (the
+    static bound's own mesh): ln(b/N_B / h_outer)/ln(OUTER_GROWTH) more columns at most.
     Returns a float (inf when the count would not fit a float).
     """
     h_j = min(h, b / N_B)
@@ -68,17 +71,24 @@ def estimate_triangles(H: float, b: float, L: float, h: float, mesher: str = "cr
             return GMSH_AREA * H * b / h_j ** 2 + wall
         h_far = max(h, b / N_B)
         graded = math.log(h_far / h_j) / math.log(GROWTH)
+        if h_outer is not None and h_outer < b / N_B:
+            graded += math.log(b / N_B / h_outer) / math.log(OUTER_GROWTH)
         return 4.0 * math.ceil(H / h) * (N_B + L / h_far + graded)
     except OverflowError:
         return math.inf
 
 
 def fe_triangles(H: float, b: float, L: float, size: float, lams=(),
-                 mesher: str = "crossed", divisions: int = PART_DIVISIONS) -> float:
-    """The largest problem of an FE run [triangles]: the whole wall at ``size`` and each part
-    of the impulse scan (``lams``: slenderness λ = h/b of the parts; a part of height h is
-    meshed at min(size, h/divisions), ``mechanism.analysis.part_problem``)."""
+                 mesher: str = "crossed", divisions: int = PART_DIVISIONS,
+                 outer_ratio: float = 0.0) -> float:
+    """The largest problem of an FE run [triangles]: the whole wall at ``size`` (and on the
+    static bound's own mesh, ``outer_ratio`` > 0 on the crossed grid) and each part of the
+    impulse scan (``lams``: slenderness λ = h/b of the parts; a part of height h is meshed at
+    min(size, h/divisions), ``mechanism.analysis.part_problem``)."""
     n = estimate_triangles(H, b, L, size, mesher)
+    if mesher == "crossed" and outer_ratio > 0:
+        n = max(n, estimate_triangles(H, b, L, size, mesher,
+                                      h_outer=min(size / outer_ratio, b / N_B)))
     for lam in lams:
         hp = min(float(lam) * b, H)
         n = max(n, estimate_triangles(hp, b, L, min(size, hp / divisions), mesher))

@@ -167,6 +167,13 @@ SCHEMA: dict[str, dict[str, Key]] = {
                           "\"gmsh\" (unstructured, refined to b/4 along the junction) or "
                           "\"gmsh-strip\" (gmsh with the façade strip a crossed grid of 4 "
                           "columns, the wall unstructured; docs/kinematic.md)"),
+        "outer_ratio": Key(float, 25.0, "", 0.0, 1000.0,
+                           doc="the static bound's own mesh (crossed mesher only; 0: the "
+                               "kinematic bound's mesh): the façade's columns graded to a "
+                               "width of size/outer_ratio at the outer face, where an "
+                               "overturning façade bears (docs/static.md, \"The outer "
+                               "face\"; measured on B1: 25 keeps the columns' aspect "
+                               "ratio where linear and quadratic stresses agree)"),
     },
     "adapt": {
         "target_gap": Key(float, 0.01, "", 0.0, 1.0, lo_open=True,
@@ -194,9 +201,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
                            "from one course (a) to H, refined around the minimum of v̄_g "
                            "(eq. 7) to one course (two courses within 0.5 %)"),
         "static": Key(bool, True,
-                      doc="static lower bound of the whole wall's FE multiplier on the same "
-                          "mesh (the bracket λ⁻ <= λ <= λ⁺), its stress field in "
-                          "mechanism.vtu and stress.png (needs fe)"),
+                      doc="static lower bound of the whole wall's FE multiplier (the bracket "
+                          "λ⁻ <= λ <= λ⁺; on its own graded mesh with [mesh] outer_ratio), "
+                          "its stress field in stress.png, and in mechanism.vtu when both "
+                          "bounds share a mesh (needs fe)"),
         "tol": Key(float, 0.0, "", lo=0.0, hi=1e-2,
                    doc="Clarabel gap and feasibility tolerance (0: the solver default of "
                        "homlimit.fe.solver.SolverOptions)"),
@@ -358,6 +366,7 @@ class MeshConfig:
     max_triangles: int = budget.DEFAULT_MAX_TRIANGLES
     part_divisions: int = PART_DIVISIONS
     mesher: str = MESHER_DEFAULT
+    outer_ratio: float = 25.0
 
 
 @dataclass(frozen=True)
@@ -680,7 +689,9 @@ def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> l
     parts = (m["a"] / w["b"],) if not mesh_only and has(m, "a") else ()
     n = budget.fe_triangles(w["H"], w["b"], w["L"], size, parts,
                             mesher=me.get("mesher", MESHER_DEFAULT),
-                            divisions=me.get("part_divisions", PART_DIVISIONS))
+                            divisions=me.get("part_divisions", PART_DIVISIONS),
+                            outer_ratio=me.get("outer_ratio", 0.0)
+                            if an.get("static", False) else 0.0)
     whole = budget.fe_triangles(w["H"], w["b"], w["L"], size)
     if n > me["max_triangles"] and whole <= me["max_triangles"] and "part_divisions" in me:
         # the whole wall fits: the shortest part of the scan, meshed at a/part_divisions

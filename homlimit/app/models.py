@@ -125,6 +125,21 @@ def whole_problem(config: CaseConfig):
                      mesher=config.mesh.mesher)
 
 
+def static_problem(config: CaseConfig):
+    """The whole wall on the static bound's own mesh: on the crossed grid with ``[mesh]
+    outer_ratio`` > 0, the façade's columns graded to width size/outer_ratio at the outer
+    face (``t_section(h_outer=)``, docs/static.md "The outer face"); else None (the static
+    bound on the kinematic bound's mesh)."""
+    from ..fe.problems import t_section
+
+    me = config.mesh
+    if not (config.analysis.static and me.mesher == "crossed" and me.outer_ratio > 0):
+        return None
+    b = config.case.wall.b
+    return t_section(config.case, facade=config.analysis.facade, h=me.size,
+                     mesher=me.mesher, h_outer=min(me.size / me.outer_ratio, b / 4))
+
+
 FE_CACHE_FORMAT = "homlimit FE rocker 1"
 
 
@@ -281,7 +296,8 @@ def run_fe(config, result) -> None:
         result.fe = fe_result(config.case, config.mesh.size, an.facade,
                               solver_options(an.tol), whole=whole, static=an.static,
                               heights=an.heights, divisions=config.mesh.part_divisions,
-                              mesher=config.mesh.mesher, adapted=adapted)
+                              mesher=config.mesh.mesher, adapted=adapted,
+                              static_problem=None if adapted else static_problem(config))
     if result.fe.critical is not None:
         result.mechanisms[result.fe.critical.name] = result.fe.critical
 

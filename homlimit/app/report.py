@@ -344,7 +344,10 @@ def _fe_lines(fe, case) -> str:
     lines = [f"FE, whole wall: {full.n_triangles} triangles, façade {full.facade}, "
              f"collapse multiplier {_num(full.multiplier, '.4g')} (acceleration / g)"]
     if fe.static is not None:
-        how = "same mesh" if fe.adapt is None else (
+        ns = fe.static.mesh.t.shape[1]
+        how = ("same mesh" if ns == full.n_triangles else
+               f"static on its own mesh, {ns} triangles, façade columns graded to the "
+               f"outer face") if fe.adapt is None else (
             f"adaptive gmsh mesh, {len(fe.adapt.cycles)} cycles, "
             + ("target reached" if fe.adapt.converged else f"stopped: {fe.adapt.stop}"))
         lines.append(f"  bracket: static {_num(fe.lower_bound, '.4g')} <= multiplier <= "
@@ -487,9 +490,9 @@ def mechanism_mesh(fe):
         out.cell_data["bracket_gap"] = [gap] + [np.full(len(b.data), np.nan)
                                                 for b in out.cells[1:]]
     elif fe.static is not None:
-        notes["static"] = ("the adaptive bracket's best lower bound lives on another mesh than "
-                           "the best upper bound's: its stress field is drawn in stress.png, "
-                           "not written here")
+        notes["static"] = ("the static bound lives on another mesh than the mechanism's (its "
+                           "own graded mesh, or the adaptive bracket's best lower bound's): "
+                           "its stress field is drawn in stress.png, not written here")
     out = _interface_cells(out, prob, sol, scale, notes)
     fields = [*out.point_data, *out.cell_data, "velocity_scale"]
     units = {k: MECHANISM_UNITS.get(k) for k in fields}

@@ -345,9 +345,13 @@ def free_block(b: float = 0.5, h: float = 3.0, f: float = 0.6, gamma: float = 20
 # the masonry T-section
 # ---------------------------------------------------------------------------------------------
 
+OUTER_GROWTH = 1.5  # the façade columns' growth from the outer face (``t_section(h_outer=)``)
+
+
 def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
               h: float = 0.25, n_b: int = 4, growth: float = 1.15,
-              h_far: float | None = None, mesher: str = MESHER_DEFAULT) -> Problem:
+              h_far: float | None = None, mesher: str = MESHER_DEFAULT,
+              h_outer: float | None = None) -> Problem:
     """The façade strip + transversal wall of the paper in the section plane x–z.
 
     Façade 0 <= x <= b (region "facade", density ρ·γ with ρ = l/s, the paper's 2D reduction),
@@ -365,6 +369,11 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     crossed grid (n_b columns, rows of h, crossed cells) and the wall unstructured, refined to
     b/n_b along the junction as with "gmsh" and conforming to the strip's nodes there
     (``geometry.tsection(strip="structured")``).
+    ``h_outer`` (crossed only): the façade's columns graded from this width at the outer face
+    x = 0 (spacing h_outer + (OUTER_GROWTH − 1)·x up to b/n_b, the last column at most 1.5
+    b/n_b: ``graded``). An overturning façade bears on its outer face, and a static field can
+    put its compression resultant no nearer to that face than about a third of the outermost
+    column: the lever arm it loses is O(column width) (docs/static.md, "The outer face").
     Reference: the prototype's hinge + fan mechanism (docs/kinematic.md); no closed form.
     """
     w, mas = case.wall, case.masonry
@@ -377,6 +386,11 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     geo = TSection.from_case(case, z0)
     b, H = geo.b, geo.H
     h_far = h if h_far is None else check_range("h_far", h_far, 0.0, lo_open=True, unit="m")
+    if h_outer is not None:
+        h_outer = check_range("h_outer", h_outer, 0.0, b / n_b, lo_open=True, unit="m")
+        if mesher != "crossed":
+            raise ParameterError(f"h_outer = {h_outer} with mesher = {mesher!r} is out of "
+                                 f"range: allowed only with mesher = 'crossed'")
     if mesher == "gmsh":
         from .geometry import tsection
         from .mesh import to_skfem
@@ -389,7 +403,9 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
         m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0,
                               strip="structured", n_b=n_b))
     else:
-        xs = np.r_[np.linspace(0.0, b, n_b + 1)[:-1],
+        xf = (np.linspace(0.0, b, n_b + 1) if h_outer is None else
+              graded(0.0, b, h_outer, b / n_b, foci=(0.0,), growth=OUTER_GROWTH))
+        xs = np.r_[xf[:-1],
                    graded(b, geo.x_end, min(b / n_b, h_far), max(b / n_b, h_far), foci=(b,),
                           growth=growth)]
         zs = np.linspace(z0, H, max(2, int(math.ceil(geo.height / h))) + 1)

@@ -318,6 +318,8 @@ class FEResult:
             "tanpsi_edges": list(full.tanpsi_edges), "sqrt_cf_a": case.alpha,
             "f": case.masonry.f, "c_over_a": case.masonry.c / case.masonry.a,
             "lower_bound": self.lower_bound, "bracket_rel_gap": self.bracket_rel_gap,
+            "static_triangles": None if self.static is None
+            else int(self.static.mesh.t.shape[1]),
             "adapt": None if self.adapt is None else self.adapt.as_dict(),
             "vg": None if crit is None else crit.vg,
             "vnorm": None if crit is None else crit.vnorm,
@@ -353,7 +355,7 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
               whole: Problem | None = None, static: bool = False, heights: int = 6,
               step: float | None = None, rtol: float = 0.005, map=map,
               divisions: int = PART_DIVISIONS, mesher: str = MESHER_DEFAULT,
-              adapted=None) -> FEResult:
+              adapted=None, static_problem: Problem | None = None) -> FEResult:
     """The FE impulse scan over a <= h_part <= H (module docstring): ``heights`` starting
     heights, refined around the minimum down to ``step`` [m] (default a), or 2·step where
     the neighbour is within ``rtol`` of the minimum (``scan_midpoints``); with
@@ -363,7 +365,9 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
     ``divisions``: elements per part height (``part_problem``); ``mesher``: the mesh of the
     whole wall and of every part (``problems.MESHERS``). ``adapted``: the whole wall's
     ``fe.adapt.AdaptResult`` (``mechanism.adaptive.adaptive_bracket``): its last mesh is the
-    whole wall's, and both its bounds are reused (no second solve)."""
+    whole wall's, and both its bounds are reused (no second solve). ``static_problem``: the
+    whole wall on the static bound's own mesh (default: ``whole``'s), e.g. with the façade's
+    columns graded to the outer face (``t_section(h_outer=)``)."""
     check_choice("facade", facade, FACADE_MODELS)
     check_choice("mesher", mesher, MESHERS)
     w, a = case.wall, case.masonry.a
@@ -394,6 +398,7 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
         from ..fe.solver import SolverOptions
         from ..fe.static import solve_static
 
-        log.info("static lower bound of the whole wall: %d triangles", whole.n_triangles)
-        sta = solve_static(whole, options or SolverOptions())
+        sp_ = whole if static_problem is None else static_problem
+        log.info("static lower bound of the whole wall: %d triangles", sp_.n_triangles)
+        sta = solve_static(sp_, options or SolverOptions())
     return FEResult(tuple(done[h] for h in sorted(done)), sta, a, adapted)
