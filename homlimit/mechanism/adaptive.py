@@ -77,13 +77,15 @@ def hinge_refinement(point, h_min: float, size: float, ratio: float = 5.0) -> li
 
 def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
                       follow: bool = False, n_fan: int = 16, h_hinge: float | None = None,
-                      corners: bool = False):
+                      corners: bool = False, outer: float | None = None):
     """``remesh(size_map, last)`` for ``fe.adapt.adapt`` on the T-section (gmsh, element size
     ``size``, b/n_b at the junction), the gap-driven sizes only by default; ``corners``: fans
     of 6 rays at the outer toe and the façade's top corners; ``follow``: after a cycle, the
     last mechanism's hinge fan and edge rays, and with ``h_hinge`` [m] a grading towards the
     hinge (module docstring). Both are off by default: measured on B1's homogenised façade
-    they slow the static bound down (docs/adaptive.md)."""
+    they slow the static bound down (docs/adaptive.md). ``outer`` [m]: the façade's outer
+    face refined to this size within 2.5·outer, where an overturning façade bears (the static
+    bound's lever arm: docs/static.md, "The outer face")."""
     w = case.wall
     fans = [(0.0, z0, 0, 90), (0.0, w.H, -90, 0), (w.b, w.H, -180, 0)] if corners else []
     base = [r for x, z, a0, a1 in fans for r in fe_adapt.fan_rays((x, z), a0, a1, 6, w.b)]
@@ -98,10 +100,11 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
             for T in (hf.T1, hf.T2):
                 if T is not None and math.isfinite(T) and T > 0:
                     rays.append(((hf.x, hf.z), (hf.x + T * (w.H - hf.z), w.H)))
+        segs = [] if outer is None else [((0.0, z0), (0.0, w.H), outer, 2.5 * outer)]
         return to_skfem(geometry.tsection(w.H, w.b, w.L, size=size, z0=z0,
                                           size_junction=min(size, w.b / n_b),
                                           embed_lines=rays, refine_points=points,
-                                          size_map=size_map))
+                                          refine_segments=segs, size_map=size_map))
     return remesh
 
 
