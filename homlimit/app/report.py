@@ -41,7 +41,7 @@ _DIMENSIONLESS = (
     "critical_multiplier lower_bound bracket_rel_gap ratio ratio_I ratio_II rho alpha alpha2 "
     "beta f c_over_a sqrt_cf_a tanpsi tanpsi_fe tanpsi_fe_edges tanpsi_uncertainty dtanpsi_fe "
     "tanpsi_edges tanpsi_block tanpsi_fixed tan_alpha tan_f tan_c_over_a fan_T1 fan_T2 "
-    "explained block_share interior_share eq14_error n_triangles polarity pga_g pT n_impacts "
+    "explained block_share interior_share eq14_error n_triangles static_triangles polarity pga_g pT n_impacts "
     "hinge_ratio hinge_ratio_fe hinge_ratio_I hinge_ratio_II multiplier_I multiplier_II rtol "
     "ivp_rtol lam_multiplier retries solver_tol").split()
 _TEXT = ("name test mechanism mechanism_fe critical_mechanism vg_method facade mesher pulse "
