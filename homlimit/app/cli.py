@@ -1,7 +1,7 @@
 """The ``homlimit`` command line: a thin typer layer over the Python API. This module declares
-the commands and their options; each command's work is a plain function in ``app.commands``
-(loaded when the command runs, so that ``--help`` stays light), what they share in
-``app.door`` (exit codes, logging, signals, JSON and table output).
+the commands and their options; each command's work is a plain function of those options in
+``app.commands`` (called with the command's ``locals()``: its options, nothing else), what
+they share in ``app.door`` (exit codes, logging, signals, JSON and table output).
 
     homlimit run [CASE.toml]      the full pipeline for one wall (no case: the embedded B1 wall)
     homlimit demo                 the embedded default case (Table 1's B1)
@@ -36,6 +36,10 @@ import typer
 
 from ..params import MESHER_DEFAULT
 from .budget import DEFAULT_MAX_TRIANGLES
+from .commands import case as case_cmds
+from .commands import studies as study_cmds
+from .commands import sweep as sweep_cmds
+from .commands import table1 as table1_cmds
 from .door import EXIT_BAD_INPUT, EXIT_SOLVER, guarded, print_version
 
 MAX_CASES = 100_000         # sweep.MAX_CASES (sweep imports numpy: kept off the start-up)
@@ -103,9 +107,7 @@ def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
 
     Closed-form mechanisms I and II, the FE mechanism and its crack, the impulse criterion;
     prints a summary and writes summary.json, .vtu and PNG files."""
-    from .commands.case import run_case
-
-    run_case(case, as_json, out, verbose, quiet, overrides)
+    case_cmds.run_case(case, as_json, out, verbose, quiet, overrides)
 
 
 @app.command()
@@ -113,9 +115,7 @@ def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
 def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
          quiet: QuietOpt = False, overrides: SetOpt = None):
     """Run the embedded default case: the paper's Table 1 wall B1 (H=9 m, b=0.5 m, ρ=12)."""
-    from .commands.case import run_case
-
-    run_case(None, as_json, out, verbose, quiet, overrides, command="demo")
+    case_cmds.run_case(None, as_json, out, verbose, quiet, overrides, command="demo")
 
 
 @app.command()
@@ -158,10 +158,7 @@ def table1(as_json: JsonOpt = False, out: _out(
                "--resume/--no-resume", help="With --dem: keep the walls recorded in "
                                             "OUT/records/ by an earlier run.")] = True):
     """The paper's Table 1: critical λ and v̄_g/√(gb) of mechanisms I and II beside the DEM."""
-    args = dict(locals())
-    from .commands.table1 import table1 as work
-
-    work(**args)
+    table1_cmds.table1(**locals())
 
 
 @app.command()
@@ -170,10 +167,7 @@ def figure2(as_json: JsonOpt = False, out: _out("homlimit-out/figure2/") = None)
     """The paper's Figure 2: critical λ and v̄_g/√(gb) against ρ, both mechanisms, DEM points.
 
     Writes figure2.png and figure2.json (the curves); --json prints the curves."""
-    args = dict(locals())
-    from .commands.studies import figure2 as work
-
-    work(**args)
+    study_cmds.figure2(**locals())
 
 
 @app.command()
@@ -196,10 +190,7 @@ def verify(as_json: JsonOpt = False, out: _out("homlimit-out/verify/") = None,
     their gap is), each against its exact value: Prandtl 2 + pi, the vertical cut
     3.7752-3.7776, the homogenised B1 T-section's hinge + fan (0.15216, fan edges f and c/a),
     a free block b/h. Writes verify.json and verify.csv (every cycle)."""
-    args = dict(locals())
-    from .commands.studies import verify as work
-
-    work(**args)
+    study_cmds.verify(**locals())
 
 
 @app.command("crack-study")
@@ -229,10 +220,7 @@ def crack_study(as_json: JsonOpt = False, out: _out("homlimit-out/crack-study/")
                     "--resume/--no-resume", help="Keep the points recorded in OUT/records/ "
                                                  "by an earlier run.")] = True):
     """The crack-angle study: the FE crack slope over a grid of c/a and f, beside √(cf/a)."""
-    args = dict(locals())
-    from .commands.studies import crack_study as work
-
-    work(**args)
+    study_cmds.crack_study(**locals())
 
 
 @app.command()
@@ -242,10 +230,7 @@ def pulse(case: CaseArg = None, as_json: JsonOpt = False,
           verbose: VerboseOpt = False, quiet: QuietOpt = False, overrides: SetOpt = None):
     """Overturning spectra: the critical pulse per mechanism against pulse period ([pulse]);
     default folder homlimit-out/NAME/pulse/."""
-    args = dict(locals())
-    from .commands.case import pulse as work
-
-    work(**args)
+    case_cmds.pulse(**locals())
 
 
 @app.command()
@@ -255,10 +240,7 @@ def mesh(case: CaseArg = None, as_json: JsonOpt = False,
          overrides: SetOpt = None):
     """Mesh the T-section of a case only; write mesh.vtu and mesh.png for inspection
     (default folder homlimit-out/NAME/mesh/)."""
-    args = dict(locals())
-    from .commands.case import mesh as work
-
-    work(**args)
+    case_cmds.mesh(**locals())
 
 
 # ----------------------------------------------------------------------------- sweeps (Dask)
@@ -303,10 +285,7 @@ def sweep_run(
 
     Each case's record is written as soon as it finishes (OUT/records/); the table is
     OUT/results.parquet and OUT/results.csv. Exit 3 if any case failed."""
-    args = dict(locals())
-    from .commands.sweep import sweep_run as work
-
-    work(**args)
+    sweep_cmds.sweep_run(**locals())
 
 
 @sweep_app.command("report")
@@ -319,10 +298,7 @@ def sweep_report_cmd(
         as_json: JsonOpt = False):
     """Draw a sweep's standard plots: vg/sqrt(gb) against each swept key, the critical
     mechanism map, measured against predicted tan psi, the histogram of vg."""
-    args = dict(locals())
-    from .commands.sweep import sweep_report as work
-
-    work(**args)
+    sweep_cmds.sweep_report(**locals())
 
 
 def main():

@@ -14,6 +14,7 @@ from contextlib import contextmanager
 
 import typer
 
+from .._io import rounded  # floats to 15 digits, as in the files (_io.write_output)
 from .._version import package_version
 from ..errors import (
     HomlimitError,
@@ -23,6 +24,10 @@ from ..errors import (
     ResultError,
     SolverError,
 )
+from .config import ConfigError
+from .engine import Engine
+from .engine import Interrupted as EngineInterrupted
+from .report import format_table
 
 __all__ = ["EXIT_BAD_INPUT", "EXIT_SOLVER", "LOG", "Interrupted", "emit_json", "fail",
            "guarded", "interruptible", "open_engine", "setup_logging", "show", "signals",
@@ -99,8 +104,6 @@ def guarded(fn):
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
-        from .config import ConfigError
-
         try:
             with signals():
                 return fn(*args, **kwargs)
@@ -166,8 +169,6 @@ def stdout_quiet(enabled: bool):
 
 
 def emit_json(stream, data):
-    from .._io import rounded  # floats to 15 digits, as in the files (_io.write_output)
-
     stream.write(json.dumps(rounded(data), indent=2, ensure_ascii=False) + "\n")
     stream.flush()
 
@@ -179,8 +180,6 @@ def show(stdout, as_json: bool, data, records: list[dict], cols: list[str], titl
     if as_json:
         emit_json(stdout, data)
         return
-    from .report import format_table
-
     print(format_table(cols, [[r.get(k) for k in cols] for r in records], title=title))
     print("\nfiles: " + ", ".join(map(str, files)))
 
@@ -188,8 +187,6 @@ def show(stdout, as_json: bool, data, records: list[dict], cols: list[str], titl
 @contextmanager
 def interruptible(where):
     """Ctrl-C / SIGTERM: what is recorded stays; exit 130 / 143 with a one-line note."""
-    from .engine import Interrupted as EngineInterrupted
-
     try:
         yield
     except KeyboardInterrupt as e:
@@ -200,6 +197,4 @@ def interruptible(where):
 
 
 def open_engine(workers: int | None, scheduler: str | None, quiet: bool):
-    from .engine import Engine
-
     return Engine(workers=workers, scheduler=scheduler, progress=not quiet)

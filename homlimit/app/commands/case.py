@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ...closed_form.paper import dem_row
+from .. import pipeline, plots, report
+from ..config import load_case
 from ..door import (
     emit_json,
     setup_logging,
@@ -13,18 +16,14 @@ from ..door import (
 
 def pulse(case, as_json, out, verbose, quiet, overrides):
     """``homlimit pulse``'s work: see ``cli.pulse``."""
-    from ...closed_form.paper import dem_row
-    from .. import plots, report
-    from ..config import load_case
-    from ..pipeline import announce, output_dir, pulse_records, result_folder, source_of
-
     setup_logging(verbose, quiet, as_json)
     with stdout_quiet(as_json or verbose) as stdout:
         config = load_case(case, overrides)
-        announce(config)
-        out = out or output_dir(config) / "pulse"
-        with result_folder(out, "pulse", case=config.name, **source_of(config)) as staging:
-            points, fe = pulse_records(config)
+        pipeline.announce(config)
+        out = out or pipeline.output_dir(config) / "pulse"
+        with pipeline.result_folder(out, "pulse", case=config.name,
+                                    **pipeline.source_of(config)) as staging:
+            points, fe = pipeline.pulse_records(config)
             dem = dem_row(config.case)
             report.write(staging / "spectra.csv", [p.as_dict() for p in points])
             plots.plot_spectra(staging / "spectra.png", points,
@@ -45,14 +44,11 @@ def pulse(case, as_json, out, verbose, quiet, overrides):
 
 def mesh(case, as_json, out, overrides):
     """``homlimit mesh``'s work: see ``cli.mesh``."""
-    from ..config import load_case
-    from ..pipeline import announce, mesh_case, output_dir
-
     setup_logging(False, False, as_json)
     with stdout_quiet(as_json) as stdout:
         config = load_case(case, overrides)
-        announce(config)
-        info = mesh_case(config, out or output_dir(config) / "mesh")
+        pipeline.announce(config)
+        info = pipeline.mesh_case(config, out or pipeline.output_dir(config) / "mesh")
     if as_json:
         emit_json(stdout, info)
     else:
@@ -63,11 +59,9 @@ def mesh(case, as_json, out, overrides):
 
 def run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
              quiet: bool, overrides: list[str] | None, command: str = "run"):
-    from ..pipeline import run
-
     setup_logging(verbose, quiet, as_json)
     with stdout_quiet(as_json or verbose) as stdout:
-        result = run(case, out=out, write=True, overrides=overrides, command=command)
+        result = pipeline.run(case, out=out, write=True, overrides=overrides, command=command)
     if as_json:
         emit_json(stdout, result.to_dict())
     else:

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ...fe.adapt import AdaptOptions
+from ...fe.solver import SolverOptions
+from .. import pipeline, plots, report
 from ..door import (
     LOG,
     emit_json,
@@ -13,16 +16,15 @@ from ..door import (
     show,
     stdout_quiet,
 )
+from ..engine import RecordStore
+from ..verify import verify_records
 
 
 def figure2(as_json, out):
     """``homlimit figure2``'s work: see ``cli.figure2``."""
-    from .. import plots, report
-    from ..pipeline import figure2_curves, result_folder
-
     out = out or Path("homlimit-out") / "figure2"
-    with stdout_quiet(as_json) as stdout, result_folder(out, "figure2") as staging:
-        curves = figure2_curves()
+    with stdout_quiet(as_json) as stdout, pipeline.result_folder(out, "figure2") as staging:
+        curves = pipeline.figure2_curves()
         plots.figure2(staging / "figure2.png", curves)
         report.write(staging / "figure2.json", curves)
     files = {"figure2_png": str(out / "figure2.png"), "figure2_json": str(out / "figure2.json")}
@@ -35,18 +37,13 @@ def figure2(as_json, out):
 def verify(as_json, out, verbose, quiet, problem, target_gap, max_cycles, min_size,
            max_triangles, stress_degree):
     """``homlimit verify``'s work: see ``cli.verify``."""
-    from ...fe.adapt import AdaptOptions
-    from ...fe.solver import SolverOptions
-    from .. import report
-    from ..pipeline import result_folder
-    from ..verify import verify_records
-
     out = out or Path("homlimit-out") / "verify"
     setup_logging(verbose, quiet, as_json)
     opts = AdaptOptions(target_gap=target_gap, max_cycles=max_cycles, min_size=min_size,
                         max_triangles=max_triangles)
     SolverOptions(stress_degree=stress_degree)   # checked before any work
-    with stdout_quiet(as_json or verbose) as stdout, result_folder(out, "verify") as staging:
+    with stdout_quiet(as_json or verbose) as stdout, \
+            pipeline.result_folder(out, "verify") as staging:
         records = verify_records(problem, opts, stress_degree=stress_degree,
                                  progress=lambda n, c: LOG.info(
             "verify %s: cycle %d, %d triangles, %.6g <= lambda <= %.6g; best %.6g .. %.6g "
@@ -73,10 +70,6 @@ def verify(as_json, out, verbose, quiet, problem, target_gap, max_cycles, min_si
 def crack_study(as_json, out, verbose, quiet, mesh_size, finer, quick, c_over_a, friction,
                 facade, max_triangles, mesher, workers, scheduler, resume):
     """``homlimit crack-study``'s work: see ``cli.crack_study``."""
-    from .. import plots, report
-    from ..engine import RecordStore
-    from ..pipeline import crack_study_records, result_folder
-
     out = out or Path("homlimit-out") / "crack-study"
     setup_logging(verbose, quiet, as_json)
     grid = dict(mesh_size=mesh_size, finer=finer or None, quick=quick, c_over_a=c_over_a,
@@ -84,12 +77,12 @@ def crack_study(as_json, out, verbose, quiet, mesh_size, finer, quick, c_over_a,
                 mesher=mesher)
     store = RecordStore(out / "records")   # a nested set: kept when the set is replaced
     with stdout_quiet(as_json or verbose) as stdout, interruptible(store.folder), \
-            result_folder(out, "crack-study") as staging:
-        crack_study_records(**grid, map=lambda fn, points: [])   # validate before any work
+            pipeline.result_folder(out, "crack-study") as staging:
+        pipeline.crack_study_records(**grid, map=lambda fn, points: [])   # validate before any work
         if not resume:
             store.clear()
         with open_engine(workers, scheduler, not (quiet or as_json)) as engine:
-            records = crack_study_records(**grid, map=engine.stored_map(
+            records = pipeline.crack_study_records(**grid, map=engine.stored_map(
                 store, "crack-study", "crack-study"))
         report.write(staging / "crack_study.csv", records)
         plots.plot_crack_study(staging / "crack_study.png", records,

@@ -5,6 +5,7 @@ from __future__ import annotations
 import typer
 
 from ...errors import ParameterError
+from .. import report
 from ..door import (
     EXIT_SOLVER,
     emit_json,
@@ -12,14 +13,13 @@ from ..door import (
     setup_logging,
     stdout_quiet,
 )
+from ..sweep import sweep
+from ..sweep_report import report as draw_report
 
 
 def sweep_run(base, as_json, verbose, quiet, out, grid, table, workers, scheduler, resume,
               retry_failed, max_cases):
-    """``homlimit sweep-run``'s work: see ``cli.sweep_run``."""
-    from .. import report
-    from ..sweep import sweep
-
+    """``homlimit sweep run``'s work: see ``cli.sweep_run``."""
     if not grid and table is None:
         raise ParameterError("--grid / --table = none is out of range: allowed at least one "
                              "--grid key=v1,v2 or a --table CSV")
@@ -53,11 +53,9 @@ def sweep_run(base, as_json, verbose, quiet, out, grid, table, workers, schedule
 
 
 def sweep_report(results, out, as_json):
-    """``homlimit sweep-report``'s work: see ``cli.sweep_report_cmd``."""
-    from ..sweep_report import report
-
+    """``homlimit sweep report``'s work: see ``cli.sweep_report_cmd``."""
     with stdout_quiet(as_json) as stdout:
-        files = report(results, out)
+        files = draw_report(results, out)
     if as_json:
         emit_json(stdout, {"files": files})
     else:

@@ -3,9 +3,12 @@ DEM's column."""
 
 from __future__ import annotations
 
+from dataclasses import asdict
 from pathlib import Path
 
 from ...errors import ParameterError
+from .. import pipeline, plots, report
+from ..dem_stage import dem_section, table1_dem_records
 from ..door import (
     interruptible,
     open_engine,
@@ -13,14 +16,12 @@ from ..door import (
     show,
     stdout_quiet,
 )
+from ..engine import RecordStore
 
 
 def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, max_triangles,
            mesher, workers, scheduler, blocks, blocks_facade, dem, overrides, resume):
     """``homlimit table1``'s work: see ``cli.table1``."""
-    from .. import plots, report
-    from ..pipeline import result_folder, table1_blocks_records, table1_records
-
     if overrides and not dem:
         raise ParameterError(f"--set {overrides[0]!r} is out of range without --dem: allowed "
                              "only with table1 --dem (its [dem] keys)")
@@ -31,16 +32,12 @@ def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, m
                  source="embedded:table1" + (f":{','.join(tests)}" if tests else ""))
     setup_logging(verbose, quiet, as_json)
     if dem:   # validated before any work, then every wall a Dask task, its record kept
-        from dataclasses import asdict
-
-        from ..dem_stage import dem_section, table1_dem_records
-        from ..engine import RecordStore
 
         section = dem_section(overrides)
         table1_dem_records(tests, section, map=lambda fn, walls: [])
         store = RecordStore(out / "records")
         with stdout_quiet(as_json or verbose) as stdout, interruptible(store.folder), \
-                result_folder(out, **owner) as staging:
+                pipeline.result_folder(out, **owner) as staging:
             if not resume:
                 store.clear()
             with open_engine(workers, scheduler, quiet or as_json) as engine:
@@ -61,8 +58,8 @@ def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, m
         return
     if blocks:
         with stdout_quiet(as_json or verbose) as stdout, \
-                result_folder(out, **owner) as staging:
-            rows, ratios = table1_blocks_records(test, facade=blocks_facade)
+                pipeline.result_folder(out, **owner) as staging:
+            rows, ratios = pipeline.table1_blocks_records(test, facade=blocks_facade)
             report.write(staging / "table1_blocks.csv", rows)
             report.write(staging / "table1_blocks_ratios.json", ratios)
         cols = ["test", "blocks", "lam_blocks", "h_blocks", "vnorm_blocks", "lam_I",
@@ -76,13 +73,13 @@ def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, m
     kw = dict(fe=fe, mesh_size=mesh_size, heights=heights, tests=test, facade=facade,
               max_triangles=max_triangles, mesher=mesher)
     with stdout_quiet(as_json or verbose) as stdout, \
-            result_folder(out, **owner) as staging:
+            pipeline.result_folder(out, **owner) as staging:
         if fe:  # validated before any work, then every height of every wall a Dask task
-            table1_records(**kw, fe_results=lambda *args: [])
+            pipeline.table1_records(**kw, fe_results=lambda *args: [])
             with open_engine(workers, scheduler, not (quiet or as_json)) as engine:
-                rows = table1_records(**kw, fe_results=engine.fe_results)
+                rows = pipeline.table1_records(**kw, fe_results=engine.fe_results)
         else:
-            rows = table1_records(**kw)
+            rows = pipeline.table1_records(**kw)
         report.write(staging / "table1.csv", rows)
         report.write(staging / "table1.json", rows)
         plots.plot_table1(staging / "table1.png", rows)
@@ -98,7 +95,5 @@ def table1_folder(variant: str, tests: list[str]) -> Path:
     """table1's default folder: homlimit-out/table1/ for the whole closed-form table; a
     variant (--fe, --blocks) or a selection of tests (-t B1) has its own (table1-fe-B1/), so
     that it never replaces another's set."""
-    from ..pipeline import folder_name
-
     parts = ["table1", variant.lstrip("-"), *tests]
-    return Path("homlimit-out") / folder_name("-".join(p for p in parts if p))
+    return Path("homlimit-out") / pipeline.folder_name("-".join(p for p in parts if p))
