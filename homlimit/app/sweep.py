@@ -43,6 +43,9 @@ from .pipeline import folder_name, package_version, result_folder, source_of
 from .report import input_units
 from .sweep_cases import (
     MAX_CASES,
+    MAX_DIGITS,
+    MAX_PROBLEMS,
+    MAX_TABLE_BYTES,
     SweepCase,
     invalid_error,
     no_gc,
@@ -50,12 +53,12 @@ from .sweep_cases import (
     read_table,
     sweep_inputs,
 )
-from .sweep_table import flatten, table_rows, write_table
+from .sweep_table import META, flatten, record_row, table_rows, write_table
 from .sweep_tasks import BatchText, batch_closed_form, evaluate_item, failed_record, run_case
 
-__all__ = ["MAX_CASES", "SweepCase", "SweepResult", "batch_closed_form", "flatten",
-           "parse_grid", "plan_sweep", "read_table", "run_case", "sweep", "sweep_inputs",
-           "write_table"]
+__all__ = ["MAX_CASES", "MAX_DIGITS", "MAX_PROBLEMS", "MAX_TABLE_BYTES", "META", "SweepCase",
+           "SweepResult", "batch_closed_form", "flatten", "parse_grid", "plan_sweep",
+           "read_table", "record_row", "run_case", "sweep", "sweep_inputs", "write_table"]
 
 log = logging.getLogger(__name__)
 
