@@ -51,6 +51,23 @@ def table1_case(table1_ref):
     return make
 
 
+@pytest.fixture(scope="session")
+def table1_walls() -> dict[str, Case]:
+    """The Table 1 walls B1 ... C6 as the package ships them (``closed_form.paper.table1``):
+    test name → ``params.Case`` (named by its test). ``table1_case`` builds the same walls
+    from the independent reference instead."""
+    from homlimit.closed_form.paper import table1
+
+    return {t.test: t.case for t in table1()}
+
+
+@pytest.fixture(scope="session")
+def b1(table1_walls) -> Case:
+    """Table 1's wall B1 (H = 9 m, L = 6 m, s = b = 0.5 m, l = 6 m; a = 0.3 m, c = 0.2 m,
+    f = 0.6), the embedded default case."""
+    return table1_walls["B1"]
+
+
 @pytest.fixture
 def sandbox(tmp_path, monkeypatch):
     """A working folder three levels down, so that writes above it can be seen (the hostile

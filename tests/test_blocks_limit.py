@@ -171,7 +171,7 @@ def test_contact_forces_are_in_equilibrium(build):
     assert r.dual_objective == pytest.approx(r.multiplier, rel=1e-7)
 
 
-def test_t_section_whole_wall_multiplier():
+def test_t_section_whole_wall_multiplier(b1):
     """B1 in blocks (480 blocks): the interior-point optimum (Clarabel) against an independent
     solve of the same LP by HiGHS's dual simplex (a vertex solution); the failing body turns
     about a hinge on the façade's outer face."""
@@ -180,8 +180,7 @@ def test_t_section_whole_wall_multiplier():
 
     from homlimit.blocks.limit import contact_operator, loads
 
-    B1 = Case(Wall(), Masonry(), name="B1")
-    A = t_section_blocks(B1)
+    A = t_section_blocks(b1)
     r = solve_blocks(A)
     Dn, Dt = contact_operator(A)
     live, dead = loads(A)

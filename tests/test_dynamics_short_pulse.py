@@ -31,7 +31,6 @@ from homlimit.impulse.body import RigidBody
 from homlimit.mechanism.fe_impulse import GeneralisedImpulse
 from homlimit.params import Case
 
-B1 = Case(name="B1")
 P_DT = np.array([0.0025, 0.005, 0.01, 0.02, 0.04])
 
 
@@ -62,11 +61,11 @@ def hand_c1(rocker, v_ref, dPi):
 
 
 @pytest.mark.slow
-def test_mechanism_I_converges_to_eq7_at_first_order():
+def test_mechanism_I_converges_to_eq7_at_first_order(b1):
     """Linearised gravity (eq. 10) and the abutment friction of eq. 9: the limit is the
     closed form mechanism_I(case).vg; Π = m z_G is constant (Π'₀ = 0)."""
-    rk = MechanismIRocker(B1)
-    v7 = mechanism_I(B1).vg
+    rk = MechanismIRocker(b1)
+    v7 = mechanism_I(b1).vg
     dts, ex, slope, c1 = convergence(rk, v7)
     assert np.all(ex > 0)
     assert ex[0] < 0.005  # within 0.5 % at the shortest duration (measured 0.18 %)
@@ -75,15 +74,15 @@ def test_mechanism_I_converges_to_eq7_at_first_order():
 
 
 @pytest.mark.slow
-def test_mechanism_I_exact_gravity_converges_to_its_own_eq7():
+def test_mechanism_I_exact_gravity_converges_to_its_own_eq7(b1):
     """Exact gravity: the limit is eq. 7 with the peak of (exact gravity work + eq. 10's
     friction term), found here by brute force on a grid (independent of the rocker's root)."""
-    rk = MechanismIRocker(B1, gravity="exact")
-    res = mechanism_I(B1)
-    w = B1.wall
+    rk = MechanismIRocker(b1, gravity="exact")
+    res = mechanism_I(b1)
+    w = b1.wall
     th = np.linspace(1e-4, 0.3, 300001)
     lin_grav = res.body.m * w.g * (res.body.x_G * th - 0.5 * res.body.z_G * th ** 2)
-    friction = work_I(th, res.lam, B1.rho, B1.alpha, B1.beta) * w.g * w.gamma * w.s * w.b ** 3 \
+    friction = work_I(th, res.lam, b1.rho, b1.alpha, b1.beta) * w.g * w.gamma * w.s * w.b ** 3 \
         - lin_grav
     bd = res.body
     exact = bd.m * w.g * (bd.x_G * np.sin(th) + bd.z_G * (np.cos(th) - 1)) + friction
@@ -96,9 +95,9 @@ def test_mechanism_I_exact_gravity_converges_to_its_own_eq7():
 
 
 @pytest.mark.slow
-def test_mechanism_II_converges_to_eq19():
-    rk = RigidRocker(mechanism_II(B1).body, name="II")
-    v19 = mechanism_II(B1).vg
+def test_mechanism_II_converges_to_eq19(b1):
+    rk = RigidRocker(mechanism_II(b1).body, name="II")
+    v19 = mechanism_II(b1).vg
     dts, ex, slope, c1 = convergence(rk, v19)
     assert ex[0] < 0.005  # measured 0.12 %
     assert slope == pytest.approx(1.0, abs=0.02)
@@ -108,9 +107,9 @@ def test_mechanism_II_converges_to_eq19():
 
 
 @pytest.mark.slow
-def test_fe_like_body_of_B1_converges_to_eq7():
+def test_fe_like_body_of_B1_converges_to_eq7(b1):
     """A RigidBody from triangles (the lead replaces it with the FE body of B1 later)."""
-    body = fe_like_body(B1)
+    body = fe_like_body(b1)
     rk = RigidRocker(body, name="FE")
     v7 = collapse_velocity(body)
     dts, ex, slope, c1 = convergence(rk, v7)
@@ -120,15 +119,15 @@ def test_fe_like_body_of_B1_converges_to_eq7():
 
 
 @pytest.mark.slow
-def test_generalised_one_dof_converges_to_its_vg():
+def test_generalised_one_dof_converges_to_its_vg(b1):
     """The one-DOF shape (fe_impulse): M > I_O, Π₀ = Pi, a linear rest lifting L q.
     Reference: v̄_g = √(2 W(q_m) M) / Pi, the formula of fe_impulse.generalised_impulse,
     with W(q) = m g (x_G sin q + z_G cos q − z_G) + L q written out here and its peak found
     by a bounded scalar search (the lift delays it past the block's tipping angle)."""
     from scipy.optimize import minimize_scalar
 
-    body = fe_like_body(B1)
-    g = B1.wall.g
+    body = fe_like_body(b1)
+    g = b1.wall.g
     q_tip = math.atan2(body.x_G, body.z_G)
     W_b = body.m * g * (body.r_G - body.z_G)
     L = 0.12 * W_b / q_tip

@@ -16,25 +16,22 @@ from homlimit.dynamics import (
     critical_pulse,
 )
 from homlimit.dynamics.spectra import SPECTRUM_COLUMNS
-from homlimit.params import Case
-
-B1 = Case(name="B1")
 
 
 @pytest.fixture(scope="module")
-def spectra():
-    return (case_spectra(B1, kinds=("rectangular",), periods=(0.005, 0.05, 0.5),
+def spectra(b1):
+    return (case_spectra(b1, kinds=("rectangular",), periods=(0.005, 0.05, 0.5),
                          polarities=(1, -1))
-            + case_spectra(B1, kinds=("one-sine",), periods=(0.01,), polarities=(1, -1)))
+            + case_spectra(b1, kinds=("one-sine",), periods=(0.01,), polarities=(1, -1)))
 
 
 @pytest.mark.slow
-def test_points_and_normalisation(spectra):
+def test_points_and_normalisation(b1, spectra):
     # rectangular: polarity −1 never pushes outwards, so 2 mechanisms × 3 periods; one-sine:
     # both polarities
     assert len(spectra) == 2 * 3 + 2 * 2 * 1
-    sq = math.sqrt(B1.wall.g * B1.wall.b)
-    v7 = {"I": mechanism_I(B1).vg, "II": mechanism_II(B1).vg}
+    sq = math.sqrt(b1.wall.g * b1.wall.b)
+    v7 = {"I": mechanism_I(b1).vg, "II": mechanism_II(b1).vg}
     for p in spectra:
         assert p.vnorm == pytest.approx(p.pgv / sq, rel=1e-14)
         assert p.vg_eq7 == pytest.approx(v7[p.mechanism], rel=1e-12)
@@ -44,7 +41,7 @@ def test_points_and_normalisation(spectra):
 
 
 @pytest.mark.slow
-def test_rectangular_spectrum_tends_to_eq7_and_to_uplift(spectra):
+def test_rectangular_spectrum_tends_to_eq7_and_to_uplift(b1, spectra):
     for m in ("I", "II"):
         rect = sorted((p for p in spectra if p.pulse == "rectangular" and p.mechanism == m),
                       key=lambda p: p.period)
@@ -54,7 +51,7 @@ def test_rectangular_spectrum_tends_to_eq7_and_to_uplift(spectra):
         pgas = [p.pga for p in rect]
         assert pgas == sorted(pgas, reverse=True)  # ... and less acceleration
         # the point is the threshold search itself
-        rk = case_rockers(B1)[m]
+        rk = case_rockers(b1)[m]
         th = critical_pulse(rk, RectangularPulse(1.0, 0.05), rtol=1e-6)
         assert rect[1].pga == pytest.approx(th.pga, rel=3e-6)
 
@@ -74,13 +71,13 @@ def test_one_sine_of_polarity_minus_one_is_an_outward_half_sine(spectra):
 
 
 @pytest.mark.slow
-def test_hinge_ratio_of_a_rectangular_pulse(spectra):
+def test_hinge_ratio_of_a_rectangular_pulse(b1, spectra):
     """Mechanism II: |P_x|/P_z at lift-off has the closed form ``hinge_ratio_at_rest``, which
     tends to (i − z_G²)/(x_G z_G) = 1.78 (mechanics.md: 1.8) for the ideal impulse; the
     largest value during the pulse (the spectrum's hinge_ratio) is at least that and within
     1 % of it (1.459 against 1.446 at Δt = 5 ms). NaN for mechanism I, whose abutment forces
     also act on the body."""
-    rk = case_rockers(B1)["II"]
+    rk = case_rockers(b1)["II"]
     b = rk.body
     limit = (b.i - b.z_G ** 2) / (b.x_G * b.z_G)
     assert limit == pytest.approx(1.781, abs=1e-3)

@@ -29,10 +29,7 @@ from homlimit.fe.operators import (
 from homlimit.fe.problems import Problem, crossed_mesh, free_block, graded, prandtl, t_section
 from homlimit.fe.solver import SolverOptions
 from homlimit.fe.strength import Homogenised, Tresca
-from homlimit.params import Case, Masonry, Wall
-
-CASE = Case(wall=Wall(H=9.0, L=6.0, s=0.5, b=0.5, l=6.0), masonry=Masonry(0.3, 0.2, 0.6),
-            name="B1")
+from homlimit.params import Case, Masonry
 
 
 def _field(x):
@@ -126,25 +123,25 @@ def test_mirrored_load_gives_the_same_multiplier():
 
 
 @pytest.mark.slow
-def test_length_scaling_leaves_the_multiplier_unchanged():
+def test_length_scaling_leaves_the_multiplier_unchanged(b1):
     """λ is the ratio of two powers that scale alike with every length (no cohesion)."""
     assert solve_kinematic(_panel(scale=3.0)).multiplier == pytest.approx(
         solve_kinematic(_panel(scale=1.0)).multiplier, rel=1e-6)
     # the T-section with every length (wall, blocks, mesh) doubled
-    w, m = CASE.wall, CASE.masonry
+    w, m = b1.wall, b1.masonry
     big = Case(wall=dataclasses.replace(w, H=2 * w.H, L=2 * w.L, s=2 * w.s, b=2 * w.b,
                                         l=2 * w.l),
                masonry=Masonry(2 * m.a, 2 * m.c, m.f))
-    small_lam = solve_kinematic(t_section(CASE, h=1.0, n_b=2)).multiplier
+    small_lam = solve_kinematic(t_section(b1, h=1.0, n_b=2)).multiplier
     big_lam = solve_kinematic(t_section(big, h=2.0, n_b=2)).multiplier
     assert big_lam == pytest.approx(small_lam, rel=1e-6)
 
 
-def test_duals_are_an_admissible_stress_field_in_equilibrium():
+def test_duals_are_an_admissible_stress_field_in_equilibrium(b1):
     """Stationarity of the conic program: the dual stress at the vertex points is in G and
     balances the loads in virtual work, Σ_p w_p σ_p·B_p u = P_dead(u) + λ P_live(u), for every
     free u (checked on the free DOFs); the primal and dual objectives agree."""
-    prob = t_section(CASE, h=1.5, n_b=1)
+    prob = t_section(b1, h=1.5, n_b=1)
     sol = solve_kinematic(prob)
     disc = discretise(prob)
     sig = sol.stress.reshape(-1, 3)
@@ -176,9 +173,9 @@ def test_tresca_dissipation_and_duals():
 
 
 @pytest.mark.slow
-def test_highs_interior_point_solves_the_same_lp():
+def test_highs_interior_point_solves_the_same_lp(b1):
     """An independent LP solver on the same program gives the same multiplier."""
-    prob = t_section(CASE, h=1.5, n_b=1)
+    prob = t_section(b1, h=1.5, n_b=1)
     lam_c = solve_kinematic(prob).multiplier
     sol_h = solve_kinematic(prob, SolverOptions(solver="HIGHS"))
     assert sol_h.multiplier == pytest.approx(lam_c, rel=1e-6)
@@ -202,18 +199,18 @@ def test_no_mechanism_is_infeasible_and_no_support_is_unbounded():
 
 
 @pytest.mark.slow
-def test_t_section_multiplier_does_not_increase_on_nested_meshes():
+def test_t_section_multiplier_does_not_increase_on_nested_meshes(b1):
     """Nested crossed meshes (halved spacing, growth 1) nest the P2 spaces: λ⁺ can only fall."""
-    lams = [solve_kinematic(t_section(CASE, h=h, n_b=n, growth=1.0, h_far=h)).multiplier
+    lams = [solve_kinematic(t_section(b1, h=h, n_b=n, growth=1.0, h_far=h)).multiplier
             for h, n in ((1.0, 1), (0.5, 2))]
     assert lams[1] <= lams[0] * (1 + 1e-7)
     assert lams[1] < lams[0]
 
 
 @pytest.mark.slow
-def test_t_section_mechanism_rotates_about_the_outer_face():
+def test_t_section_mechanism_rotates_about_the_outer_face(b1):
     """The façade and a wedge of the wall rotate about a hinge on the outer face (x ≈ 0)."""
-    prob = t_section(CASE, h=0.5, n_b=2)
+    prob = t_section(b1, h=0.5, n_b=2)
     sol = solve_kinematic(prob)
     X, V = prob.mesh.p.T, sol.velocity
     speed = np.linalg.norm(V, axis=1)
@@ -224,8 +221,8 @@ def test_t_section_mechanism_rotates_about_the_outer_face():
     A[n:, 1], A[n:, 2] = 1.0, X[sel, 0]
     (p0, p1, om), *_ = np.linalg.lstsq(A, np.r_[V[sel, 0], V[sel, 1]], rcond=None)
     Ox, Oz = -p1 / om, p0 / om
-    assert abs(Ox) < 0.25 * CASE.wall.b
-    assert 0.5 < Oz < CASE.wall.H / 2
+    assert abs(Ox) < 0.25 * b1.wall.b
+    assert 0.5 < Oz < b1.wall.H / 2
     assert om > 0                     # counter-clockwise in x–z: the top moves towards −x
 
 
@@ -251,29 +248,29 @@ def test_graded_coordinates():
         graded(1.0, 0.0, 0.1, 0.2)
 
 
-def test_base_of_the_failing_part_z0_is_a_translation():
+def test_base_of_the_failing_part_z0_is_a_translation(b1):
     """t_section(z0) is the wall above z0: the same as a wall of height H − z0 from the ground
     (translating the section changes no power ratio)."""
-    w = CASE.wall
-    low = Case(wall=dataclasses.replace(w, H=w.H - 3.0), masonry=CASE.masonry)
-    lam_z0 = solve_kinematic(t_section(CASE, z0=3.0, h=1.0, n_b=2)).multiplier
+    w = b1.wall
+    low = Case(wall=dataclasses.replace(w, H=w.H - 3.0), masonry=b1.masonry)
+    lam_z0 = solve_kinematic(t_section(b1, z0=3.0, h=1.0, n_b=2)).multiplier
     lam_low = solve_kinematic(t_section(low, h=1.0, n_b=2)).multiplier
     assert lam_z0 == pytest.approx(lam_low, rel=1e-6)
     with pytest.raises(ParameterError, match="z0 = 9"):
-        t_section(CASE, z0=9.0)
+        t_section(b1, z0=9.0)
     with pytest.raises(ParameterError, match="facade = 'stone'"):
-        t_section(CASE, facade="stone")
+        t_section(b1, facade="stone")
 
 
 @pytest.mark.parametrize("mesher", ["crossed", "gmsh"])
 @pytest.mark.slow
-def test_t_section_approaches_the_closed_form_hinge_and_fan_from_above(mesher):
+def test_t_section_approaches_the_closed_form_hinge_and_fan_from_above(b1, mesher):
     """closed_form.fan.s hinge + fan optimum (exact polygon integrals, an independent family that
     the prototype matched to 3e-5 on ray-conforming meshes) is approached from above."""
     from homlimit.closed_form.fan import optimise_fan
 
-    lam_fan = optimise_fan(CASE).lam
-    lam = solve_kinematic(t_section(CASE, h=0.5, mesher=mesher)).multiplier
+    lam_fan = optimise_fan(b1).lam
+    lam = solve_kinematic(t_section(b1, h=0.5, mesher=mesher)).multiplier
     assert lam_fan * (1 - 1e-4) <= lam <= 1.03 * lam_fan, f"{lam} vs {lam_fan}"
 
 

@@ -198,12 +198,9 @@ def test_unsupported_rigid_body_is_reported():
     assert "Infeasible" in exc.value.status
 
 
-def test_homogenised_field_is_admissible_and_compressive():
+def test_homogenised_field_is_admissible_and_compressive(b1):
     """T-section lower-bound field: eq. 15 holds at every vertex (no tension anywhere)."""
-    from homlimit.params import Case, Masonry, Wall
-
-    case = Case(Wall(H=9, L=6, s=0.5, b=0.5, l=6), Masonry(a=0.3, c=0.2, f=0.6), name="B1")
-    prob = problems.t_section(case, h=1.0, n_b=1, growth=1.3)
+    prob = problems.t_section(b1, h=1.0, n_b=1, growth=1.3)
     sol = solve_static(prob)
     dom = strength.Homogenised(0.3, 0.2, 0.6)
     scale = np.abs(sol.stress).max()

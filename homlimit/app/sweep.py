@@ -20,52 +20,45 @@ At the end the records become one table, one row per case in sweep order, column
 their path in summary.json (``inputs.masonry.a``, ``mechanisms.I.vg``, ``critical.vnorm``,
 ``fe.multiplier``...), as ``results.parquet`` (pyarrow) and ``results.csv``; ``sweep.json``
 describes the sweep. ``sweep_report.report`` draws the standard plots.
+
+Modules: the inputs and the cases in ``sweep_cases``, the tasks the workers run in
+``sweep_tasks``, the table in ``sweep_table``; here the planning and the sweep itself (their
+public names re-exported).
 """
 
 from __future__ import annotations
 
 import contextlib
-import csv
-import gc
 import itertools
 import logging
 import math
 import time
-import tomllib
-import traceback
-import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
-from sys import intern
-
-import numpy as np
 
 from .._io import sidecar, write_output
-from ..errors import ParameterError, check_range
-from . import registry
-from .config import (
-    SCHEMA,
-    TOP_LEVEL,
-    CaseConfig,
-    ConfigError,
-    case_data,
-    check_base,
-    load_case_inputs,
-    read_text,
-    shown,
+from .config import ConfigError, load_case_inputs
+from .engine import Engine, RecordStore, check_scheduler, cpu_count, record_key
+from .pipeline import folder_name, package_version, result_folder, source_of
+from .report import input_units
+from .sweep_cases import (
+    MAX_CASES,
+    MAX_DIGITS,
+    MAX_PROBLEMS,
+    MAX_TABLE_BYTES,
+    SweepCase,
+    invalid_error,
+    no_gc,
+    parse_grid,
+    read_table,
+    sweep_inputs,
 )
-from .engine import (
-    Engine,
-    RecordStore,
-    batch_json,
-    check_scheduler,
-    cpu_count,
-    record_key,
-)
+from .sweep_table import META, flatten, record_row, table_rows, write_table
+from .sweep_tasks import BatchText, batch_closed_form, evaluate_item, failed_record, run_case
 
-__all__ = ["MAX_CASES", "SweepCase", "SweepResult", "batch_closed_form", "flatten",
-           "parse_grid", "plan_sweep", "read_table", "run_case", "sweep", "sweep_inputs",
-           "write_table"]
+__all__ = ["MAX_CASES", "MAX_DIGITS", "MAX_PROBLEMS", "MAX_TABLE_BYTES", "META", "SweepCase",
+           "SweepResult", "batch_closed_form", "flatten", "parse_grid", "plan_sweep",
+           "read_table", "record_row", "run_case", "sweep", "sweep_inputs", "write_table"]
 
 log = logging.getLogger(__name__)
 
@@ -74,29 +67,6 @@ SWEEP_NAMES = ("sweep.json", "results.parquet", "results.csv", sidecar("results.
 
 #: closed-form cases per vectorised task at most
 BATCH = 2500
-#: columns that come first in the table, before the swept inputs and the rest
-META = ["case_index", "key", "status", "error", "case"]
-
-
-@dataclass(frozen=True)
-class SweepCase:
-    """One case of a sweep: its position, overrides, key, and validated config (None: the
-    case is invalid, ``error`` says why)."""
-
-    index: int
-    overrides: dict
-    key: str
-    config: CaseConfig | None = None
-    error: str | None = None
-
-    @property
-    def closed_form_only(self) -> bool:
-        """Evaluated in a vectorised batch (``batch_closed_form``): every model the case asks
-        for is a batched one (``registry.Model.batched``: the closed forms)."""
-        if self.config is None:
-            return False
-        on = [m for m in registry.models() if m.enabled(self.config)]
-        return bool(on) and all(m.batched for m in on)
 
 
 @dataclass
@@ -116,159 +86,6 @@ class SweepResult:
         return [r for r in self.rows if r["status"] != "ok"]
 
 
-# ----------------------------------------------------------------------------- the cases
-#: cases a sweep may have (``--max-cases``), checked from the grid's and table's sizes before
-#: any case is planned (planning keeps every case in memory, about 1 kB each)
-MAX_CASES = 100_000
-#: bytes of a table (a building stock of 100 000 walls is about 5 MB)
-MAX_TABLE_BYTES = 256 << 20
-#: problems of a table or grid listed at most (a binary file would give one per line)
-MAX_PROBLEMS = 20
-#: digits of an integer at most (Python's own limit of int(text))
-MAX_DIGITS = 4300
-
-
-def _value(text: str):
-    """A grid or table value in TOML syntax (3, 0.15, true, "x"); a bare word is a string.
-    ValueError (its reason) for what cannot be a value: an integer of more than 4300 digits,
-    arrays nested too deeply."""
-    text = text.strip()
-    digits = text.lstrip("+-")
-    if len(digits) > MAX_DIGITS and digits.isdigit():
-        raise ValueError(f"an integer of {len(digits)} digits: allowed at most {MAX_DIGITS}")
-    for number in (int, float):   # the common case, 20x faster than the TOML parser
-        try:
-            return number(text)
-        except ValueError:
-            pass
-    try:
-        return tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
-        return text
-    except ValueError as e:        # an integer of more than 4300 digits inside an array
-        raise ValueError(f"not a value: {e}") from None
-    except RecursionError:
-        raise ValueError("not a value: arrays nested too deeply") from None
-
-
-def _key_problem(key: str) -> str | None:
-    """None for a case-file key (``name`` or ``section.key``), else the problem's text."""
-    sec, dot, name = key.partition(".")
-    if (not dot and key in TOP_LEVEL) or (dot and name in SCHEMA.get(sec, {})):
-        return None
-    return (f"key = {shown(key)} is out of range: allowed name or section.key of a case "
-            "file, e.g. wall.l, masonry.a, mesh.size (docs/case-file.md)")
-
-
-def _cap(problems: list[str]) -> list[str]:
-    if len(problems) <= MAX_PROBLEMS:
-        return problems
-    return problems[:MAX_PROBLEMS] + [f"... and {len(problems) - MAX_PROBLEMS} more problems"]
-
-
-def parse_grid(specs) -> dict[str, list]:
-    """A grid from ``["wall.l=3,6,9", "masonry.a=0.15,0.3"]`` (the CLI's ``--grid``) or a
-    dict {key: values}; values in TOML syntax. Every key is checked against the schema; every
-    problem is reported at once (ConfigError, source "--grid" or "grid")."""
-    source = "grid" if isinstance(specs, dict) else "--grid"
-    problems: list[str] = []
-    items = []
-    if isinstance(specs, dict):
-        items = [(str(k), list(v) if isinstance(v, list | tuple) else [v])
-                 for k, v in specs.items()]
-    else:
-        for spec in specs or ():
-            key, sep, values = str(spec).partition("=")
-            if not sep or not values.strip():
-                problems.append(f"{shown(str(spec))} is out of range: allowed "
-                                "section.key=v1,v2,... e.g. wall.l=3,6,9")
-                continue
-            vals = []
-            for v in values.split(","):
-                try:
-                    vals.append(_value(v))
-                except ValueError as e:
-                    problems.append(f"{key.strip()} = {shown(v.strip())}: {e}")
-            items.append((key.strip(), vals))
-    grid: dict[str, list] = {}
-    for key, values in items:
-        bad = _key_problem(key)
-        if bad:
-            problems.append(bad)
-        elif key in grid:
-            problems.append(f"key = {key!r} is given twice: allowed once, with all its values "
-                            f"(e.g. {key}=v1,v2,v3)")
-        elif not values:
-            problems.append(f"key = {key!r} has no values: allowed at least one")
-        else:
-            grid[key] = values
-    if problems:
-        raise ConfigError(source, _cap(problems), "the grid")
-    return grid
-
-
-def read_table(path: str | Path) -> list[dict]:
-    """The cases of a CSV table: a header of case keys (``wall.H``, ``masonry.a``, ``name``,
-    ...), one case per row, values in TOML syntax; an empty cell leaves the base's value;
-    blank lines and ``#`` lines are skipped. The file is read as a case file is
-    (``config.read_text``: a regular UTF-8 file, a spreadsheet's byte-order mark allowed);
-    every problem (unknown or repeated column, a row of another length than the header, a
-    value that cannot be one) is reported at once, with its line (ConfigError)."""
-    path = Path(path)
-    source = f"table {path}"
-
-    def fail(msg: str):
-        raise ConfigError(source, [msg], "the table")
-
-    text = read_text(path, "table", MAX_TABLE_BYTES, fail,
-                     size_hint="100 000 cases are about 5 MB", bom=True)
-    kept = [(n, ln) for n, ln in enumerate(text.splitlines(), 1)
-            if ln.strip() and not ln.lstrip().startswith("#")]
-    reader = csv.reader(ln for _, ln in kept)
-    try:
-        cells = list(reader)
-    except csv.Error as e:       # a NUL byte, say
-        fail(f"line {kept[reader.line_num - 1][0]} is not CSV: {e}")
-    if not cells:
-        fail("no header and no case: allowed a CSV with a header of case keys and at least "
-             "one case")
-    header = [k.strip() for k in cells[0]]
-    problems = []
-    for k in header:
-        bad = _key_problem(k)
-        if bad:
-            problems.append(f"line {kept[0][0]}: column {bad}")
-    for k in sorted({k for k in header if header.count(k) > 1}):
-        problems.append(f"line {kept[0][0]}: column key = {k!r} is given twice: allowed once")
-    rows = []
-    for (n, _), row in zip(kept[1:], cells[1:]):
-        if len(row) != len(header):
-            problems.append(f"line {n} has {len(row)} cells, the header {len(header)}: allowed "
-                            "one cell per column (an empty cell keeps the base's value)")
-            continue
-        case = {}
-        for k, v in zip(header, row):
-            if not v.strip():
-                continue
-            if any(unicodedata.category(ch) == "Cc" for ch in v):
-                problems.append(f"line {n}, column {k}: {shown(v)} contains control "
-                                "characters (a NUL byte, an escape, ...): allowed printable "
-                                "text; a binary file?")
-                continue
-            try:
-                case[k] = v if k == "name" else _value(v)
-            except ValueError as e:
-                problems.append(f"line {n}, column {k}: {shown(v.strip())}: {e}")
-        rows.append(case)
-    if problems:
-        err = ConfigError(source, _cap(problems), "the table")
-        err.columns = header        # the keys the table gives (sweep_inputs' base check)
-        raise err
-    if not rows:
-        fail("no case: allowed a CSV with a header and at least one case")
-    return rows
-
-
 def plan_sweep(base=None, grid=None, table=None,
                max_cases: int = MAX_CASES) -> tuple[list[SweepCase], dict, str]:
     """The cases of a sweep (table rows × grid points, in that order), each validated and
@@ -278,77 +95,15 @@ def plan_sweep(base=None, grid=None, table=None,
     is valid."""
     data, source, grid, rows = sweep_inputs(base, grid, table, max_cases)
     errors: list[ConfigError] = []
-    with _no_gc():
+    with no_gc():
         cases = list(_plan(data, source, grid, rows, errors))
     _check_some_valid(cases, errors)
     return cases, data, source
 
 
-def sweep_inputs(base, grid, table, max_cases: int = MAX_CASES
-                 ) -> tuple[dict, str, dict, list[dict]]:
-    """The base case's data and source, the parsed grid and the table's override rows,
-    checked before any case is planned: the base read as ``run`` reads a case file
-    (``config.case_data``) and its keys that no grid key or table column replaces checked as
-    ``run`` checks them (``config.check_base``), every problem of the base, grid and table at
-    once (one ConfigError); then the number of cases (table rows × grid points, counted, not
-    built) against ``max_cases`` (ParameterError)."""
-    max_cases = int(check_range("max_cases", max_cases, 1, 1e9))
-    errors: list[ConfigError] = []
-    data, source, grid_d, rows = None, "<dict>", {}, [{}]
-    given = set(grid) if isinstance(grid, dict) else \
-        {str(spec).partition("=")[0].strip() for spec in grid or ()}   # keys the base needn't give
-    try:
-        data, source, stem = case_data(base)
-        data = dict(data) if isinstance(data, dict) else data
-        if base is not None and not isinstance(base, dict):
-            data.setdefault("name", stem)       # as load_case names a file's case
-    except ConfigError as e:
-        errors.append(e)
-    if grid:
-        try:
-            grid_d = parse_grid(grid)
-        except ConfigError as e:
-            errors.append(e)
-    if isinstance(table, list):
-        rows = [dict(r) for r in table]
-        bad = sorted({p for r in rows for k in r for p in [_key_problem(str(k))] if p})
-        if bad:
-            errors.append(ConfigError("table", bad, "the table"))
-    elif table is not None:
-        try:
-            rows = read_table(table)
-        except ConfigError as e:
-            errors.append(e)
-            given |= set(getattr(e, "columns", ()))
-    if data is not None:
-        try:
-            check_base(data, source, given | {k for r in rows for k in r})
-        except ConfigError as e:
-            errors.insert(0, e)
-    if errors:
-        raise ConfigError.merged(errors, "the sweep's inputs")
-    n = len(rows) * math.prod(len(v) for v in grid_d.values())
-    if n > max_cases:
-        parts = ([f"{len(rows):,} table rows"] if table is not None else []) + \
-            [f"{len(v):,} {k}" for k, v in grid_d.items()]
-        raise ParameterError(f"the sweep has {n:,} cases ({' x '.join(parts)}): out of range: "
-                             f"allowed at most max_cases (--max-cases) = {max_cases:,}; "
-                             "raise it, or split the sweep")
-    return data, source, grid_d, rows
-
-
-def _invalid(e: ConfigError) -> str:
-    """An invalid case's error, one line: every problem, each naming its key."""
-    cut = len(e.source) + 2
-    return "invalid case: " + "; ".join(p[cut:] if p.startswith(e.source + ": ") else p
-                                        for p in e.problems)
-
-
 def _plan(data: dict, source: str, grid: dict, rows: list[dict], errors: list):
     """The cases one by one (``plan_sweep``), the grid's points made as they are needed;
     each invalid case's ConfigError is appended to ``errors``."""
-    from .pipeline import package_version
-
     version = package_version()
     keys = list(grid)
     combos = itertools.product(rows, itertools.product(*grid.values()))
@@ -359,7 +114,7 @@ def _plan(data: dict, source: str, grid: dict, rows: list[dict], errors: list):
         except ConfigError as e:
             errors.append(e)
             yield SweepCase(k, ov, record_key("invalid", {"base": data, "set": ov}),
-                            error=_invalid(e))
+                            error=invalid_error(e))
             continue
         yield SweepCase(k, ov, record_key("case", inputs, version), config)
 
@@ -367,184 +122,6 @@ def _plan(data: dict, source: str, grid: dict, rows: list[dict], errors: list):
 def _check_some_valid(cases: list[SweepCase], errors: list):
     if cases and all(c.config is None for c in cases):
         raise errors[0]
-
-
-@contextlib.contextmanager
-def _no_gc():
-    """Python's cyclic garbage collector paused: planning and batches make tens of thousands
-    of objects without cycles, and collecting that heap again and again costs 10 %."""
-    was = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was:
-            gc.enable()
-
-
-# ----------------------------------------------------------------------------- the tasks
-def _failed(config: CaseConfig | None, exc: BaseException, t0: float) -> dict:
-    from .pipeline import package_version
-
-    return {"homlimit_version": package_version(),
-            "case": None if config is None else config.name,
-            "source": None if config is None else config.source,
-            "inputs": None if config is None else config.as_dict(),
-            "status": "failed", "error": f"{type(exc).__name__}: {exc}",
-            "traceback": "".join(traceback.format_exception(exc)),
-            "timings_s": {"total": time.perf_counter() - t0}}
-
-
-def run_case(config: CaseConfig) -> dict:
-    """One case's record: ``run(config, write=False).to_dict()`` and status "ok", or the
-    error of a case that failed (status "failed", error, traceback). Runs on a worker."""
-    from .pipeline import run
-
-    t0 = time.perf_counter()
-    try:
-        rec = run(config, write=False).to_dict()
-    except Exception as exc:  # a failed case never stops the sweep: it is recorded
-        return _failed(config, exc, t0)
-    rec.pop("files", None)
-    return {**rec, "status": "ok"}
-
-
-def batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
-    """Records of closed-form-only cases, as ``run_case`` gives them: the critical λ of
-    mechanisms I and II of every case at once (``critical_I``, ``critical_II`` on arrays, the
-    same arithmetic element by element as one case) and mechanism I's θ_m there, then
-    ``mechanisms_I/II`` at that λ (arrays again) and ``Result.to_dict()`` per case.
-    ``timings_s`` holds each case's share of the batch."""
-    with _no_gc():
-        return _batch_closed_form(configs)
-
-
-def _batch_closed_form(configs: list[CaseConfig]) -> list[dict]:
-    from ..closed_form import mechanisms as mech
-    from ..closed_form.paper import dem_row
-    from .pipeline import Result, conclude
-
-    t0 = time.perf_counter()
-    cases = [c.case for c in configs]
-    walls = mech.wall_arrays(cases)
-    rho, alpha, beta = walls["rho"], walls["alpha"], walls["beta"]
-    H_b, L_b = walls["H"] / walls["b"], walls["L"] / walls["b"]
-    tanpsi = np.array([cf.analysis.tanpsi or c.alpha for cf, c in zip(configs, cases)])
-    lam_I, _ = mech.critical_I(rho, alpha, beta, H_b)
-    theta_I = mech.theta_m_I(lam_I, rho, alpha, beta)
-    lam_max_II = mech.lam_max_II(H_b, L_b, tanpsi)
-    lam_II, _ = mech.critical_II(rho, tanpsi, lam_max_II)
-    static_II = mech.static_critical_II(rho, tanpsi, lam_max_II)
-    res_I = mech.mechanisms_I(cases, lam_I, theta_I, walls)
-    res_II = mech.mechanisms_II(cases, tanpsi, lam_II, static_II, walls)
-    out = []
-    for config, m1, m2 in zip(configs, res_I, res_II):
-        t1 = time.perf_counter()
-        try:
-            if isinstance(m2, Exception):
-                raise m2
-            res = Result(config=config, dem=dem_row(config.case),
-                         mechanisms={m1.name: m1, m2.name: m2})
-            conclude(res)          # as compute(): results checked, then the hinge check
-            rec = {**res.to_dict(), "status": "ok"}
-            rec.pop("files", None)
-        except Exception as exc:  # recorded, as run_case records it
-            rec = _failed(config, exc, t1)
-        out.append(rec)
-    share = (time.perf_counter() - t0) / max(len(configs), 1)
-    for rec in out:
-        if rec["status"] == "ok":
-            rec["timings_s"] = {"closed-form mechanisms I and II (batch share)": share}
-    return out
-
-
-# ----------------------------------------------------------------------------- the table
-def flatten(record: dict, prefix: str = "") -> dict:
-    """A record as one table row: nested keys joined with "." (their summary.json paths),
-    lists of numbers as ``path.0``, ``path.1``...; lists of records (the FE scan, kept in the
-    JSON record) and the traceback are left out; NaN and ±inf as None (null, as the stored
-    JSON record has them)."""
-    row: dict = {}
-    _flatten_into(row, record, prefix)
-    return row
-
-
-def _flatten_into(row: dict, record: dict, prefix: str):
-    for k, v in record.items():
-        if k == "traceback":
-            continue
-        path = intern(f"{prefix}{k}")     # one key object per column: small pickles
-        kind = type(v)
-        if kind is float:
-            row[path] = v if v - v == 0.0 else None    # NaN, ±inf: null
-        elif kind is str or kind is int or v is None or kind is bool:
-            row[path] = v          # the plain values first: most of a record
-        elif isinstance(v, dict):
-            _flatten_into(row, v, path + ".")
-        elif isinstance(v, list | tuple):
-            if all(not isinstance(x, dict | list | tuple) for x in v):
-                row.update({f"{path}.{j}": None if type(x) is float and x - x != 0.0 else x
-                            for j, x in enumerate(v)})
-        else:
-            row[path] = v
-
-
-def record_row(record: dict) -> dict:
-    """A record's part of its table row: status, error, then ``flatten`` of the rest but its
-    ``units`` table (the same for every case: the table's metadata, ``write_table``)."""
-    return {"status": record.get("status"), "error": record.get("error"),
-            **flatten({k: v for k, v in record.items()
-                       if k not in ("status", "error", "units")})}
-
-
-def _rows(cases: list[SweepCase], records: dict[str, dict],
-          flat: dict[str, dict] | None = None) -> list[dict]:
-    """The table rows in sweep order; ``flat``: rows ``record_row`` already made (on the
-    workers, for the batches), by key."""
-    rows, flat = [], flat or {}
-    for c in cases:
-        fr = flat.get(c.key)
-        if fr is None:
-            rec = records.get(c.key)
-            if rec is None:  # invalid, or a task lost with its worker
-                rec = {"status": "failed", "error": c.error or "no record (the task was lost)"}
-            fr = record_row(rec)
-        row = {"case_index": c.index, "key": c.key, **fr}
-        if c.config is not None:  # a case's own name and source (records are shared by key)
-            row.update({"case": c.config.name, "source": c.config.source})
-        rows.append(row)
-    return rows
-
-
-def _column(values: list):
-    """One table column for pyarrow (rows from ``record_row``: NaN already null, as a stored
-    JSON record has it); a column that mixes kinds (numbers and text) as text."""
-    import pyarrow as pa
-
-    try:
-        return pa.array(values)
-    except (pa.ArrowInvalid, pa.ArrowTypeError):
-        return pa.array([None if v is None else str(v) for v in values])
-
-
-def write_table(folder: Path, rows: list[dict], swept: list[str]) -> dict[str, Path]:
-    """results.parquet and results.csv: one row per case, META, the swept inputs, the rest;
-    the unit of every column (``report.column_unit``) and the schema version as the Parquet
-    metadata and in the CSV's sidecar results.csv.json (``_io.write_output``)."""
-    import pyarrow as pa
-
-    from .report import column_unit
-
-    seen: dict = {}
-    for r in rows:          # every row's keys in first-seen order (dict.update keeps it)
-        seen.update(r)
-    cols = list(dict.fromkeys(META + swept + list(seen)))
-    table = pa.table({c: _column([r.get(c) for r in rows]) for c in cols})
-    units = {c: column_unit(c) for c in cols if c not in META}
-    files = {"parquet": folder / "results.parquet", "csv": folder / "results.csv"}
-    for path in files.values():       # units and schema version: metadata, CSV's sidecar
-        write_output(path, table, units=units)
-    return files
 
 
 # ----------------------------------------------------------------------------- the sweep
@@ -573,8 +150,6 @@ def sweep(base=None, grid=None, table=None, out: str | Path | None = None, *,
     engine starts and each chunk's batch runs while the next is planned; otherwise (a resumed
     or an invalid sweep) every case is planned before anything starts.
     """
-    from .pipeline import folder_name, result_folder, source_of
-
     t0 = time.perf_counter()
     if scheduler is not None and engine is None:
         check_scheduler(scheduler)          # a malformed address: before any work
@@ -594,8 +169,6 @@ def _sweep_into(staging: Path, folder: Path, t0: float, data: dict, source: str,
                 progress, engine) -> SweepResult:
     """The body of ``sweep``: records in ``folder``/records/, sweep.json and the table written
     into ``staging`` (the result set that replaces ``folder``)."""
-    from .pipeline import package_version
-
     store = RecordStore(folder / "records")
     if not resume:
         store.clear()
@@ -607,17 +180,15 @@ def _sweep_into(staging: Path, folder: Path, t0: float, data: dict, source: str,
                        else workers or cpu_count())
     errors: list[ConfigError] = []
     planner = _plan(data, source, grid_d, rows_in, errors)
-    with _no_gc():
+    with no_gc():
         cases = list(itertools.islice(planner, size))
     stream = any(c.config is not None and c.key not in records for c in cases)
     if not stream:                       # nothing to do in the first chunk: plan every case
-        with _no_gc():
+        with no_gc():
             cases += list(planner)
         _check_some_valid(cases, errors)
 
     def write_meta():                    # sweep.json, once every case is planned
-        from .report import input_units
-
         swept = list(dict.fromkeys(
             [f"inputs.{k}" if "." in k else "case" for k in grid_d]
             + [f"inputs.{k}" if "." in k else "case" for c in cases for k in c.overrides]))
@@ -647,7 +218,7 @@ def _sweep_into(staging: Path, folder: Path, t0: float, data: dict, source: str,
 
         def items():
             nonlocal swept
-            with _no_gc():
+            with no_gc():
                 yield from work.batches(planned())
             swept = write_meta()
             yield from work.singles()
@@ -662,7 +233,7 @@ def _sweep_into(staging: Path, folder: Path, t0: float, data: dict, source: str,
     if n_resumed:
         log.info("resumed: %d distinct cases were already recorded in %s", n_resumed,
                  store.folder)
-    rows = _rows(cases, records, flat)
+    rows = table_rows(cases, records, flat)
     files = {k: folder / p.name for k, p in write_table(staging, rows, swept).items()}
     files.update({"sweep_json": folder / "sweep.json", "records": store.folder})
     n_failed = sum(1 for r in rows if r["status"] != "ok")
@@ -718,7 +289,7 @@ def _evaluate(eng: Engine, store: RecordStore, records: dict, flat: dict,
     worker: ``flat``; other records in ``records``)."""
 
     def save(k, res):
-        if isinstance(res, _BatchText):
+        if isinstance(res, BatchText):
             store.put_batch_json(res.keys, res.text)
             flat.update(zip(res.keys, res.rows))
         else:
@@ -727,40 +298,22 @@ def _evaluate(eng: Engine, store: RecordStore, records: dict, flat: dict,
 
     def lost(item, exc):  # a task that raised (worker lost): not stored, so a rerun retries
         kind, payload = item
-        recs = [_failed(c, exc, time.perf_counter())
+        recs = [failed_record(c, exc, time.perf_counter())
                 for c in (payload[0] if kind == "batch" else [payload])]
         return recs if kind == "batch" else recs[0]
 
     def weight(res):
-        if isinstance(res, _BatchText):
+        if isinstance(res, BatchText):
             return len(res.keys), res.n_failed
         recs = res if isinstance(res, list) else [res]
         return len(recs), sum(1 for r in recs if r.get("status") != "ok")
 
-    results = eng.run(_evaluate_item, items, on_result=save, failed=lost, weight=weight,
+    results = eng.run(evaluate_item, items, on_result=save, failed=lost, weight=weight,
                       total=total, already=already, description="sweep")
     for k, res in enumerate(results):   # lost tasks: failed in the table, not in the store
-        if not isinstance(res, _BatchText):
+        if not isinstance(res, BatchText):
             for c, rec in zip(owners[k], res if isinstance(res, list) else [res]):
                 records.setdefault(c.key, rec)
 
 
-@dataclass(frozen=True)
-class _BatchText:
-    """A batch's records as the text of its record file (``engine.batch_json``) and as table
-    rows (``record_row``), both made on the worker: the client writes the text as it is."""
-
-    keys: list[str]
-    text: str
-    rows: list[dict]
-    n_failed: int
-
-
-def _evaluate_item(item):
-    kind, payload = item
-    if kind == "case":
-        return run_case(payload)
-    configs, keys = payload
-    recs = batch_closed_form(configs)
-    return _BatchText(keys, batch_json(dict(zip(keys, recs))), [record_row(r) for r in recs],
-                      sum(1 for r in recs if r["status"] != "ok"))
+_rows = table_rows      # the name the table's rows had here (tests/test_sweep.py)

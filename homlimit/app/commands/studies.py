@@ -1,0 +1,95 @@
+"""``homlimit figure2``, ``verify`` and ``crack-study``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ...fe.adapt import AdaptOptions
+from ...fe.solver import SolverOptions
+from .. import pipeline, plots, report
+from ..door import (
+    LOG,
+    emit_json,
+    interruptible,
+    open_engine,
+    setup_logging,
+    show,
+    stdout_quiet,
+)
+from ..engine import RecordStore
+from ..verify import verify_records
+
+
+def figure2(as_json, out):
+    """``homlimit figure2``'s work: see ``cli.figure2``."""
+    out = out or Path("homlimit-out") / "figure2"
+    with stdout_quiet(as_json) as stdout, pipeline.result_folder(out, "figure2") as staging:
+        curves = pipeline.figure2_curves()
+        plots.figure2(staging / "figure2.png", curves)
+        report.write(staging / "figure2.json", curves)
+    files = {"figure2_png": str(out / "figure2.png"), "figure2_json": str(out / "figure2.json")}
+    if as_json:
+        emit_json(stdout, {"curves": curves, "files": files})
+    else:
+        print(f"Figure 2 written to {files['figure2_png']} (curves: {files['figure2_json']})")
+
+
+def verify(as_json, out, verbose, quiet, problem, target_gap, max_cycles, min_size,
+           max_triangles, stress_degree):
+    """``homlimit verify``'s work: see ``cli.verify``."""
+    out = out or Path("homlimit-out") / "verify"
+    setup_logging(verbose, quiet, as_json)
+    opts = AdaptOptions(target_gap=target_gap, max_cycles=max_cycles, min_size=min_size,
+                        max_triangles=max_triangles)
+    SolverOptions(stress_degree=stress_degree)   # checked before any work
+    with stdout_quiet(as_json or verbose) as stdout, \
+            pipeline.result_folder(out, "verify") as staging:
+        records = verify_records(problem, opts, stress_degree=stress_degree,
+                                 progress=lambda n, c: LOG.info(
+            "verify %s: cycle %d, %d triangles, %.6g <= lambda <= %.6g; best %.6g .. %.6g "
+            "(gap %.3g %%), %.1f s", n, c.cycle, c.triangles, c.lower, c.upper, c.best_lower,
+            c.best_upper, 100 * c.rel_gap, c.seconds))
+        cycles = [{"problem": r["problem"], **c} for r in records for c in r["adapt"]]
+        report.write(staging / "verify.json", {"problems": records})
+        report.write(staging / "verify.csv", cycles)
+    files = [out / "verify.json", out / "verify.csv"]
+    cols = ["problem", "triangles", "cycles", "lower", "upper", "rel_gap", "exact_lo",
+            "exact_hi", "holds"]
+    show(stdout, as_json, {"problems": records, "files": list(map(str, files))}, records,
+         cols, "known-answer problems, adaptive bracket", files)
+    if not as_json:
+        for r in records:
+            if r["problem"] == "tsection" and r.get("T1") is not None:
+                print(f"tsection crack: hinge z = {r['z0']:.3f} m (exact {r['z0_exact']:.3f}), "
+                      f"fan edges {r['T1']:.3f} .. {r['T2']:.3f} (f = {r['f']:.3f}, "
+                      f"c/a = {r['c_over_a']:.3f}), sqrt(T1 T2) = "
+                      f"{(r['T1'] * r['T2']) ** 0.5:.3f} against sqrt(cf/a) = "
+                      f"{r['sqrt_cf_a']:.3f}, mid-line {r['T_mid']:.3f}")
+
+
+def crack_study(as_json, out, verbose, quiet, mesh_size, finer, quick, c_over_a, friction,
+                facade, max_triangles, mesher, workers, scheduler, resume):
+    """``homlimit crack-study``'s work: see ``cli.crack_study``."""
+    out = out or Path("homlimit-out") / "crack-study"
+    setup_logging(verbose, quiet, as_json)
+    grid = dict(mesh_size=mesh_size, finer=finer or None, quick=quick, c_over_a=c_over_a,
+                frictions=friction, facades=facade, max_triangles=max_triangles,
+                mesher=mesher)
+    store = RecordStore(out / "records")   # a nested set: kept when the set is replaced
+    with stdout_quiet(as_json or verbose) as stdout, interruptible(store.folder), \
+            pipeline.result_folder(out, "crack-study") as staging:
+        pipeline.crack_study_records(**grid, map=lambda fn, points: [])   # validate before any work
+        if not resume:
+            store.clear()
+        with open_engine(workers, scheduler, not (quiet or as_json)) as engine:
+            records = pipeline.crack_study_records(**grid, map=engine.stored_map(
+                store, "crack-study", "crack-study"))
+        report.write(staging / "crack_study.csv", records)
+        plots.plot_crack_study(staging / "crack_study.png", records,
+                               title="crack-angle study: FE crack against √(cf/a), f and c/a")
+    files = {"csv": out / "crack_study.csv", "png": out / "crack_study.png"}
+    cols = ["facade", "mesh_size", "c_over_a", "f", "mechanism_fe", "tanpsi_fe", "dtanpsi_fe",
+            "tan_alpha", "tanpsi_block", "tanpsi_fixed", "multiplier_fe", "multiplier_fan"]
+    show(stdout, as_json, {"records": records, "files": files}, records, cols,
+         "crack-angle study: FE crack slope tan psi (50 % line, edges) beside tan_alpha = "
+         "sqrt(cf/a)", files.values())

@@ -1,0 +1,99 @@
+"""``homlimit table1``: the paper's Table 1, with the FE body's, the rigid blocks' or the
+DEM's column."""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+from pathlib import Path
+
+from ...errors import ParameterError
+from .. import pipeline, plots, report
+from ..dem_stage import dem_section, table1_dem_records
+from ..door import (
+    interruptible,
+    open_engine,
+    setup_logging,
+    show,
+    stdout_quiet,
+)
+from ..engine import RecordStore
+
+
+def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, max_triangles,
+           mesher, workers, scheduler, blocks, blocks_facade, dem, overrides, resume):
+    """``homlimit table1``'s work: see ``cli.table1``."""
+    if overrides and not dem:
+        raise ParameterError(f"--set {overrides[0]!r} is out of range without --dem: allowed "
+                             "only with table1 --dem (its [dem] keys)")
+    variant = "--dem" if dem else "--blocks" if blocks else "--fe" if fe else ""
+    tests = sorted(set(test or ()))
+    out = out or table1_folder(variant, tests)
+    owner = dict(command=f"table1 {variant}".strip(),
+                 source="embedded:table1" + (f":{','.join(tests)}" if tests else ""))
+    setup_logging(verbose, quiet, as_json)
+    if dem:   # validated before any work, then every wall a Dask task, its record kept
+
+        section = dem_section(overrides)
+        table1_dem_records(tests, section, map=lambda fn, walls: [])
+        store = RecordStore(out / "records")
+        with stdout_quiet(as_json or verbose) as stdout, interruptible(store.folder), \
+                pipeline.result_folder(out, **owner) as staging:
+            if not resume:
+                store.clear()
+            with open_engine(workers, scheduler, quiet or as_json) as engine:
+                rows, ratios = table1_dem_records(tests, section, map=engine.stored_map(
+                    store, "table1-dem", "DEM walls"))
+            report.write(staging / "table1_dem.csv", rows)
+            report.write(staging / "table1_dem_ratios.json", {
+                "ratios": ratios, "dem": asdict(section),
+                "units": {"ratios": "-", "dem": report.input_units()["dem"]}})
+        files = [out / "table1_dem.csv", out / "table1_dem_ratios.json"]
+        cols = ["test", "vg", "vg_udec", "dem_over_udec", "h", "h_udec", "vnorm",
+                "vnorm_udec", "base_slid", "hinge_slid", "n_trials", "cpu"]
+        show(stdout, as_json, {"rows": rows, "ratios": ratios}, rows, cols,
+             "Table 1 with this package's DEM (ideal impulse) beside UDEC: vg [m/s], h [m], "
+             "vnorm = vg/sqrt(gb); block-size ratios of vnorm: "
+             + ", ".join(f"{k} {v['vnorm']:.2f} (UDEC {v['vnorm_udec']:.2f})"
+                         for k, v in ratios.items()), files)
+        return
+    if blocks:
+        with stdout_quiet(as_json or verbose) as stdout, \
+                pipeline.result_folder(out, **owner) as staging:
+            rows, ratios = pipeline.table1_blocks_records(test, facade=blocks_facade)
+            report.write(staging / "table1_blocks.csv", rows)
+            report.write(staging / "table1_blocks_ratios.json", ratios)
+        cols = ["test", "blocks", "lam_blocks", "h_blocks", "vnorm_blocks", "lam_I",
+                "vnorm_I", "vnorm_II", "lam_dem", "vnorm_dem", "ratio_blocks_dem"]
+        show(stdout, as_json, {"rows": rows, "ratios": ratios}, rows, cols,
+             "Table 1 with the rigid-block model: vnorm = vg/sqrt(gb); ratios "
+             + ", ".join(f"{k} blocks {v['vnorm_blocks']:.2f} (DEM {v['vnorm_dem']:.2f})"
+                         for k, v in ratios.items()),
+             [out / "table1_blocks.csv", out / "table1_blocks_ratios.json"])
+        return
+    kw = dict(fe=fe, mesh_size=mesh_size, heights=heights, tests=test, facade=facade,
+              max_triangles=max_triangles, mesher=mesher)
+    with stdout_quiet(as_json or verbose) as stdout, \
+            pipeline.result_folder(out, **owner) as staging:
+        if fe:  # validated before any work, then every height of every wall a Dask task
+            pipeline.table1_records(**kw, fe_results=lambda *args: [])
+            with open_engine(workers, scheduler, not (quiet or as_json)) as engine:
+                rows = pipeline.table1_records(**kw, fe_results=engine.fe_results)
+        else:
+            rows = pipeline.table1_records(**kw)
+        report.write(staging / "table1.csv", rows)
+        report.write(staging / "table1.json", rows)
+        plots.plot_table1(staging / "table1.png", rows)
+    cols = ["test", "lam_I", "vnorm_I", "lam_II", "vnorm_II", "lam_dem", "vnorm_dem",
+            "ratio_I", "ratio_II"] + (["lam_fe", "vnorm_fe", "mechanism_fe", "critical_at_fe"]
+                                      if fe else [])
+    show(stdout, as_json, rows, rows, cols, "Table 1: closed forms (I, II) beside the DEM; "
+         "vnorm = vg/sqrt(gb), ratio = closed form / DEM",
+         [out / "table1.csv", out / "table1.json", out / "table1.png"])
+
+
+def table1_folder(variant: str, tests: list[str]) -> Path:
+    """table1's default folder: homlimit-out/table1/ for the whole closed-form table; a
+    variant (--fe, --blocks) or a selection of tests (-t B1) has its own (table1-fe-B1/), so
+    that it never replaces another's set."""
+    parts = ["table1", variant.lstrip("-"), *tests]
+    return Path("homlimit-out") / pipeline.folder_name("-".join(p for p in parts if p))

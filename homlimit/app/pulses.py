@@ -1,0 +1,92 @@
+"""Stage "impulse/pulses": the overturning spectra of ``[pulse]`` (``homlimit.dynamics``) for
+the mechanisms the case chooses, each from the registry (``registry.Mechanism.alone`` and
+its rocker)."""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+from ..dynamics import RecordPulse, overturning_spectrum
+from ..dynamics.spectra import PLAUSIBLE_PGA_G, PLAUSIBLE_PGV, record_thresholds
+from ..errors import ParameterError
+from . import registry
+from .config import CaseConfig
+from .models import FERocker, stage
+from .result import Result
+
+__all__ = ["MAX_RECORD_BYTES", "pulse_records"]
+
+log = logging.getLogger("homlimit.app.pipeline")
+
+MAX_RECORD_BYTES = 64 << 20  # an accelerogram of a million samples is ~30 MB
+
+
+def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
+    """The overturning spectra of ``[pulse]`` (``homlimit.dynamics``): every pulse kind ×
+    mechanism × polarity × period, and the critical scale of ``[pulse] record`` if given.
+    Each chosen mechanism (in the registry's order) comes from its ``alone`` (``registry``):
+    the FE body from the FE cache, or the FE path (as ``run``, without the static bound),
+    which is then cached (``models.fe_rocker``). Returns the spectrum points and the FE
+    rocker (None unless chosen), which says whether it came from the cache."""
+    case, pc = config.case, config.pulse
+    w = case.wall
+    record = None
+    if pc.record:
+        base = Path(config.source).parent if Path(config.source).is_file() else Path.cwd()
+        path = base / pc.record
+        try:
+            if path.is_file() and path.stat().st_size > MAX_RECORD_BYTES:
+                raise ParameterError(f"[pulse] record = {pc.record!r} has "
+                                     f"{path.stat().st_size:,} bytes: allowed at most "
+                                     f"{MAX_RECORD_BYTES:,}")
+            record = RecordPulse.from_csv(path)
+        except UnicodeDecodeError as e:     # dynamics reads it as UTF-8 text
+            raise ParameterError(f"[pulse] record = {pc.record!r} is not UTF-8 text (byte "
+                                 f"0x{e.object[e.start]:02x} at offset {e.start}): allowed a "
+                                 "two-column CSV t [s], a_g [m/s^2]") from None
+        except ParameterError as e:         # name the key as well as the record
+            raise ParameterError(f"[pulse] record = {pc.record!r}: {e}") from None
+        for note in record.warnings:
+            log.warning("warning: [pulse] record = %r: %s", pc.record, note)
+    chosen = {e.name: _alone(e, config) for e in registry.mechanisms()
+              if e.name in pc.mechanisms}
+    rockers = {name: registry.mechanism(name).rocker(case, m, gravity_I=pc.gravity_I,
+                                                     restitution=pc.restitution)
+               for name, m in chosen.items()}
+    kw = dict(b=w.b, g=w.g, rtol=pc.rtol, scan_ratio=pc.scan_ratio)
+    points = []
+    for kind in pc.kinds:
+        with stage({}, "overturning spectrum", f"{kind}, {len(rockers)} mechanisms"):
+            points += overturning_spectrum(
+                rockers, kind, pc.periods, polarities=pc.polarities,
+                pulse_options={"gamma": pc.gamma, "nu": pc.nu} if kind == "mp" else None, **kw)
+    if record is not None:
+        with stage({}, "critical scale of the record", pc.record):
+            points += record_thresholds(rockers, record, **kw)
+    _warn_implausible(points)
+    return points, next((m for m in chosen.values() if isinstance(m, FERocker)), None)
+
+
+def _alone(entry: registry.Mechanism, config: CaseConfig):
+    """The mechanism ``entry`` of the case for the pulse spectra: its ``alone`` (the FE
+    path's through the FE cache), else what its model gives on the case."""
+    if entry.alone is not None:
+        return entry.alone(config)
+    result = Result(config=config)
+    registry.model(entry.model).run(config, result)
+    return result.mechanisms[entry.name]
+
+
+def _warn_implausible(points) -> None:
+    """One warning for the critical pulses beyond any recorded ground motion (kept in the
+    results, marked ``implausible``)."""
+    bad = [p for p in points if p.implausible]
+    if not bad:
+        return
+    shown = "; ".join(f"{p.pulse} {p.polarity:+d} T_p = {p.period:g} s, {p.mechanism}: "
+                      f"pga {p.pga_g:.3g} g, pgv {p.pgv:.3g} m/s" for p in bad[:3])
+    more = f"; and {len(bad) - 3} more" if len(bad) > 3 else ""
+    log.warning("warning: %d of %d critical pulses need pga > %g g or pgv > %g m/s, beyond "
+                "recorded ground motion (kept, column implausible = true): %s%s", len(bad),
+                len(points), PLAUSIBLE_PGA_G, PLAUSIBLE_PGV, shown, more)
