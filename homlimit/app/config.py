@@ -733,8 +733,7 @@ def _real_wall_checks(v: dict[str, Any]) -> list[str]:
     if not keys:
         return out
     given = ", ".join(keys)
-    for model, what in (("closed_form", "the closed forms"), ("overturning", "the overturning"),
-                        ("fe", "the FE bounds"), ("blocks", "the rigid blocks"),
+    for model, what in (("fe", "the FE bounds"), ("blocks", "the rigid blocks"),
                         ("dem", "the DEM")):
         if an.get(model):
             out.append(f"[analysis] {model} = true: {what} do not take {given} yet; allowed "

@@ -84,6 +84,13 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("pulse_period t_end cpu dt settle_time".split(), "s"),
     **dict.fromkeys("vnorm_udec dem_over_udec rel_tol n_trials n_blocks".split(), "-"),
     **dict.fromkeys("loading base_slid hinge_slid collapsed settle_converged".split(), ""),
+    # real walls (issue 30; closed_form.real, docs/real-walls.md)
+    **dict.fromkeys("fc cohesion tension".split(), "Pa"),
+    **dict.fromkeys("yield_force load".split(), "N/m"),
+    "stiffness": "N/m^2", "normal_force": "N",
+    **dict.fromkeys("ductility eccentricity hinge_retreat tie_elongation".split(), "m"),
+    **dict.fromkeys("restrains kind fc_infinite choices per_metre floor_mass hinge_rule tie_law "
+                    "abutment_friction_I".split(), ""),
 }
 #: every file name a homlimit command writes (result sets written before manifests existed
 #: are recognised by these, ``_io.is_result_set``)
