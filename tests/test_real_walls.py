@@ -241,3 +241,10 @@ def test_cli_exit_2_writes_nothing_and_a_good_case_runs(tmp_path):
                                    "ductility": 0.0}]
     ref = R.reference("overturning", WALL, MAS, over["lam"], ties=[(9.0, 5000.0)], fc=2e6)
     assert rel(over["vg"], ref["vg"]) < 1e-9
+
+
+def test_sweep_table_has_the_entry_columns():
+    from homlimit.app.sweep import flatten
+    row = flatten({"inputs": {"tie": [{"z": 9.0, "yield_force": 5.0}], "floor": []},
+                   "fe": {"scan": [{"x": 1}]}})
+    assert row == {"inputs.tie.0.z": 9.0, "inputs.tie.0.yield_force": 5.0}
