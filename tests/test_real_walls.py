@@ -162,6 +162,8 @@ BAD = [
      "[[floor]] 0 eccentricity = 0.6 m is out of range: allowed 0 <= eccentricity <= b"),
     (dict(floor=[{"z": 4.0, "load": 1.0, "eccentricity": 0.1, "restrains": 1}]),
      "[[floor]] 0 restrains = 1 has the wrong type"),
+    (dict(floor=[{"z": 9.0, "load": 1.0, "eccentricity": 0.1, "restrains": True}]),
+     "[[floor]] 0 z = 9.0 m with restrains = true leaves the closed forms a failing body"),
     (dict(masonry={"cohesion": 1e5}), "[masonry] cohesion = 100000.0 Pa: the closed forms"),
     (dict(masonry={"fc": 2e6}, analysis={"fe": True, "hinge_check": False}),
      "[analysis] fe = true: the FE bounds do not take [masonry] fc"),

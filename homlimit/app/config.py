@@ -728,6 +728,16 @@ def _real_wall_checks(v: dict[str, Any]) -> list[str]:
             if "b" in w and "eccentricity" in e and e["eccentricity"] > w["b"]:
                 out.append(f"[[{arr}]] {k} eccentricity = {e['eccentricity']!r} m is out of "
                            f"range: allowed 0 <= eccentricity <= b = {w['b']:g} m")
+    closed = an.get("closed_form") or an.get("overturning")
+    held = [(k, e["z"]) for k, e in enumerate(v.get("floor") or ())
+            if e.get("restrains") and "z" in e]
+    if closed and held and "H" in w and "b" in w:
+        k, zr = max(held, key=lambda p: p[1])
+        if (w["H"] - zr) / w["b"] < LAM_MIN_CLOSED:
+            out.append(f"[[floor]] {k} z = {zr!r} m with restrains = true leaves the closed "
+                       f"forms a failing body of (H − z)/b = {(w['H'] - zr) / w['b']:.4g}: out "
+                       f"of range: allowed z <= H − {LAM_MIN_CLOSED:g} b = "
+                       f"{w['H'] - LAM_MIN_CLOSED * w['b']:g} m (the body lies above it)")
     keys = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("fc", "cohesion", "tension") if m.get(k)]
     keys += [f"[[{arr}]] ({len(v[arr])} entries)" for arr in ("tie", "floor") if v.get(arr)]
     if not keys:
