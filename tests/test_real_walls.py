@@ -250,3 +250,14 @@ def test_sweep_table_has_the_entry_columns():
     row = flatten({"inputs": {"tie": [{"z": 9.0, "yield_force": 5.0}], "floor": []},
                    "fe": {"scan": [{"x": 1}]}})
     assert row == {"inputs.tie.0.z": 9.0, "inputs.tie.0.yield_force": 5.0}
+
+
+def test_elastic_plastic_tie_work_by_hand():
+    """k = 1e5 N/m² and T_y = 10 kN/m per metre: per bay k l = 6e5 N/m, T_y l = 6e4 N,
+    δ_y = 0.1 m; the top tie of the overturning stretches by 9 sin θ."""
+    tied = dataclasses.replace(B1, ties=(Tie(9.0, 10000.0, stiffness=1e5),))
+    th = np.array([0.005, 0.5])
+    d = 9 * np.sin(th)
+    W = real.work_real(tied, "overturning", 18.0, th) - real.work_real(B1, "overturning",
+                                                                       18.0, th)
+    np.testing.assert_allclose(W, [0.5 * 6e5 * d[0] ** 2, 6e4 * (d[1] - 0.05)], rtol=1e-12)
