@@ -11,8 +11,8 @@ from dataclasses import dataclass, fields
 
 from .errors import ParameterError, check_range
 
-__all__ = ["Wall", "Masonry", "Case", "G_STANDARD", "FACADE_DEFAULT", "FACADE_MODELS",
-           "MESHERS", "MESHER_DEFAULT", "PART_DIVISIONS"]
+__all__ = ["Wall", "Masonry", "Case", "Tie", "Floor", "G_STANDARD", "FACADE_DEFAULT",
+           "FACADE_MODELS", "MESHERS", "MESHER_DEFAULT", "PART_DIVISIONS"]
 
 G_STANDARD = 9.81  # m/s², the value used throughout the paper's examples
 # strength of the façade in the section plane: bed joints only (its blocks run through the
@@ -75,16 +75,30 @@ class Masonry:
     """Running-bond masonry of rigid blocks of height a and length 2c, dry joints of friction f.
 
     a : block height [m];  c : half block length [m];  f : joint friction coefficient [-].
+    fc : compressive strength [Pa]; 0 means infinite (the paper's rigid blocks, the default);
+    cohesion, tension : the joints' cohesion and tensile strength [Pa] (the strength domains'
+    names, ``fe.strength``), 0 by default (the paper's dry joints).
     """
 
     a: float = 0.3
     c: float = 0.2
     f: float = 0.6
+    fc: float = 0.0
+    cohesion: float = 0.0
+    tension: float = 0.0
 
     def __post_init__(self):
         object.__setattr__(self, "a", check_range("a", self.a, 0.0, lo_open=True, unit="m"))
         object.__setattr__(self, "c", check_range("c", self.c, 0.0, lo_open=True, unit="m"))
         object.__setattr__(self, "f", check_range("f", self.f, 0.0, lo_open=True))
+        for name in ("fc", "cohesion", "tension"):
+            object.__setattr__(self, name, check_range(name, getattr(self, name), 0.0,
+                                                       unit="Pa"))
+
+    @property
+    def fc_finite(self) -> bool:
+        """Whether the compressive strength is finite (fc > 0; 0 stands for infinite)."""
+        return self.fc > 0.0
 
     @property
     def alpha(self) -> float:
@@ -93,15 +107,66 @@ class Masonry:
 
 
 @dataclass(frozen=True)
+class Tie:
+    """A tie-rod anchored on the façade at height z [m] above the ground, pulling it inwards.
+
+    yield_force : its yield force per metre of façade [N/m] (a bay of length l carries
+    yield_force·l); stiffness : per metre of façade [N/m per m of elongation, N/m²], 0 for a
+    rigid-plastic tie; ductility : the elongation at which it breaks [m], 0 for none (it
+    yields without limit). docs/real-walls.md.
+    """
+
+    z: float
+    yield_force: float
+    stiffness: float = 0.0
+    ductility: float = 0.0
+
+    def __post_init__(self):
+        for name, unit in (("z", "m"), ("yield_force", "N/m"), ("stiffness", "N/m^2"),
+                           ("ductility", "m")):
+            object.__setattr__(self, name, check_range(f"tie {name}", getattr(self, name),
+                                                       0.0, unit=unit))
+
+
+@dataclass(frozen=True)
+class Floor:
+    """A floor bearing on the façade at height z [m]: its vertical dead load per metre of
+    façade [N/m] acting at ``eccentricity`` [m] from the façade's outer face (0 <= e <= b);
+    ``restrains``: it holds the façade horizontally at z (a failing body lies above it).
+    Only its load bears on the façade: its mass moves with the building, not the façade."""
+
+    z: float
+    load: float
+    eccentricity: float
+    restrains: bool = False
+
+    def __post_init__(self):
+        for name, unit in (("z", "m"), ("load", "N/m"), ("eccentricity", "m")):
+            object.__setattr__(self, name, check_range(f"floor {name}", getattr(self, name),
+                                                       0.0, unit=unit))
+        object.__setattr__(self, "restrains", bool(self.restrains))
+
+
+@dataclass(frozen=True)
 class Case:
-    """One wall built of one masonry; checks that the blocks fit the wall."""
+    """One wall built of one masonry, with its tie-rods and floors; checks that the blocks
+    fit the wall and the ties and floors lie on it."""
 
     wall: Wall = Wall()
     masonry: Masonry = Masonry()
     name: str = "case"
+    ties: tuple = ()
+    floors: tuple = ()
 
     def __post_init__(self):
         w, m = self.wall, self.masonry
+        object.__setattr__(self, "ties", tuple(self.ties))
+        object.__setattr__(self, "floors", tuple(self.floors))
+        for k, t in enumerate(self.ties):
+            check_range(f"tie {k} z", t.z, 0.0, w.H, lo_open=True, unit="m")
+        for k, fl in enumerate(self.floors):
+            check_range(f"floor {k} z", fl.z, 0.0, w.H, lo_open=True, unit="m")
+            check_range(f"floor {k} eccentricity", fl.eccentricity, 0.0, w.b, unit="m")
         if m.a > w.H:
             raise ParameterError(f"a = {m.a!r} m is out of range: a block must not be taller "
                                  f"than the wall, allowed 0 < a <= H = {w.H:g} m")
@@ -129,7 +194,26 @@ class Case:
         h = check_range("h", h, 0.0, self.wall.H, lo_open=True, unit="m")
         return h / self.wall.b
 
+    @property
+    def real(self) -> bool:
+        """Whether the case has any input of a real wall beyond the paper's (finite fc,
+        cohesion, tension, ties, floors): docs/real-walls.md."""
+        m = self.masonry
+        return bool(self.ties or self.floors or m.fc or m.cohesion or m.tension)
+
+    def real_inputs(self) -> list[str]:
+        """The case-file keys of the real-wall inputs this case sets (for the messages of the
+        models that do not take them)."""
+        m = self.masonry
+        out = [f"[masonry] {k}" for k in ("fc", "cohesion", "tension") if getattr(m, k)]
+        out += [f"[[tie]] {k}" for k in range(len(self.ties))]
+        out += [f"[[floor]] {k}" for k in range(len(self.floors))]
+        return out
+
     def as_dict(self) -> dict:
         return {"name": self.name,
                 "wall": {f.name: getattr(self.wall, f.name) for f in fields(self.wall)},
-                "masonry": {f.name: getattr(self.masonry, f.name) for f in fields(self.masonry)}}
+                "masonry": {f.name: getattr(self.masonry, f.name) for f in fields(self.masonry)},
+                "tie": [{f.name: getattr(t, f.name) for f in fields(t)} for t in self.ties],
+                "floor": [{f.name: getattr(x, f.name) for f in fields(x)}
+                          for x in self.floors]}

@@ -45,7 +45,9 @@ from ..params import (
     MESHERS,
     PART_DIVISIONS,
     Case,
+    Floor,
     Masonry,
+    Tie,
     Wall,
 )
 from . import budget, registry
@@ -144,6 +146,17 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "c": Key(float, **_len(1e3, (0.03, 1.5)), doc="half block length (2c <= L)"),
         "f": Key(float, unit="", lo=1e-3, hi=100.0, typical=(0.3, 1.0),
                  doc="joint friction coefficient (α = √(cf/a), eq. 11)"),
+        "fc": Key(float, 0.0, "Pa", 0.0, 1e10,
+                  doc="compressive strength of the masonry; 0 means infinite (the paper's "
+                      "rigid blocks). Finite: the hinge of every closed form retreats to the "
+                      "resultant of a rectangular stress block, t = N/(2 fc l) "
+                      "(docs/real-walls.md); FE, blocks and DEM do not take it yet"),
+        "cohesion": Key(float, 0.0, "Pa", 0.0, 1e10,
+                        doc="cohesion of the joints (the strength domains' name); no model "
+                            "takes a non-zero value yet (docs/real-walls.md)"),
+        "tension": Key(float, 0.0, "Pa", 0.0, 1e10,
+                       doc="tensile strength of the joints (the strength domains' name); no "
+                           "model takes a non-zero value yet (docs/real-walls.md)"),
     },
     "mesh": {
         "size": Key(float, 0.25, "m", 0.0, 1e4, lo_open=True,
@@ -191,6 +204,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
                       doc="crack slope tan ψ of mechanism II (0: √(cf/a), eq. 16)"),
         "lam_points": Key(int, 200, "", lo=10, hi=100000,
                           doc="points of the v̄_g(λ) curves over 0 < λ <= H/b"),
+        "overturning": Key(bool, False,
+                           doc="the simple overturning of the façade about its toe (no "
+                               "abutment; closed form with ties, floors and fc; "
+                               "docs/real-walls.md)"),
         "fe": Key(bool, True, doc="finite-element kinematic mechanism, crack and impulse"),
         "facade": Key(str, FACADE_DEFAULT, choices=FACADE_MODELS,
                       doc="strength domain of the façade in the FE model: bed joints only "
@@ -351,6 +368,37 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "vtu": Key(bool, True, doc="write the mesh and mechanism as .vtu (ParaView)"),
     },
 }
+#: arrays of tables ([[tie]], [[floor]]): name -> key -> Key, each entry validated like a
+#: section; a sweep or --set addresses an entry's key as tie.0.yield_force
+ARRAYS: dict[str, dict[str, Key]] = {
+    "tie": {
+        "z": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
+                 doc="height of the tie above the ground (0 < z <= H)"),
+        "yield_force": Key(float, unit="N/m", lo=0.0, hi=1e9,
+                           doc="yield force per metre of façade (a bay of length l carries "
+                               "yield_force·l)"),
+        "stiffness": Key(float, 0.0, "N/m²", 0.0, 1e15,
+                         doc="axial stiffness per metre of façade (force per metre per metre "
+                             "of elongation); 0: rigid-plastic"),
+        "ductility": Key(float, 0.0, "m", 0.0, 1e3,
+                         doc="elongation at which the tie breaks; 0: none (it yields without "
+                             "limit)"),
+    },
+    "floor": {
+        "z": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
+                 doc="height of the floor's bearing on the façade (0 < z <= H)"),
+        "load": Key(float, unit="N/m", lo=0.0, hi=1e9,
+                    doc="vertical dead load per metre of façade (only the load bears on the "
+                        "façade: the floor's mass moves with the building)"),
+        "eccentricity": Key(float, unit="m", lo=0.0, hi=1e3,
+                            doc="where the load acts, from the façade's outer face "
+                                "(0 <= eccentricity <= b)"),
+        "restrains": Key(bool, False,
+                         doc="the floor holds the façade horizontally at z: a failing body "
+                             "lies above it"),
+    },
+}
+MAX_ARRAY = 100                   # entries of a [[tie]] or [[floor]] array
 REQUIRED_SECTIONS = ("wall", "masonry")
 TOP_LEVEL = {"name": Key(str, "", doc="case name, used in titles and the output folder "
                                       "(empty: the file's stem; at most 100 characters, no "
@@ -385,6 +433,7 @@ class AnalysisConfig:
     closed_form: bool = True
     tanpsi: float = 0.0
     lam_points: int = 200
+    overturning: bool = False
     fe: bool = True
     facade: str = FACADE_DEFAULT
     heights: int = 6
@@ -502,7 +551,8 @@ class CaseConfig:
     def as_dict(self) -> dict:
         """Every input, in the case-file layout (round-trips through ``load_case``)."""
         d = self.case.as_dict()
-        out = {"name": d["name"], "wall": d["wall"], "masonry": d["masonry"]}
+        out = {"name": d["name"], "wall": d["wall"], "masonry": d["masonry"],
+               "tie": d["tie"], "floor": d["floor"]}
         for sec in SECTIONS:
             obj = getattr(self, sec)
             out[sec] = {k: (list(v) if isinstance(v, tuple) else v)
@@ -587,7 +637,9 @@ def _collect(data: dict, problems: list[str]) -> dict[str, dict[str, Any]]:
     A key missing from the result was reported (or its section was)."""
     values: dict[str, dict[str, Any]] = {}
     for top, v in data.items():
-        if top in SCHEMA:
+        if top in ARRAYS:
+            values[top] = _collect_array(top, v, problems)
+        elif top in SCHEMA:
             if not isinstance(v, dict):
                 problems.append(f"[{top}] must be a section (table), got {shown(v)}")
         elif top in TOP_LEVEL:
@@ -596,7 +648,8 @@ def _collect(data: dict, problems: list[str]) -> dict[str, dict[str, Any]]:
                 problems.append(f"name = {out[:20]!r}... ({len(out)} characters) is out of "
                                 f"range: allowed at most {MAX_NAME} characters")
         else:
-            allowed = ", ".join([f"[{s}]" for s in SCHEMA] + list(TOP_LEVEL))
+            allowed = ", ".join([f"[{s}]" for s in SCHEMA] + [f"[[{a}]]" for a in ARRAYS]
+                                + list(TOP_LEVEL))
             problems.append(f"unknown {'section' if isinstance(v, dict) else 'key'} "
                             f"{str(top)[:40]!r}: allowed {allowed}")
     for sec, keys in SCHEMA.items():
@@ -628,20 +681,109 @@ def _collect(data: dict, problems: list[str]) -> dict[str, dict[str, Any]]:
     return values
 
 
+def _collect_array(name: str, given, problems: list[str]) -> list[dict]:
+    """The valid entries of a [[tie]] or [[floor]] array (defaults filled in); a problem for
+    each bad one, named "[[tie]] 0 yield_force" (entry 0, as a sweep's tie.0.yield_force)."""
+    if not isinstance(given, list) or not all(isinstance(e, dict) for e in given):
+        problems.append(f"[[{name}]] = {shown(given)} has the wrong type: expected an array "
+                        f"of tables ([[{name}]] entries)")
+        return []
+    if len(given) > MAX_ARRAY:
+        problems.append(f"[[{name}]] has {len(given)} entries: allowed at most {MAX_ARRAY}")
+        return []
+    keys, out = ARRAYS[name], []
+    for k, entry in enumerate(given):
+        where, vals, n = f"[[{name}]] {k}", {}, len(problems)
+        for key, v in entry.items():
+            if key not in keys:
+                problems.append(f"{where} unknown key {str(key)[:40]!r}: allowed "
+                                + ", ".join(keys))
+                continue
+            got = _check_key(where, key, keys[key], v, problems)
+            if got is not None:
+                vals[key] = got
+        for key, spec in keys.items():
+            if key in entry:
+                continue
+            if spec.required:
+                u = f" {spec.unit}" if spec.unit else ""
+                problems.append(f"{where} {key} is missing ({spec.doc}, {spec.unit or '-'}; "
+                                f"allowed {spec.range_text(key)}{u})")
+            else:
+                vals[key] = spec.default
+        if len(problems) == n:
+            out.append(vals)
+    return out
+
+
+def array_key(key: str) -> bool:
+    """Whether ``key`` names a key of a [[tie]]/[[floor]] entry, as tie.0.yield_force."""
+    arr, _, rest = str(key).partition(".")
+    idx, dot, name = rest.partition(".")
+    return arr in ARRAYS and idx.isdigit() and int(idx) < MAX_ARRAY and bool(dot) \
+        and name in ARRAYS[arr]
+
+
+def _real_wall_checks(v: dict[str, Any]) -> list[str]:
+    """Ties and floors on the wall (0 < z <= H, 0 <= eccentricity <= b), and the real-wall
+    inputs refused by the models and checks that do not take them (docs/real-walls.md)."""
+    w, m, an = (v.get(k, {}) for k in ("wall", "masonry", "analysis"))
+    out = []
+    for arr in ("tie", "floor"):
+        for k, e in enumerate(v.get(arr) or ()):
+            if "H" in w and "z" in e and e["z"] > w["H"]:
+                out.append(f"[[{arr}]] {k} z = {e['z']!r} m is out of range: allowed "
+                           f"0 < z <= H = {w['H']:g} m")
+            if "b" in w and "eccentricity" in e and e["eccentricity"] > w["b"]:
+                out.append(f"[[{arr}]] {k} eccentricity = {e['eccentricity']!r} m is out of "
+                           f"range: allowed 0 <= eccentricity <= b = {w['b']:g} m")
+    closed = an.get("closed_form") or an.get("overturning")
+    held = [(k, e["z"]) for k, e in enumerate(v.get("floor") or ())
+            if e.get("restrains") and "z" in e]
+    if closed and held and "H" in w and "b" in w:
+        k, zr = max(held, key=lambda p: p[1])
+        if (w["H"] - zr) / w["b"] < LAM_MIN_CLOSED:
+            out.append(f"[[floor]] {k} z = {zr!r} m with restrains = true leaves the closed "
+                       f"forms a failing body of (H − z)/b = {(w['H'] - zr) / w['b']:.4g}: out "
+                       f"of range: allowed z <= H − {LAM_MIN_CLOSED:g} b = "
+                       f"{w['H'] - LAM_MIN_CLOSED * w['b']:g} m (the body lies above it)")
+    keys = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("fc", "cohesion", "tension") if m.get(k)]
+    keys += [f"[[{arr}]] ({len(v[arr])} entries)" for arr in ("tie", "floor") if v.get(arr)]
+    if not keys:
+        return out
+    given = ", ".join(keys)
+    for model, what in (("fe", "the FE bounds"), ("blocks", "the rigid blocks"),
+                        ("dem", "the DEM")):
+        if an.get(model):
+            out.append(f"[analysis] {model} = true: {what} do not take {given} yet; allowed "
+                       f"[analysis] {model} = false with these inputs (docs/real-walls.md)")
+    if an.get("hinge_check"):
+        out.append(f"[analysis] hinge_check = true: the hinge check's rockers do not take "
+                   f"{given} yet; allowed [analysis] hinge_check = false with these inputs "
+                   "(docs/real-walls.md)")
+    for k in ("cohesion", "tension"):
+        if m.get(k) and (an.get("closed_form") or an.get("overturning")):
+            out.append(f"[masonry] {k} = {m[k]!r} Pa: the closed forms (mechanisms I, II, "
+                       "overturning) do not take a joint " + k + " (no clean derivation "
+                       "yet); allowed 0 Pa (docs/real-walls.md)")
+    return out
+
+
 def _cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> list[str]:
     """The checks between keys, each run when the keys it needs are valid (so they are
     reported together with the field problems). ``mesh_only``: the checks of the mesh of the
     whole wall (the ``mesh`` command), whatever [analysis] says."""
     w, m, me, an = (v.get(k, {}) for k in ("wall", "masonry", "mesh", "analysis"))
     has = lambda d, *ks: all(k in d for k in ks)  # noqa: E731
-    out = []
+    out = [] if mesh_only else _real_wall_checks(v)
     if not mesh_only and has(w, "H") and has(m, "a") and m["a"] > w["H"]:
         out.append(f"[masonry] a = {m['a']!r} m is out of range: a block must not be taller "
                    f"than the wall, allowed 0.001 <= a <= H = {w['H']:g} m")
     if not mesh_only and has(w, "L") and has(m, "c") and 2 * m["c"] > w["L"]:
         out.append(f"[masonry] c = {m['c']!r} m is out of range: a block must fit the "
                    f"transversal wall, allowed 0.001 <= 2c <= L = {w['L']:g} m")
-    if not mesh_only and an.get("closed_form") is False and an.get("fe") is False:
+    if (not mesh_only and an.get("closed_form") is False and an.get("fe") is False
+            and not an.get("overturning")):
         out.append("[analysis] closed_form = false and fe = false: nothing to compute; allowed "
                    "at least one of them true")
     closed = not mesh_only and an.get("closed_form", False)
@@ -744,7 +886,9 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
     if problems:
         raise ConfigError(source, [p.strip() for p in problems])
     name = data.get("name") or default_name
-    case = Case(wall=Wall(**values["wall"]), masonry=Masonry(**values["masonry"]), name=name)
+    case = Case(wall=Wall(**values["wall"]), masonry=Masonry(**values["masonry"]), name=name,
+                ties=tuple(Tie(**e) for e in values.get("tie", ())),
+                floors=tuple(Floor(**e) for e in values.get("floor", ())))
     return CaseConfig(case=case, source=source, warnings=_warnings(case, values), **{
         sec: cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in values[sec].items()})
         for sec, cls in SECTIONS.items()})
@@ -855,15 +999,29 @@ def check_base(data: dict, source: str, overridden) -> None:
     for top, v in data.items():
         if top in SCHEMA and isinstance(v, dict):
             kept[top] = {k: x for k, x in v.items() if f"{top}.{k}" not in overridden}
+        elif top in ARRAYS and isinstance(v, list):   # tie.0.yield_force given by the sweep
+            kept[top] = [{k: x for k, x in e.items() if f"{top}.{n}.{k}" not in overridden}
+                         if isinstance(e, dict) else e for n, e in enumerate(v)]
         elif top not in overridden:
             kept[top] = v
     problems: list[str] = []
     _collect(kept, problems)
     missing = [f"{sec}.{name}" for sec in REQUIRED_SECTIONS
                for name, key in SCHEMA[sec].items() if key.required]
-    problems = [p for p in problems if not _overridden_missing(p, overridden, missing)]
+    problems = [p for p in problems if not _overridden_missing(p, overridden, missing)
+                and not _overridden_entry(p, overridden)]
     if problems:
         raise ConfigError(source, [p.strip() for p in problems])
+
+
+def _overridden_entry(problem: str, overridden: set) -> bool:
+    """True for the "is missing" line of a [[tie]]/[[floor]] entry's key the sweep gives."""
+    for key in overridden:
+        arr, _, rest = str(key).partition(".")
+        idx, _, name = rest.partition(".")
+        if arr in ARRAYS and problem.startswith(f"[[{arr}]] {idx} {name} is missing"):
+            return True
+    return False
 
 
 def _overridden_missing(problem: str, overridden: set, required: list[str]) -> bool:
@@ -924,6 +1082,15 @@ def _changes(old: dict, new: dict) -> tuple:
             was = before.get(name, key.default if key and not key.required else None)
             if not _same(was, value):
                 out.append((f"{sec}.{name}", was, value))
+    for arr in ARRAYS:                # [[tie]], [[floor]]: entry by entry, key by key
+        before = old.get(arr) if isinstance(old.get(arr), list) else []
+        after = new.get(arr) if isinstance(new.get(arr), list) else []
+        for k, entry in enumerate(after):
+            was_entry = before[k] if k < len(before) and isinstance(before[k], dict) else {}
+            for name, value in (entry.items() if isinstance(entry, dict) else ()):
+                was = was_entry.get(name)
+                if not _same(was, value):
+                    out.append((f"{arr}.{k}.{name}", was, value))
     return tuple(out)
 
 
@@ -954,10 +1121,25 @@ def _override(data: dict, overrides, source: str) -> dict:
                 value = raw.strip()                   # a bare word: a string
             parsed.append((key.strip(), value))
         items = parsed
-    out = {k: dict(v) if isinstance(v, dict) else v for k, v in data.items()}
+    out = {k: dict(v) if isinstance(v, dict) else
+           [dict(e) if isinstance(e, dict) else e for e in v] if isinstance(v, list) else v
+           for k, v in data.items()}
     for key, value in items:
         sec, dot, name = key.partition(".")
-        if not dot and sec in TOP_LEVEL:
+        if sec in ARRAYS:             # tie.0.yield_force: entry 0 (0..n: n appends one)
+            idx, dot2, entry_key = name.partition(".")
+            arr = out.setdefault(sec, [])
+            if (dot and dot2 and idx.isdigit() and isinstance(arr, list)
+                    and int(idx) <= len(arr) and int(idx) < MAX_ARRAY):
+                if int(idx) == len(arr):
+                    arr.append({})
+                if isinstance(arr[int(idx)], dict):
+                    arr[int(idx)][entry_key] = value
+                    continue
+            problems.append(f"--set {key!r}: expected {sec}.<entry>.<key> with an entry "
+                            f"0 .. {len(arr) if isinstance(arr, list) else 0} of [[{sec}]] "
+                            f"(e.g. {sec}.0.z)")
+        elif not dot and sec in TOP_LEVEL:
             out[sec] = value
         elif dot and isinstance(out.setdefault(sec, {}), dict):
             out[sec][name] = value
@@ -981,7 +1163,9 @@ def default_case() -> CaseConfig:
 def schema_markdown() -> str:
     """The key reference of docs/case-file.md, generated from SCHEMA (one table per section)."""
     lines = []
-    for sec, keys in [("(top level)", TOP_LEVEL)] + [(f"[{s}]", k) for s, k in SCHEMA.items()]:
+    for sec, keys in ([("(top level)", TOP_LEVEL)] + [(f"[{s}]", k) for s, k in SCHEMA.items()]
+                      + [(f"[[{a}]] (array of tables; a sweep's {a}.0.z)", k)
+                         for a, k in ARRAYS.items()]):
         req = " (required section)" if sec.strip("[]") in REQUIRED_SECTIONS else ""
         lines += [f"### {sec}{req}", "",
                   "| key | type | default | unit | allowed | typical | meaning |",

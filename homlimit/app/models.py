@@ -32,6 +32,7 @@ from .. import _io
 from .._version import package_version
 from ..blocks import analyse_blocks
 from ..closed_form import mechanisms as mech
+from ..closed_form import real
 from ..dynamics import GeneralisedRocker, MechanismIRocker, RigidRocker
 from ..errors import OutputError, ParameterError, ResultError
 from ..fe.mesh import cache_dir, from_skfem
@@ -71,6 +72,8 @@ def closed_forms(config) -> tuple[dict, dict]:
     """Mechanisms I and II at their critical λ, and their curves name → (λ, v̄_g(λ), label)
     over 0 < λ <= H/b (II: up to its wedge's limit)."""
     case, an = config.case, config.analysis
+    if case.real:                     # ties, floors, finite fc: docs/real-walls.md
+        return real_closed_forms(config, ("detachment", "crack"))
     m1 = mech.mechanism_I(case)
     m2 = mech.mechanism_II(case, tanpsi=an.tanpsi or None)  # 0: eq. 16's √(cf/a)
     w = case.wall
@@ -82,6 +85,22 @@ def closed_forms(config) -> tuple[dict, dict]:
               m2.name: (lam2, mech.vnorm_II(lam2, case.rho, m2.tanpsi) * scale,
                         f"mechanism II (diagonal crack, tan ψ = {m2.tanpsi:.3f})")}
     return {m1.name: m1, m2.name: m2}, curves
+
+
+def real_closed_forms(config, kinds) -> tuple[dict, dict]:
+    """``closed_forms`` of a real wall (``closed_form.real``): the mechanisms ``kinds`` at
+    their critical λ and their curves over 0.5 <= λ <= their largest λ."""
+    case, an = config.case, config.analysis
+    tanpsi = an.tanpsi or None
+    out, curves = {}, {}
+    scale = math.sqrt(case.wall.g * case.wall.b)
+    for kind in kinds:
+        m = real.real_mechanism(case, kind, tanpsi=tanpsi)
+        lam = np.linspace(m.lam_max / an.lam_points, m.lam_max, an.lam_points)
+        lam = lam[lam >= real.LAM_MIN]
+        out[m.name] = m
+        curves[m.name] = (lam, real.vnorm_real(case, kind, lam, tanpsi) * scale, m.label)
+    return out, curves
 
 
 # ----------------------------------------------------------------------------- the FE path
@@ -386,8 +405,18 @@ def run_dem(config, result) -> None:
 
 
 # ----------------------------------------------------------------------------- the rockers
+def no_real_wall(case, what: str) -> None:
+    """A ParameterError naming the real-wall inputs (ties, floors, fc, ...) that ``what``
+    does not take yet, if the case has any (docs/real-walls.md)."""
+    if case.real:
+        raise ParameterError(f"{', '.join(case.real_inputs())}: {what} does not take ties, "
+                             "floors, fc, cohesion or tension yet; allowed a case without "
+                             "them (docs/real-walls.md)")
+
+
 def rigid_rocker(case, mechanism, gravity_I="linearised", restitution=0.0):
     """The rocker of a mechanism with a rigid ``body`` (exact geometry)."""
+    no_real_wall(case, f"the rocker of mechanism {mechanism.name} (pulse spectra, hinge check)")
     return RigidRocker(mechanism.body, g=case.wall.g, restitution=restitution,
                        name=mechanism.name)
 
@@ -395,6 +424,7 @@ def rigid_rocker(case, mechanism, gravity_I="linearised", restitution=0.0):
 def rocker_I(case, mechanism, gravity_I="linearised", restitution=0.0):
     """Mechanism I's rocker: the façade strip with the abutment friction of eq. 9, at the
     critical λ, its gravity linearised (eq. 10) or exact (``gravity_I``)."""
+    no_real_wall(case, "the rocker of mechanism I (pulse spectra, hinge check)")
     return MechanismIRocker(case, gravity=gravity_I, restitution=restitution)
 
 

@@ -132,7 +132,9 @@ def plot_vg_lambda(path: str | Path, curves: dict, mechanisms: dict, *, fe=None,
     finite = finite[np.isfinite(finite)]
     top = min(float(np.max(finite)), 2.5 * max(mechanisms[name].vg for name in curves))
     ax.set_ylim(0.0, top * 1.05)
-    ax.set_xlim(0.0, max(float(np.max(lam)) for lam, _, _ in curves.values()) * 1.02)
+    # a curve may be empty (II's wedge fits no λ of the grid): the others set the axis
+    ax.set_xlim(0.0, max((float(np.max(lam)) for lam, _, _ in curves.values() if len(lam)),
+                         default=1.0) * 1.02)
     ax.set_xlabel("slenderness of the failing part λ = h/b [-]")
     ax.set_ylabel("collapse ground velocity v̄_g [m/s]")
     if b:

@@ -41,7 +41,8 @@ _DIMENSIONLESS = (
     "critical_multiplier lower_bound bracket_rel_gap ratio ratio_I ratio_II rho alpha alpha2 "
     "beta f c_over_a sqrt_cf_a tanpsi tanpsi_fe tanpsi_fe_edges tanpsi_uncertainty dtanpsi_fe "
     "tanpsi_edges tanpsi_block tanpsi_fixed tan_alpha tan_f tan_c_over_a fan_T1 fan_T2 "
-    "explained block_share interior_share eq14_error n_triangles static_triangles polarity pga_g pT n_impacts "
+    "explained block_share interior_share eq14_error n_triangles static_triangles polarity "
+    "pga_g pT n_impacts "
     "hinge_ratio hinge_ratio_fe hinge_ratio_I hinge_ratio_II multiplier_I multiplier_II rtol "
     "ivp_rtol lam_multiplier retries solver_tol").split()
 _TEXT = ("name test mechanism mechanism_fe critical_mechanism vg_method facade mesher pulse "
@@ -84,6 +85,13 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("pulse_period t_end cpu dt settle_time".split(), "s"),
     **dict.fromkeys("vnorm_udec dem_over_udec rel_tol n_trials n_blocks".split(), "-"),
     **dict.fromkeys("loading base_slid hinge_slid collapsed settle_converged".split(), ""),
+    # real walls (issue 30; closed_form.real, docs/real-walls.md)
+    **dict.fromkeys("fc cohesion tension".split(), "Pa"),
+    **dict.fromkeys("yield_force load".split(), "N/m"),
+    "stiffness": "N/m^2", "normal_force": "N",
+    **dict.fromkeys("ductility eccentricity hinge_retreat tie_elongation".split(), "m"),
+    **dict.fromkeys("restrains kind fc_infinite choices per_metre floor_mass hinge_rule tie_law "
+                    "abutment_friction_I".split(), ""),
 }
 #: every file name a homlimit command writes (result sets written before manifests existed
 #: are recognised by these, ``_io.is_result_set``)

@@ -20,6 +20,7 @@ from .config import (
     TOP_LEVEL,
     CaseConfig,
     ConfigError,
+    array_key,
     case_data,
     check_base,
     read_text,
@@ -48,7 +49,8 @@ class SweepCase:
         if self.config is None:
             return False
         on = [m for m in registry.models() if m.enabled(self.config)]
-        return bool(on) and all(m.batched for m in on)
+        # ties, floors, fc: the batch's arrays do not take them (one case at a time)
+        return bool(on) and all(m.batched for m in on) and not self.config.case.real
 
 
 
@@ -89,7 +91,8 @@ def _value(text: str):
 def key_problem(key: str) -> str | None:
     """None for a case-file key (``name`` or ``section.key``), else the problem's text."""
     sec, dot, name = key.partition(".")
-    if (not dot and key in TOP_LEVEL) or (dot and name in SCHEMA.get(sec, {})):
+    if (not dot and key in TOP_LEVEL) or (dot and name in SCHEMA.get(sec, {})) \
+            or array_key(key):
         return None
     return (f"key = {shown(key)} is out of range: allowed name or section.key of a case "
             "file, e.g. wall.l, masonry.a, mesh.size (docs/case-file.md)")

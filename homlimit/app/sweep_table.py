@@ -18,9 +18,10 @@ META = ["case_index", "key", "status", "error", "case"]
 
 def flatten(record: dict, prefix: str = "") -> dict:
     """A record as one table row: nested keys joined with "." (their summary.json paths),
-    lists of numbers as ``path.0``, ``path.1``...; lists of records (the FE scan, kept in the
-    JSON record) and the traceback are left out; NaN and ±inf as None (null, as the stored
-    JSON record has them)."""
+    lists of numbers as ``path.0``, ``path.1``...; the inputs' [[tie]] and [[floor]] entries as
+    ``inputs.tie.0.z``...; other lists of records (the FE scan, kept in the JSON record) and
+    the traceback are left out; NaN and ±inf as None (null, as the stored JSON record has
+    them)."""
     row: dict = {}
     _flatten_into(row, record, prefix)
     return row
@@ -42,6 +43,9 @@ def _flatten_into(row: dict, record: dict, prefix: str):
             if all(not isinstance(x, dict | list | tuple) for x in v):
                 row.update({f"{path}.{j}": None if type(x) is float and x - x != 0.0 else x
                             for j, x in enumerate(v)})
+            elif path.startswith("inputs.") and all(isinstance(x, dict) for x in v):
+                for j, x in enumerate(v):    # [[tie]], [[floor]]: inputs.tie.0.yield_force
+                    _flatten_into(row, x, f"{path}.{j}.")
         else:
             row[path] = v
 

@@ -51,6 +51,7 @@ __all__ = [
     "multiplier_II",
     "static_critical_I",
     "static_critical_II",
+    "minimise",
 ]
 
 
@@ -275,6 +276,10 @@ def _minimise(fun, lam_max, lam_min=0.5, n_grid=160, n_golden=45):
     lam = np.where(grid_wins, grid[idx, k], lam)
     f_lam = np.where(grid_wins, vals[idx, k], f_lam)
     return lam.reshape(shape), f_lam.reshape(shape)
+
+
+#: the vectorised minimiser of the critical λ, for the other closed forms (``real``)
+minimise = _minimise
 
 
 def critical_I(rho, alpha, beta, lam_max):

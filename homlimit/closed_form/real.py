@@ -1,0 +1,326 @@
+"""Mechanisms I, II and the simple overturning of a real wall: finite compressive strength,
+tie-rods and floors (issue 30; the choices and their sources: docs/real-walls.md).
+
+The failing body is the façade's top part of height h = λb (hinge at z0 = H − h on the outer
+face, the paper's frame), as in mechanisms I (eqs 8–14) and II (eqs 16–20); the simple
+overturning is mechanism I without the abutment friction (the façade not bonded to the
+transversal walls). Everything is per bay of façade length l (as the paper's m = γ l b h):
+a tie or a floor given per metre of façade carries its value × l.
+
+- Finite f_c: the hinge joint's compressed zone is a rectangular stress block of depth
+  w = N/(f_c l) (N: the body's weight and the floor loads on it); the body turns about the
+  block's resultant, the hinge retreating inwards by t = w/2 = N/(2 f_c l). A part whose block
+  would not fit the thickness (w > b) crushes: it is no candidate (NaN).
+- A tie at z_T > z0 stretches by δ = d θ (mechanism I, linearised like eq. 10) or d sin θ (II
+  and the overturning, exact like eq. 18), d = z_T − z0; its force is min(kδ, T_y) (k = 0:
+  rigid-plastic, T_y from the start) until δ reaches the ductility limit, zero after. The work
+  done against it, ∫F dδ, is restoring work in W(θ) (eq. 7); the static multiplier takes T_y d
+  (limit analysis: the tie yields).
+- A floor at z_F > z0 is a dead load Q = q l at (e, z_F − z0) from the hinge: its vertical
+  displacement's work adds to W(θ) (linearised for I) and Q (e − t) to the resisting moment;
+  its mass moves with the building (not in I_O, not in the horizontal load). A restraining
+  floor bounds the body: z0 >= z_F.
+
+W(θ_m) is the largest W over 0 <= θ <= θ_hi (a grid, then golden-section refinement); v̄_g
+from eq. 7 about the retreated hinge. A case without ties, floors and f_c never comes here
+(``mechanisms`` keeps the paper's forms bit for bit).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..impulse import RigidBody
+from ..params import Case
+from .mechanisms import MechanismResult, geometry_II, lam_max_II, minimise
+
+__all__ = ["KINDS", "RealMechanismResult", "real_mechanism", "vnorm_real", "multiplier_real",
+           "work_real", "theta_m_real", "lam_bounds"]
+
+KINDS = ("detachment", "crack", "overturning")     # mechanisms I, II and the overturning
+#: the mechanism (registry) name of each kind
+NAMES = {"detachment": "I", "crack": "II", "overturning": "overturning"}
+LAM_MIN = 0.5           # the closed forms' smallest λ (``mechanisms._minimise``'s lam_min)
+N_THETA = 1025          # the θ grid of W's peak, then golden-section refinement
+N_GOLDEN = 60
+
+
+def _tanpsi(case: Case, kind: str, tanpsi: float | None) -> float:
+    return (tanpsi or case.alpha) if kind == "crack" else 0.0
+
+
+def _body(case: Case, kind: str, lam, t_psi: float):
+    """Mass m [kg], x_G, z_G [m] from the outer toe, I_O [kg m²] of the failing body (arrays
+    over λ): the façade strip (I, overturning) or strip + wedge (II, eqs 17, 20)."""
+    w = case.wall
+    b, h = w.b, lam * w.b
+    if kind == "crack":
+        xg, zg, i = geometry_II(lam, w.rho, t_psi)
+        m = w.gamma * (w.l * b * h + w.s * t_psi * h ** 2 / 2)
+        return m, xg * b, zg * b, m * i * b ** 2
+    m = w.gamma * w.l * b * h
+    return m, np.full_like(h, b / 2), h / 2, m * (h ** 2 + b ** 2) / 3
+
+
+def _loads(case: Case, lam):
+    """Per λ: the floors bearing on the body (Q [N], e [m], z above the hinge [m]) and the
+    ties in it (T_y [N], k [N/m], δ_u [m], d [m]), each an (n_λ, n) array, zero where the
+    floor or tie lies at or below the hinge."""
+    w = case.wall
+    z0 = w.H - np.asarray(lam, float) * w.b
+    fl, ti = case.floors, case.ties
+    zf = np.array([f.z for f in fl], float)
+    on_f = zf[None, :] > z0[..., None]
+    Q = np.where(on_f, np.array([f.load for f in fl], float) * w.l, 0.0)
+    e = np.broadcast_to(np.array([f.eccentricity for f in fl], float), Q.shape)
+    zq = np.where(on_f, zf[None, :] - z0[..., None], 0.0)
+    zt = np.array([t.z for t in ti], float)
+    on_t = zt[None, :] > z0[..., None]
+    d = np.where(on_t, zt[None, :] - z0[..., None], 0.0)
+    T = np.where(on_t, np.array([t.yield_force for t in ti], float) * w.l, 0.0)
+    k = np.broadcast_to(np.array([t.stiffness for t in ti], float) * w.l, d.shape)
+    du = np.broadcast_to(np.array([t.ductility or math.inf for t in ti], float), d.shape)
+    return Q, e, zq, T, k, du, d
+
+
+def _state(case: Case, kind: str, lam, tanpsi=None):
+    lam = np.atleast_1d(np.asarray(lam, float))
+    t_psi = _tanpsi(case, kind, tanpsi)
+    m, xg, zg, I_O = _body(case, kind, lam, t_psi)
+    Q, e, zq, T, k, du, d = _loads(case, lam)
+    g, fc, b, length = case.wall.g, case.masonry.fc, case.wall.b, case.wall.l
+    N = m * g + Q.sum(axis=-1)
+    t = N / (2 * fc * length) if fc > 0 else np.zeros_like(N)
+    t = np.where(2 * t <= b, t, np.nan)        # the stress block must fit the thickness
+    return dict(lam=lam, m=m, xg=xg, zg=zg, I_O=I_O, Q=Q, e=e, zq=zq, T=T, k=k, du=du, d=d,
+                N=N, t=t, g=g, t_psi=t_psi)
+
+
+def _tie_work(delta, T, k, du):
+    """∫ min(kδ, T_y) dδ up to min(δ, δ_u) (k = 0: T_y δ), elementwise."""
+    x = np.minimum(delta, du)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dy = np.where(k > 0, T / k, 0.0)
+        elastic = np.where(x <= dy, 0.5 * k * x ** 2, T * (x - 0.5 * dy))
+    return np.where(k > 0, elastic, T * x)
+
+
+def _friction_I(case: Case, lam, theta):
+    """The abutment friction's work of mechanism I, eq. 9 integrated (both branches) [J]."""
+    w, ms = case.wall, case.masonry
+    h, c = lam * w.b, ms.c
+    scale = w.g * w.gamma * w.s * ms.f / ms.a
+    with np.errstate(divide="ignore", invalid="ignore"):
+        left = h ** 3 * theta * (4 * c - h * theta) / 24
+        right = c ** 2 * (6 * h ** 2 * theta ** 2 + c ** 2 - 4 * c * h * theta) / (24 * theta ** 2)
+    return scale * np.where(h * theta < c, left, right)
+
+
+def _work(case: Case, kind: str, st: dict, theta):
+    """W(θ) [J] for θ of shape (n_λ, n_θ) (or (n_λ,)), the state ``st`` of ``_state``."""
+    th = np.asarray(theta, float)
+    ex = (lambda a: a[:, None]) if th.ndim == 2 else (lambda a: a)
+    m, g, xg, zg, t = ex(st["m"]), st["g"], ex(st["xg"]), ex(st["zg"]), ex(st["t"])
+    Q, e, zq = st["Q"], st["e"], st["zq"]
+    T, k, du, d = st["T"], st["k"], st["du"], st["d"]
+    if th.ndim == 2:
+        Q, e, zq, T, k, du, d = (a[:, None, :] for a in (Q, e, zq, T, k, du, d))
+    ths = th[..., None]
+    if kind == "detachment":                     # linearised as eq. 10
+        W = m * g * ((xg - t) * th - zg * th ** 2 / 2)
+        W = W + np.sum(Q * ((e - t[..., None]) * ths - zq * ths ** 2 / 2), axis=-1)
+        W = W + _friction_I(case, ex(st["lam"]), th)
+        delta = d * ths
+    else:                               # exact rigid rotation, as eq. 18
+        W = m * g * ((xg - t) * np.sin(th) + zg * (np.cos(th) - 1))
+        W = W + np.sum(Q * ((e - t[..., None]) * np.sin(ths) + zq * (np.cos(ths) - 1)), axis=-1)
+        delta = d * np.sin(ths)
+    return W + np.sum(_tie_work(delta, T, k, du), axis=-1)
+
+
+def _moment0(case: Case, kind: str, st: dict):
+    """The resisting moment about the hinge at rest [N m]: gravity and floors about the
+    retreated hinge, the ties at yield, mechanism I's abutment friction (eq. 9 at θ = 0)."""
+    M = st["m"] * st["g"] * (st["xg"] - st["t"])
+    M = M + np.sum(st["Q"] * (st["e"] - st["t"][:, None]), axis=-1)
+    M = M + np.sum(st["T"] * st["d"], axis=-1)
+    if kind == "detachment":
+        w, ms = case.wall, case.masonry
+        h = st["lam"] * w.b
+        M = M + w.g * w.gamma * w.s * ms.f * ms.c * h ** 3 / (6 * ms.a)
+    return M
+
+
+def _theta_hi(case: Case, kind: str, st: dict):
+    """An upper end of the search for θ_m: mechanism I's W'(θ) <= M0 − K θ (the friction's and
+    the ties' rates never grow), K = m g z_G + Σ Q z_Q; the exact forms stop at π/2."""
+    if kind != "detachment":
+        return np.full_like(st["lam"], math.pi / 2)
+    K = st["m"] * st["g"] * st["zg"] + np.sum(st["Q"] * st["zq"], axis=-1)
+    return np.maximum(_moment0(case, kind, st) / K, 1e-9) * 1.001
+
+
+def _peak(case: Case, kind: str, st: dict):
+    """θ_m and W(θ_m) per λ: the best of a θ grid on [0, θ_hi], refined by golden section."""
+    hi = _theta_hi(case, kind, st)
+    hi = np.where(np.isfinite(hi), hi, math.pi / 2)
+    s = np.linspace(0.0, 1.0, N_THETA)
+    grid = hi[:, None] * s[None, :]
+    W = _work(case, kind, st, grid)
+    W[:, 0] = 0.0
+    k = np.nanargmax(np.where(np.isnan(W), -np.inf, W), axis=1)
+    idx = np.arange(len(hi))
+    lo, up = grid[idx, np.maximum(k - 1, 0)], grid[idx, np.minimum(k + 1, N_THETA - 1)]
+    gr = (math.sqrt(5) - 1) / 2
+    x1, x2 = up - gr * (up - lo), lo + gr * (up - lo)
+    f1, f2 = _work(case, kind, st, x1), _work(case, kind, st, x2)
+    for _ in range(N_GOLDEN):
+        left = f1 > f2                          # the maximum is in [lo, x2]
+        up, lo = np.where(left, x2, up), np.where(left, lo, x1)
+        xn = np.where(left, up - gr * (up - lo), lo + gr * (up - lo))
+        fn = _work(case, kind, st, xn)
+        x1, x2 = np.where(left, xn, x2), np.where(left, x1, xn)
+        f1, f2 = np.where(left, fn, f2), np.where(left, f1, fn)
+    th = 0.5 * (lo + up)
+    Wm = _work(case, kind, st, th)
+    grid_wins = W[idx, k] > Wm
+    th, Wm = np.where(grid_wins, grid[idx, k], th), np.where(grid_wins, W[idx, k], Wm)
+    bad = np.isnan(st["t"])
+    return np.where(bad, np.nan, th), np.where(bad, np.nan, np.maximum(Wm, 0.0))
+
+
+def lam_bounds(case: Case, kind: str, tanpsi: float | None = None) -> float:
+    """The largest λ of the mechanism: the wall (H/b), II's wedge in the transversal wall
+    (``lam_max_II``), and a restraining floor at z_F (the body above it: λ <= (H − z_F)/b)."""
+    w = case.wall
+    lam = w.H / w.b
+    if kind == "crack":
+        lam = float(lam_max_II(w.H / w.b, w.L / w.b, _tanpsi(case, kind, tanpsi)))
+    zr = [f.z for f in case.floors if f.restrains]
+    if zr:
+        lam = min(lam, (w.H - max(zr)) / w.b)
+    return lam
+
+
+def work_real(case: Case, kind: str, lam: float, theta, tanpsi: float | None = None):
+    """W(θ) [J] of the mechanism at one λ, θ an array (the restoring work of eq. 7)."""
+    st = _state(case, kind, [lam], tanpsi)
+    return _work(case, kind, st, np.atleast_1d(np.asarray(theta, float))[None, :])[0]
+
+
+def theta_m_real(case: Case, kind: str, lam, tanpsi: float | None = None):
+    """(θ_m, W(θ_m) [J]) per λ."""
+    return _peak(case, kind, _state(case, kind, lam, tanpsi))
+
+
+def _velocity(case: Case, kind: str, st: dict):
+    """(v̄_g [m/s], θ_m, W_m, I about the retreated hinge) per λ (eq. 7:
+    v̄_g = (i/z_G)√(2W/I) = √(2 W I)/(m z_G))."""
+    th, Wm = _peak(case, kind, st)
+    m, xg, t = st["m"], st["xg"], st["t"]
+    I_h = st["I_O"] + m * (t ** 2 - 2 * xg * t)       # parallel axes: O → (t, 0)
+    return np.sqrt(2 * Wm * I_h) / (m * st["zg"]), th, Wm, I_h
+
+
+def vnorm_real(case: Case, kind: str, lam, tanpsi: float | None = None):
+    """v̄_g/√(g b) per λ (NaN where the part would crush: w > b)."""
+    st = _state(case, kind, lam, tanpsi)
+    return _velocity(case, kind, st)[0] / math.sqrt(case.wall.g * case.wall.b)
+
+
+def multiplier_real(case: Case, kind: str, lam, tanpsi: float | None = None):
+    """The collapse acceleration a/g at rest per λ: the resisting moment (``_moment0``) over
+    the overturning moment of the body's weight pushed horizontally, m g z_G."""
+    st = _state(case, kind, lam, tanpsi)
+    return _moment0(case, kind, st) / (st["m"] * st["g"] * st["zg"])
+
+
+@dataclass(frozen=True)
+class RealMechanismResult(MechanismResult):
+    """A mechanism of a real wall at its critical height (``MechanismResult`` and what the
+    real wall adds: hinge_retreat t [m], the normal force N [N] on the hinge joint, the
+    tie elongations at θ_m [m], the choices made)."""
+
+    kind: str = "detachment"
+    hinge_retreat: float = 0.0
+    normal_force: float = math.nan
+    tie_elongation: tuple = ()
+    fc: float = 0.0
+    choices: dict = field(default_factory=dict)
+
+    @property
+    def label(self) -> str:
+        fc = "fc infinite" if not self.fc else f"fc = {self.fc / 1e6:g} MPa"
+        what = {"detachment": "I  detachment",
+                "crack": f"II diagonal crack tan psi={self.tanpsi or 0:.3f}",
+                "overturning": "simple overturning"}[self.kind]
+        return f"{what} (real wall: {fc}, docs/real-walls.md)"
+
+    def as_dict(self) -> dict:
+        d = super().as_dict()
+        d.update(kind=self.kind, hinge_retreat=self.hinge_retreat,
+                 normal_force=self.normal_force, tie_elongation=list(self.tie_elongation),
+                 fc=self.fc, fc_infinite=not self.fc, choices=dict(self.choices))
+        return d
+
+
+CHOICES = {
+    "per_metre": "ties and floors per metre of façade (N/m); a bay of length l carries value × l",
+    "floor_mass": "only the floor's vertical load bears on the façade; its mass moves with "
+                  "the building (not in I_O, not in the horizontal load)",
+    "hinge_rule": "rectangular stress block of depth w = N/(fc l); rotation about its "
+                     "resultant, t = w/2",
+    "tie_law": "force min(k δ, T_y) until the ductility limit (0: none), then 0; the work done "
+           "against it is restoring work; the static multiplier takes T_y",
+    "abutment_friction_I": "the paper's eq. 9 as corrected here (analytic/NOTES.md)",
+}
+
+
+def real_mechanism(case: Case, kind: str, tanpsi: float | None = None,
+                   lam: float | None = None) -> RealMechanismResult:
+    """Mechanism ``kind`` (detachment I, crack II or overturning) of a real wall at its
+    critical λ (the smallest v̄_g over LAM_MIN <= λ <= ``lam_bounds``), or at a given λ."""
+    if kind not in KINDS:
+        raise ParameterError(f"kind = {kind!r} is out of range: allowed one of {KINDS}")
+    w = case.wall
+    lam_max = lam_bounds(case, kind, tanpsi)
+    if lam_max < LAM_MIN:
+        raise ParameterError(
+            f"[[floor]] restrains = true at z = {max(f.z for f in case.floors if f.restrains):g}"
+            f" m leaves mechanism {kind} a body of λ <= {lam_max:.4g}: out of range: allowed "
+            f"λ_max >= {LAM_MIN:g} (the body above the restraining floor)")
+
+    def fun(x, ix):
+        return vnorm_real(case, kind, np.ravel(x), tanpsi).reshape(np.shape(x))
+
+    if lam is None:
+        lam, _ = minimise(fun, np.array([lam_max]))
+        lam = float(lam[0])
+        if not math.isfinite(fun(np.array([lam]), 0)[0]):
+            raise ParameterError(
+                f"[masonry] fc = {case.masonry.fc!r} Pa: every part of mechanism {kind} "
+                "crushes at its hinge (the stress block N/(fc l) is deeper than b); allowed "
+                "a larger fc")
+    st = _state(case, kind, [lam], tanpsi)
+    v, th, Wm, I_h = (float(a[0]) for a in _velocity(case, kind, st))
+    if not math.isfinite(v):
+        raise ParameterError(f"[masonry] fc = {case.masonry.fc!r} Pa: mechanism {kind} at "
+                             f"λ = {lam:.4g} crushes at its hinge; allowed a larger fc")
+    lam_a, a_g = minimise(lambda x, ix: multiplier_real(case, kind, np.ravel(x), tanpsi)
+                           .reshape(np.shape(x)), np.array([lam_max]))
+    t = float(st["t"][0])
+    m, zg, xg = float(st["m"][0]), float(st["zg"][0]), float(st["xg"][0])
+    body = RigidBody(m=m, x_G=xg - t, z_G=zg, I_O=I_h)
+    d = st["d"][0]
+    delta = d * th if kind == "detachment" else d * math.sin(th)
+    return RealMechanismResult(
+        NAMES[kind], lam, lam * w.b, v / math.sqrt(w.g * w.b), v, th, Wm, body,
+        tanpsi=st["t_psi"] if kind == "crack" else None, lam_max=lam_max,
+        multiplier=float(a_g[0]), lam_multiplier=float(lam_a[0]), kind=kind,
+        hinge_retreat=t, normal_force=float(st["N"][0]),
+        tie_elongation=tuple(float(x) for x in delta), fc=case.masonry.fc,
+        choices=dict(CHOICES))
