@@ -5,11 +5,11 @@ values (issue 26, point 5).
     prandtl       2 + π (Prandtl 1920)                                 footing edge (1, 0)
     vertical_cut  3.7752 … 3.7776 (Kammoun, Pastor, Smaoui & Pastor    toe (0, 0), crest (0, 1)
                   2010: best published lower and upper bounds)
-    tsection      the homogenised façade's hinge + fan, exact in       none: the outer face
-                  closed form (``closed_form.fan.optimise_fan``),      refined to size/25 and
-                  0.15216 for B1 (ρ = 12, a = 0.3 m); fan edges        gap-driven sizes (corner
-                  T1 = min(f, c/a), T2 = max(f, c/a), √(T1 T2) = √(cf/a)  and hinge fans were
-                                                                       measured not to pay:
+    tsection      the homogenised façade's hinge + fan, exact in       none: gap-driven sizes
+                  closed form (``closed_form.fan.optimise_fan``),      only (corner and hinge
+                  0.15216 for B1 (ρ = 12, a = 0.3 m); fan edges        fans, and the outer face
+                  T1 = min(f, c/a), T2 = max(f, c/a), √(T1 T2) = √(cf/a)  refined, were measured
+                                                                       not to pay per triangle:
                                                                        docs/adaptive.md)
     free_block    b/h (rigid-block statics): one rigid block on a      none
                   frictional bed joint
@@ -88,9 +88,10 @@ def _vertical_cut(size: float = 0.25, n_fan: int = 12) -> Known:
                  "Kammoun, Pastor, Smaoui & Pastor 2010: 3.7752 <= γH/k <= 3.7776")
 
 
-def _tsection(size: float = 0.5, case: Case = Case(), outer_ratio: float = 25.0) -> Known:
+def _tsection(size: float = 0.5, case: Case = Case(), outer_ratio: float = 0.0) -> Known:
     fan = optimise_fan(case)
-    remesh = tsection_remesher(case, size=size, outer=size / outer_ratio)
+    remesh = tsection_remesher(case, size=size,
+                               outer=size / outer_ratio if outer_ratio > 0 else None)
     pr = dataclasses.replace(problems.t_section(case, facade="homogenised", h=size),
                              mesh=remesh(None))
     m = case.masonry
