@@ -81,7 +81,7 @@ def crack_study(as_json, out, verbose, quiet, mesh_size, finer, quick, c_over_a,
         pipeline.crack_study_records(**grid, map=lambda fn, points: [])   # validate before any work
         if not resume:
             store.clear()
-        with open_engine(workers, scheduler, not (quiet or as_json)) as engine:
+        with open_engine(workers, scheduler, quiet or as_json) as engine:
             records = pipeline.crack_study_records(**grid, map=engine.stored_map(
                 store, "crack-study", "crack-study"))
         report.write(staging / "crack_study.csv", records)

@@ -76,7 +76,7 @@ def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, m
             pipeline.result_folder(out, **owner) as staging:
         if fe:  # validated before any work, then every height of every wall a Dask task
             pipeline.table1_records(**kw, fe_results=lambda *args: [])
-            with open_engine(workers, scheduler, not (quiet or as_json)) as engine:
+            with open_engine(workers, scheduler, quiet or as_json) as engine:
                 rows = pipeline.table1_records(**kw, fe_results=engine.fe_results)
         else:
             rows = pipeline.table1_records(**kw)
