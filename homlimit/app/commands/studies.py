@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from ...fe.adapt import AdaptOptions
-from ...fe.solver import SolverOptions
 from .. import pipeline, plots, report
 from ..door import (
     LOG,
@@ -41,7 +40,6 @@ def verify(as_json, out, verbose, quiet, problem, target_gap, max_cycles, min_si
     setup_logging(verbose, quiet, as_json)
     opts = AdaptOptions(target_gap=target_gap, max_cycles=max_cycles, min_size=min_size,
                         max_triangles=max_triangles)
-    SolverOptions(stress_degree=stress_degree)   # checked before any work
     with stdout_quiet(as_json or verbose) as stdout, \
             pipeline.result_folder(out, "verify") as staging:
         records = verify_records(problem, opts, stress_degree=stress_degree,

@@ -207,12 +207,12 @@ class StaticProgram:
         e_all = np.flatnonzero(~self.rigid)
         h_e = np.sqrt(2.0 * self.area[e_all])
         # the vertex values of div σ: degree 1 one constant, degree 2 one per vertex j
-        points = ([(None, [(i, 1.0) for i in range(3)])] if self.degree == 1 else
-                  [(j, [(j if k == j else EDGE_CONTROL[j + k], 2.0) for k in range(3)])
+        points = ([[(i, 1.0) for i in range(3)]] if self.degree == 1 else
+                  [[(j if k == j else EDGE_CONTROL[j + k], 2.0) for k in range(3)]
                    for j in range(3)])
         for comp, terms in ((0, ((0, self.dNdx), (2, self.dNdz))),
                             (1, ((2, self.dNdx), (1, self.dNdz)))):
-            for _, ctrl in points:
+            for ctrl in points:
                 rows = self.eq.new(e_all.size, h_e * self.b_dead[e_all, comp] / self.s_ref)
                 self.eq.add(rows, [(self.sig(e_all, i, c), w * h_e * g[k, e_all])
                                    for c, g in terms for k, (i, w) in enumerate(ctrl)])
@@ -351,8 +351,9 @@ class StaticProgram:
                                                        self.nloc)
         blocks, rhs = [M_eq[keep]], [e_eq[keep]]
         if self.eq_mid.n:
-            blocks.append(self.eq_mid.matrix(n_var)[0])
-            rhs.append(np.concatenate(self.eq_mid.rhs))
+            M_mid, e_mid = self.eq_mid.matrix(n_var)
+            blocks.append(M_mid)
+            rhs.append(e_mid)
         if self.joint_rows.n:
             blocks.append(self.joint_rows.matrix(n_var)[0])
             rhs.append(np.zeros(self.joint_rows.n))
