@@ -35,7 +35,8 @@ from ..params import G_STANDARD
 from . import kernels
 from .params import DEMParams
 
-__all__ = ["DEMModel", "DEMState", "Outcome", "build_model", "settle", "run"]
+__all__ = ["DEMModel", "DEMState", "Outcome", "build_model", "kicked", "pulse_function",
+           "settle", "run"]
 
 
 @dataclass
@@ -270,6 +271,34 @@ def settle(model: DEMModel, state: DEMState | None = None, *, a_g: float = 0.0
     return st, {"time": steps * model.dt, "steps": int(steps), "converged": status == 2}
 
 
+def kicked(model: DEMModel, settled: DEMState, *, v_g: float = 0.0,
+           velocity=None) -> DEMState:
+    """A copy of the settled state with the loads of ``run`` at t = 0: ``velocity`` (n, 3)
+    (u, w, ω) given to the free blocks, then −v_g x̂ added to them (the ideal impulse)."""
+    v_g = check_range("v_g", v_g, unit="m/s")
+    st = settled.copy()
+    free = ~model.assembly.fixed
+    if velocity is not None:
+        q = np.asarray(velocity, float)
+        if q.shape != (model.n_blocks, 3):
+            raise ParameterError(f"velocity has shape {q.shape}: allowed ({model.n_blocks}, 3)")
+        st.vel[free] = q[free, :2]
+        st.om[free] = q[free, 2]
+    st.vel[free, 0] -= v_g
+    return st
+
+
+def pulse_function(pulse, t_max: float):
+    """(a_g(t), t_end) of a base acceleration: anything with a vectorised ``a(t)`` [m/s²]
+    (``homlimit.dynamics.pulses``; its ``t_end`` if it has one, else t_max) or a callable
+    a_g(t)."""
+    fun = pulse.a if hasattr(pulse, "a") else pulse
+    if not callable(fun):
+        raise ParameterError(f"pulse = {pulse!r} is out of range: allowed a pulse with "
+                             "a(t) or a callable a_g(t)")
+    return fun, getattr(pulse, "t_end", t_max)
+
+
 def run(model: DEMModel, settled: DEMState, *, v_g: float = 0.0, velocity=None,
         pulse=None, t_max: float = 3.0, record_every: int = 0,
         stop_on_collapse: bool = True) -> Outcome:
@@ -280,25 +309,12 @@ def run(model: DEMModel, settled: DEMState, *, v_g: float = 0.0, velocity=None,
     of a chosen mechanism (e.g. a block rotating about its toe with θ̇0 of eq. 4). pulse: a
     base acceleration, anything with ``a(t)`` vectorised [m/s²] (``homlimit.dynamics.pulses``)
     or a callable a_g(t). t_max [s]: the end of the run if nothing collapses."""
-    v_g = check_range("v_g", v_g, unit="m/s")
     t_max = check_range("t_max", t_max, 0.0, lo_open=True, unit="s")
-    st = settled.copy()
-    free = ~model.assembly.fixed
-    if velocity is not None:
-        q = np.asarray(velocity, float)
-        if q.shape != (model.n_blocks, 3):
-            raise ParameterError(f"velocity has shape {q.shape}: allowed ({model.n_blocks}, 3)")
-        st.vel[free] = q[free, :2]
-        st.om[free] = q[free, 2]
-    st.vel[free, 0] -= v_g
+    st = kicked(model, settled, v_g=v_g, velocity=velocity)
     nsteps = int(math.ceil(t_max / model.dt))
     ag = None
     if pulse is not None:
-        fun = pulse.a if hasattr(pulse, "a") else pulse
-        if not callable(fun):
-            raise ParameterError(f"pulse = {pulse!r} is out of range: allowed a pulse with "
-                                 "a(t) or a callable a_g(t)")
-        t_end = getattr(pulse, "t_end", t_max)
+        fun, t_end = pulse_function(pulse, t_max)
         k = min(nsteps, int(math.ceil(t_end / model.dt)) + 1)
         ag = np.asarray(fun(np.arange(k) * model.dt), float)
     ref = settled

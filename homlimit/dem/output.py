@@ -26,7 +26,7 @@ import numpy as np
 from .._io import write_figure, write_text
 from ..blocks.geometry import FACADE
 from ..errors import OutputError, ParameterError, check_range
-from .model import DEMModel, DEMState, run
+from .model import DEMModel, DEMState, kicked, pulse_function, run
 
 __all__ = ["Frame", "record_frames", "contact_forces", "blocks_mesh", "contacts_mesh",
            "write_series", "plot_snapshots", "plot_animation"]
@@ -62,21 +62,8 @@ def record_frames(model: DEMModel, settled: DEMState, *, v_g: float = 0.0, veloc
     interval = check_range("interval", interval, 0.0, lo_open=True, unit="s")
     k = max(1, int(round(interval / model.dt)))
     chunk = (k - 0.5) * model.dt          # run() takes ceil(t_max/dt) = k steps
-    fun, t_end = None, math.inf
-    if pulse is not None:
-        fun = pulse.a if hasattr(pulse, "a") else pulse
-        if not callable(fun):
-            raise ParameterError(f"pulse = {pulse!r} is out of range: allowed a pulse with "
-                                 "a(t) or a callable a_g(t)")
-        t_end = getattr(pulse, "t_end", t_max)
-    first = settled.copy()
-    free = ~model.assembly.fixed
-    if velocity is not None:
-        q = np.asarray(velocity, float)
-        first.vel[free] = q[free, :2]
-        first.om[free] = q[free, 2]
-    first.vel[free, 0] -= v_g
-    frames = [Frame(0.0, first)]
+    fun, t_end = (None, math.inf) if pulse is None else pulse_function(pulse, t_max)
+    frames = [Frame(0.0, kicked(model, settled, v_g=v_g, velocity=velocity))]
     state, steps = settled, 0
     w = model.watch
     while steps * model.dt < t_max - 0.5 * k * model.dt:     # frames at multiples of k dt
@@ -239,6 +226,51 @@ def write_series(folder, model: DEMModel, settled: DEMState, frames: list[Frame]
     return pvd
 
 
+def _outlines(model: DEMModel, state: DEMState) -> list[np.ndarray]:
+    """Every block's polygon (its vertices, (k, 2)) in ``state``."""
+    a, X = model.assembly, _vertices(model, state)
+    return [X[a.offsets[i]:a.offsets[i + 1]] for i in range(a.n_blocks)]
+
+
+def _rotation(model: DEMModel, settled: DEMState, state: DEMState) -> np.ndarray:
+    """Each block's rotation from the settled state [rad]; NaN on the fixed ground (grey)."""
+    return np.where(model.assembly.fixed, np.nan, state.th - settled.th)
+
+
+def _rotation_scale(model: DEMModel, settled: DEMState, frames) -> float:
+    """The colour scale's half-range [rad]: the largest rotation of the façade's blocks (of
+    every free block if there is no façade) over ``frames``. A T-section's loose toothing
+    blocks may tumble by radians; beyond the façade's rotation the colours saturate."""
+    a = model.assembly
+    real = ~a.fixed
+    scale = real & (a.kind == FACADE) if np.any(real & (a.kind == FACADE)) else real
+    return max(float(max(np.abs(f.state.th[scale] - settled.th[scale]).max()
+                         for f in frames)), 1e-9)
+
+
+def _block_panel(ax, model: DEMModel, outlines, colour, vmax: float):
+    """One panel of the DEM pictures: the blocks coloured by ``colour`` on ±vmax (coolwarm,
+    the ground grey), the view from the free blocks' bounds; returns the PolyCollection."""
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+
+    a = model.assembly
+    real = ~a.fixed
+    bb = a.bounds()
+    x0, x1 = bb[real, 0].min(), bb[real, 2].max()
+    z1 = bb[real, 3].max()
+    pc = PolyCollection(outlines, array=colour,
+                        cmap=plt.get_cmap("coolwarm").with_extremes(bad="0.7"),
+                        edgecolors="k", linewidths=0.1 if a.n_blocks > 200 else 0.4)
+    pc.set_clim(-vmax, vmax)
+    ax.add_collection(pc)
+    ax.set_xlim(x0 - 0.35 * (z1 + x1 - x0), x1 + 0.05 * (x1 - x0))
+    ax.set_ylim(-0.05 * z1, 1.05 * z1)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    return pc
+
+
 def plot_snapshots(path, model: DEMModel, settled: DEMState, frames: list[Frame],
                    n: int = 4, title: str | None = None) -> Path:
     """PNG of ``n`` frames side by side (the first, the last and evenly between): the blocks
@@ -248,41 +280,20 @@ def plot_snapshots(path, model: DEMModel, settled: DEMState, frames: list[Frame]
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.collections import PolyCollection
 
     if not frames:
         raise ParameterError("frames = [] is out of range: allowed at least one frame")
-    a = model.assembly
     pick = sorted(set(np.linspace(0, len(frames) - 1, min(n, len(frames))).round().astype(int)))
-    real = ~a.fixed
-    bb = a.bounds()
-    x0, x1 = bb[real, 0].min(), bb[real, 2].max()
-    z1 = bb[real, 3].max()
-    # the colour scale spans the façade's rotation (a T-section's loose toothing blocks may
-    # tumble by radians); beyond it the colours saturate
-    scale = real & (a.kind == FACADE) if np.any(real & (a.kind == FACADE)) else real
-    rots = [frames[k].state.th[scale] - settled.th[scale] for k in pick]
-    vmax = max(float(np.abs(np.concatenate(rots)).max()), 1e-9)
-
-    cmap = plt.get_cmap("coolwarm").with_extremes(bad="0.7")      # the ground grey
+    vmax = _rotation_scale(model, settled, [frames[k] for k in pick])
 
     def draw(p):
         fig, axes = plt.subplots(1, len(pick), figsize=(3.2 * len(pick), 4.2), squeeze=False,
                                  sharey=True)
         for ax, k in zip(axes[0], pick):
             st = frames[k].state
-            X = _vertices(model, st)
-            polys = [X[a.offsets[i]:a.offsets[i + 1]] for i in range(a.n_blocks)]
-            rot = st.th - settled.th
-            pc = PolyCollection(polys, array=np.where(a.fixed, np.nan, rot), cmap=cmap,
-                                edgecolors="k", linewidths=0.1 if a.n_blocks > 200 else 0.4)
-            pc.set_clim(-vmax, vmax)
-            ax.add_collection(pc)
-            ax.set_xlim(x0 - 0.35 * (z1 + x1 - x0), x1 + 0.05 * (x1 - x0))
-            ax.set_ylim(-0.05 * z1, 1.05 * z1)
-            ax.set_aspect("equal")
+            pc = _block_panel(ax, model, _outlines(model, st), _rotation(model, settled, st),
+                              vmax)
             ax.set_title(f"t = {frames[k].t:.2f} s", fontsize=9)
-            ax.set_xlabel("x [m]")
         axes[0][0].set_ylabel("z [m]")
         fig.colorbar(pc, ax=list(axes[0]), shrink=0.8, extend="both",
                      label="rotation from settled [rad]")
@@ -310,7 +321,6 @@ def plot_animation(path, model: DEMModel, settled: DEMState, panels: list[tuple[
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.animation import FuncAnimation, PillowWriter
-    from matplotlib.collections import PolyCollection
 
     if not panels or any(not fr for _, fr in panels):
         raise ParameterError("panels: allowed at least one panel, each with at least one "
@@ -327,19 +337,8 @@ def plot_animation(path, model: DEMModel, settled: DEMState, panels: list[tuple[
         dtf = float(np.median(np.diff(t_show))) if len(t_show) > 1 else 1.0
         fps = 100.0 / min(100, max(4, round(100 * dtf)))
     fps = check_range("fps", fps, 0.0, 100.0, lo_open=True)
-    real = ~a.fixed
-    bb = a.bounds()
-    x0, x1 = bb[real, 0].min(), bb[real, 2].max()
-    z1 = bb[real, 3].max()
-    scale = real & (a.kind == FACADE) if np.any(real & (a.kind == FACADE)) else real
-    vmax = max(float(max(np.abs(f.state.th[scale] - settled.th[scale]).max()
-                         for _, fr in panels for f in fr)), 1e-9)
-    cmap = plt.get_cmap("coolwarm").with_extremes(bad="0.7")
+    vmax = _rotation_scale(model, settled, [f for _, fr in panels for f in fr])
     colour = np.where(a.fixed, np.nan, 0.0)
-
-    def polys(state):
-        X = _vertices(model, state)
-        return [X[a.offsets[i]:a.offsets[i + 1]] for i in range(a.n_blocks)]
 
     def pick(j, t):
         """panel j's frame at time t: the last one not after it."""
@@ -350,14 +349,7 @@ def plot_animation(path, model: DEMModel, settled: DEMState, panels: list[tuple[
                                  squeeze=False, sharey=True)
         cols, heads = [], []
         for ax, (label, fr) in zip(axes[0], panels):
-            pc = PolyCollection(polys(fr[0].state), array=colour.copy(), cmap=cmap,
-                                edgecolors="k", linewidths=0.1 if a.n_blocks > 200 else 0.4)
-            pc.set_clim(-vmax, vmax)
-            ax.add_collection(pc)
-            ax.set_xlim(x0 - 0.35 * (z1 + x1 - x0), x1 + 0.05 * (x1 - x0))
-            ax.set_ylim(-0.05 * z1, 1.05 * z1)
-            ax.set_aspect("equal")
-            ax.set_xlabel("x [m]")
+            pc = _block_panel(ax, model, _outlines(model, fr[0].state), colour.copy(), vmax)
             cols.append(pc)
             heads.append(ax.set_title(label, fontsize=8))
         axes[0][0].set_ylabel("z [m]")
@@ -369,8 +361,8 @@ def plot_animation(path, model: DEMModel, settled: DEMState, panels: list[tuple[
         def update(t):
             for j, (label, _) in enumerate(panels):
                 f = pick(j, t)
-                cols[j].set_verts(polys(f.state))
-                cols[j].set_array(np.where(a.fixed, np.nan, f.state.th - settled.th))
+                cols[j].set_verts(_outlines(model, f.state))
+                cols[j].set_array(_rotation(model, settled, f.state))
                 heads[j].set_text(f"{label}\nt = {f.t:.2f} s")
             return cols + heads
 
