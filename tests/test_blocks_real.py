@@ -197,3 +197,65 @@ def test_non_associative_refused_with_real_actions():
               meta={"f": 0.6, "g": G, "real": RealActions(fc=1e6)})
     with pytest.raises(ParameterError, match="friction = 'non-associative'"):
         solve_blocks(A, friction="non-associative")
+
+
+CASE = """[wall]
+H = 9.0
+L = 6.0
+s = 0.5
+b = 0.5
+l = 6.0
+[masonry]
+a = 0.3
+c = 0.2
+f = 0.6
+fc = 2e6
+[analysis]
+fe = false
+hinge_check = false
+closed_form = false
+overturning = true
+blocks = true
+[blocks]
+step = 10
+[[tie]]
+z = 9.0
+yield_force = 2000.0
+"""
+
+
+def test_cli_blocks_take_ties_and_fc(tmp_path):
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    (tmp_path / "case.toml").write_text(CASE, encoding="utf-8")
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
+    r = subprocess.run([sys.executable, "-m", "homlimit", "run", "case.toml", "--out", "out",
+                        "-q"], capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert "no unit registered" not in r.stderr
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    blk = s["mechanisms"]["blocks"]
+    # the tie at the top yields at 2 kN/m × l = 12 kN in the critical mechanism
+    assert blk["tie_force"] == pytest.approx(12000.0, rel=1e-6)
+    assert blk["W_ties"] > 0 and blk["W_crushing"] > 0
+    real = s["blocks"]["settings"]["real"]
+    assert real["fc"] == 2e6 and real["ties"][0]["yield_force_N"] == 12000.0
+    (tmp_path / "bad.toml").write_text(CASE.replace("fc = 2e6", "fc = 2e6\ncohesion = 1e4"),
+                                       encoding="utf-8")
+    r = subprocess.run([sys.executable, "-m", "homlimit", "run", "bad.toml", "--out", "bad"],
+                       capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert r.returncode == 2 and "the rigid blocks do not take [masonry] cohesion" in r.stderr
+    assert not (tmp_path / "bad").exists() and "Traceback" not in r.stderr
+
+
+def test_dem_refuses_a_real_assembly():
+    from homlimit.dem.model import build_model
+
+    A = stack(np.full(3, B), np.full(3, 1.0), density=RHO,
+              meta={"f": 0.6, "g": G, "real": RealActions(fc=1e6)})
+    with pytest.raises(ParameterError, match="the DEM does not take"):
+        build_model(A)

@@ -136,6 +136,10 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     if not isinstance(p, DEMParams):
         raise ParameterError(f"params = {p!r} is not a DEMParams")
     meta = assembly.meta
+    if meta.get("real") is not None:        # blocks.real: ties, floors, fc of a real wall
+        raise ParameterError("[[tie]], [[floor]], [masonry] fc: the DEM does not take a real "
+                             "wall's ties, floors or fc yet; allowed an assembly without them "
+                             "(docs/real-walls.md)")
     f = meta.get("f") if f is None else f
     if f is None:
         raise ParameterError("f = None is out of range: the assembly has no friction "
