@@ -26,6 +26,13 @@ rotation angle θ (``fe_impulse``'s one-DOF generalisation, for rigid blocks):
   (eq. 18), and v̄_g = √(2 W(θ_m) M) / Π  (eq. 7). For one rigid body restrained by gravity
   only this is eq. 19 exactly.
 
+A real wall (ties, floors, f_c: ``blocks.real``, docs/real-walls.md "Rigid blocks"): W(θ) =
+W_body + W_rest + W_crushing + W_floors + W_ties is maximised over 0 <= θ <= π/2 instead (the
+closed forms' rule), with W_crushing = θ D/|ω| (the mechanism's crushing dissipation rate D:
+a rigid-plastic stress block keeps its depth), a floor's load turning with its block (exactly
+on the body, to first order on the rest) and the closed forms' tie law (``closed_form.real.
+tie_work``) on the elongation (z_T − z_O) sin θ (body) or −φ_u θ (rest).
+
 Approximations (stated, not hidden): the mechanism is followed with a fixed shape (no
 geometry update of the contacts, no change of mechanism during the motion); the rest's lift
 is linear in θ; the friction forces are those at collapse, reduced only by the lost overlap.
