@@ -252,10 +252,66 @@ def test_cli_blocks_take_ties_and_fc(tmp_path):
     assert not (tmp_path / "bad").exists() and "Traceback" not in r.stderr
 
 
-def test_dem_refuses_a_real_assembly():
+def test_dem_refuses_a_finite_fc():
     from homlimit.dem.model import build_model
 
     A = stack(np.full(3, B), np.full(3, 1.0), density=RHO,
               meta={"f": 0.6, "g": G, "real": RealActions(fc=1e6)})
-    with pytest.raises(ParameterError, match="the DEM does not take"):
+    with pytest.raises(ParameterError, match="the DEM does not take a finite compressive"):
         build_model(A)
+
+
+def _dem_column(real):
+    from homlimit.dem.model import build_model, settle
+
+    A = stack(np.full(N_BLK, B), np.full(N_BLK, H / N_BLK), density=RHO,
+              meta={"f": 0.6, "g": G, "real": real})
+    model = build_model(A)
+    return model, settle(model)[0]
+
+
+def _dem_step(model, settled, lam, t_max=2.0):
+    from homlimit.dem.model import run
+
+    return run(model, settled, pulse=lambda t: np.full_like(t, lam * G), t_max=t_max)
+
+
+def test_dem_tie_holds_the_column_below_its_static_threshold():
+    # a top tie of 1 kN: the static threshold (m g b/2 + T H)/(m g H/2) = 0.1009 (hand, as
+    # the LA above) against b/H = 0.0556 without it; a constant ground acceleration of 0.09 g
+    # topples the free column, not the tied one, whose tie ends at the static force
+    # (0.09 m g H/2 − m g b/2)/H = 760 N (elastic, after a transient yield); 0.11 g topples it
+    T = 1000.0
+    mg = RHO * B * H * G
+    lam_T = (mg * B / 2 + T * H) / (mg * H / 2)
+    assert lam_T == pytest.approx(0.10086, rel=1e-4)
+    model0, st0 = _dem_column(None)
+    assert _dem_step(model0, st0, 0.09).collapsed
+    model, st = _dem_column(RealActions(ties=[(H, T, 0.0, 0.0)]))
+    safe = _dem_step(model, st, 0.09, t_max=3.0)
+    assert not safe.collapsed
+    tie = model.ties[0]
+    b = int(tie[0])
+    th = safe.state.th[b]
+    x = safe.state.pos[b, 0] + math.cos(th) * tie[1] - math.sin(th) * tie[2]
+    F = tie[4] * (tie[3] - x - safe.state.tstate[0, 0])
+    assert F == pytest.approx((0.09 * mg * H / 2 - mg * B / 2) / H, rel=0.05)
+    assert _dem_step(model, st, 0.11).collapsed
+
+
+def test_dem_brittle_tie_breaks():
+    # the same tie breaking at 1 mm: the onset's transient stretches it past that, it breaks
+    # and the column falls at 0.09 g
+    model, st = _dem_column(RealActions(ties=[(H, 1000.0, 0.0, 1e-3)]))
+    out = _dem_step(model, st, 0.09)
+    assert out.collapsed and out.state.tstate[0, 1] == 1.0
+
+
+def test_dem_floor_load():
+    # a 5 kN floor at 4.5 m, e = 0.4 m: threshold (m g b/2 + Q e)/(m g H/2) = 0.0656 (the
+    # LA's, above): 0.06 g (which topples the bare column) is safe, 0.072 g topples it
+    assert _dem_step(*_dem_column(None), 0.06).collapsed
+    model, st = _dem_column(RealActions(floors=[(4.5, 5000.0, 0.4, 0.0)]))
+    assert model.loads.shape == (1, 5) and model.loads[0, 4] == -5000.0
+    assert not _dem_step(model, st, 0.06).collapsed
+    assert _dem_step(model, st, 0.072).collapsed
