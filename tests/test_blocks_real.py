@@ -315,3 +315,21 @@ def test_dem_floor_load():
     assert model.loads.shape == (1, 5) and model.loads[0, 4] == -5000.0
     assert not _dem_step(model, st, 0.06).collapsed
     assert _dem_step(model, st, 0.072).collapsed
+
+
+def test_t_section_of_a_real_case_carries_its_actions_per_bay():
+    import dataclasses
+
+    from homlimit.blocks import t_section_blocks
+    from homlimit.params import Case, Floor, Masonry, Tie
+
+    case = Case(ties=(Tie(9.0, 2000.0, stiffness=1e5),), floors=(Floor(4.5, 2e4, 0.1, True),),
+                masonry=Masonry(fc=2e6))
+    real = t_section_blocks(case).meta["real"]
+    l, s = case.wall.l, case.wall.s  # noqa: E741 (the paper's l)
+    assert real.ties.tolist() == [[9.0, 2000.0 * l, 1e5 * l, 0.0]]
+    assert real.floors.tolist() == [[4.5, 2e4 * l, 0.1, 1.0]]
+    assert (real.fc, real.depth_facade, real.depth_wall) == (2e6, l, s)
+    assert "real" not in t_section_blocks(Case()).meta
+    with pytest.raises(ParameterError, match=r"\[masonry\] cohesion = 1000.0 Pa: the rigid"):
+        t_section_blocks(dataclasses.replace(case, masonry=Masonry(cohesion=1e3)))

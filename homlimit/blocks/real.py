@@ -85,8 +85,14 @@ class RealActions:
 
 def from_case(case) -> RealActions | None:
     """The case's real-wall actions per bay (a value per metre of façade × l), or None when
-    the case has none (the paper's program, unchanged)."""
+    the case has none (the paper's program, unchanged); a ParameterError for a joint
+    cohesion or tension, which the blocks do not take."""
     w, m = case.wall, case.masonry
+    for k in ("cohesion", "tension"):
+        if getattr(m, k):
+            raise ParameterError(f"[masonry] {k} = {getattr(m, k)!r} Pa: the rigid blocks do "
+                                 f"not take a joint {k} yet; allowed 0 Pa "
+                                 "(docs/real-walls.md)")
     if not (case.ties or case.floors or m.fc):
         return None
     ties = [(t.z, t.yield_force * w.l, t.stiffness * w.l, t.ductility) for t in case.ties]
