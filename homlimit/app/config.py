@@ -150,7 +150,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
                   doc="compressive strength of the masonry; 0 means infinite (the paper's "
                       "rigid blocks). Finite: the hinge of every closed form retreats to the "
                       "resultant of a rectangular stress block, t = N/(2 fc l) "
-                      "(docs/real-walls.md); FE, blocks and DEM do not take it yet"),
+                      "(docs/real-walls.md); the rigid blocks cap every contact at fc; FE "
+                      "and DEM do not take it yet (the DEM takes ties and floors)"),
         "cohesion": Key(float, 0.0, "Pa", 0.0, 1e10,
                         doc="cohesion of the joints (the strength domains' name); no model "
                             "takes a non-zero value yet (docs/real-walls.md)"),
@@ -752,11 +753,27 @@ def _real_wall_checks(v: dict[str, Any]) -> list[str]:
     if not keys:
         return out
     given = ", ".join(keys)
-    for model, what in (("fe", "the FE bounds"), ("blocks", "the rigid blocks"),
-                        ("dem", "the DEM")):
-        if an.get(model):
-            out.append(f"[analysis] {model} = true: {what} do not take {given} yet; allowed "
-                       f"[analysis] {model} = false with these inputs (docs/real-walls.md)")
+    if an.get("fe"):
+        out.append(f"[analysis] fe = true: the FE bounds do not take {given} yet; allowed "
+                   "[analysis] fe = false with these inputs (docs/real-walls.md)")
+    dem_no = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("fc", "cohesion", "tension")
+              if m.get(k)]
+    if an.get("dem") and dem_no:      # the DEM takes ties and floors, not these
+        out.append(f"[analysis] dem = true: the DEM does not take {', '.join(dem_no)} yet "
+                   "(its contacts are the blocks' corners: a cap per corner is not the stress "
+                   "block); allowed 0 Pa with [analysis] dem = true (docs/real-walls.md)")
+    if an.get("blocks"):        # the blocks take fc, ties, floors (associative friction only)
+        joint = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("cohesion", "tension") if m.get(k)]
+        if joint:
+            out.append(f"[analysis] blocks = true: the rigid blocks do not take "
+                       f"{', '.join(joint)} yet; allowed 0 Pa with [analysis] blocks = true "
+                       "(docs/real-walls.md)")
+        bl = v.get("blocks", {})
+        if bl.get("friction") == "non-associative" or bl.get("non_associative_check"):
+            out.append(f"[blocks] friction = non-associative (or non_associative_check) with "
+                       f"{given}: the non-associative scheme does not take them; allowed "
+                       "friction = \"associative\", non_associative_check = false "
+                       "(docs/real-walls.md)")
     if an.get("hinge_check"):
         out.append(f"[analysis] hinge_check = true: the hinge check's rockers do not take "
                    f"{given} yet; allowed [analysis] hinge_check = false with these inputs "

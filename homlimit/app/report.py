@@ -69,6 +69,9 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("friction method na_converged interface end block_a block_b state"
                     .split(), ""),
     "vg_rigid": "m/s", "m_body": "kg", "time": "s",
+    # a real wall's blocks (blocks.studies.scan_record): the ties' total force at collapse,
+    # the crushing dissipation rate of the mechanism, the parts of W(θ_m)
+    "tie_force": "N", "crushing_rate": "W", "W_crushing": "J", "W_floors": "J", "W_ties": "J",
     "N": "N", "T": "N",              # contact forces per slab of thickness s (blocks.limit)
     "opening": "m/s", "slip": "m/s",  # velocity jumps of the normalised mechanism
     # homlimit verify and the adaptive bracket (verify.json, verify.csv, fe_adapt.csv)

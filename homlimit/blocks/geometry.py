@@ -34,6 +34,7 @@ import numpy as np
 from ..errors import ParameterError, check_range
 from ..geometry import TSection
 from ..params import Case
+from .real import from_case
 
 __all__ = ["Assembly", "Interfaces", "KIND_NAMES", "polygon_moments", "find_interfaces",
            "from_rectangles", "t_section_blocks", "FACADE_BONDS", "vertex_velocity",
@@ -478,4 +479,7 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     meta = {"H": H, "L": L, "b": b, "a": a, "c": c, "f": mas.f, "rho": case.rho,
             "gamma": w.gamma, "s": w.s, "g": w.g, "n_courses": n_c,
             "toothed_first": bool(toothed_first), "facade": facade, "name": case.name}
+    real = from_case(case)              # ties, floors, fc per bay (blocks.real); None: paper's
+    if real is not None:
+        meta["real"] = real
     return _assemble(outline, parts, fixed, kind, course, meta)

@@ -26,6 +26,13 @@ rotation angle θ (``fe_impulse``'s one-DOF generalisation, for rigid blocks):
   (eq. 18), and v̄_g = √(2 W(θ_m) M) / Π  (eq. 7). For one rigid body restrained by gravity
   only this is eq. 19 exactly.
 
+A real wall (ties, floors, f_c: ``blocks.real``, docs/real-walls.md "Rigid blocks"): W(θ) =
+W_body + W_rest + W_crushing + W_floors + W_ties is maximised over 0 <= θ <= π/2 instead (the
+closed forms' rule), with W_crushing = θ D/|ω| (the mechanism's crushing dissipation rate D:
+a rigid-plastic stress block keeps its depth), a floor's load turning with its block (exactly
+on the body, to first order on the rest) and the closed forms' tie law (``closed_form.real.
+tie_work``) on the elongation (z_T − z_O) sin θ (body) or −φ_u θ (rest).
+
 Approximations (stated, not hidden): the mechanism is followed with a fixed shape (no
 geometry update of the contacts, no change of mechanism during the motion); the rest's lift
 is linear in θ; the friction forces are those at collapse, reduced only by the lost overlap.
@@ -42,6 +49,7 @@ from ..errors import ParameterError, check_range
 from ..impulse import RigidBody
 from .geometry import Assembly
 from .limit import BlockLimitResult, check_result, fit_rotation
+from .real import real_of
 
 __all__ = ["BlockImpulse", "failing_body", "block_impulse", "participation"]
 
@@ -75,6 +83,7 @@ class BlockImpulse:
     M_rest_share: float
     multiplier: float
     body_mask: np.ndarray = field(repr=False, default=None)
+    W_real: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         return {"vg": self.vg, "vnorm": self.vnorm, "method": self.method,
@@ -83,7 +92,8 @@ class BlockImpulse:
                 "z_G": self.body.z_G, "I_O": self.body.I_O, "M": self.M, "Pi": self.Pi,
                 "theta_m": self.theta_m, "W_m": self.W_m, "W_body": self.W_body,
                 "W_rest": self.W_rest, "W_friction": self.W_friction,
-                "M_rest_share": self.M_rest_share, "multiplier": self.multiplier}
+                "M_rest_share": self.M_rest_share, "multiplier": self.multiplier,
+                **self.W_real}
 
 
 def _energy_inner(assembly: Assembly, q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
@@ -156,14 +166,21 @@ def block_impulse(assembly: Assembly, result: BlockLimitResult, g: float | None 
     rest = moving & ~body_mask
     pts, tri, dens, _ = assembly.triangles(body_mask)
     body = RigidBody.from_triangles(pts, tri, dens, O=O)
-    if body.x_G <= 0 or Pi <= 0:
+    real = real_of(assembly) if result.actions else None
+    if (body.x_G <= 0 and real is None) or Pi <= 0:     # a real wall: W(θ_m) > 0 below
         raise ParameterError(f"x_G = {body.x_G:.4g} m, Pi = {Pi:.4g} kg m are out of range: "
                              "the body must have a restoring lever (x_G > 0) and be driven "
                              "by the impulse (Pi > 0)")
-    theta_m = math.atan2(body.x_G, body.z_G)
-    W_body = body.m * g * (body.r_G - body.z_G)                # eq. 18 at θ_m
-    W_rest = theta_m * g * float((assembly.mass * phi[:, 1])[rest].sum())
-    W_fric = 0.0
+    W_real = None
+    if real is not None:                          # a real wall: W(θ) maximised (its parts)
+        theta_m, W_body, W_rest, W_real = _real_peak(assembly, result, real, body, body_mask,
+                                                     rest, phi, O, omega, g)
+        W_fric = 0.0
+    else:
+        theta_m = math.atan2(body.x_G, body.z_G)
+        W_body = body.m * g * (body.r_G - body.z_G)                # eq. 18 at θ_m
+        W_rest = theta_m * g * float((assembly.mass * phi[:, 1])[rest].sum())
+        W_fric = 0.0
     if result.friction == "non-associative":
         jt = assembly.interfaces
         slip = np.abs(result.slip) / abs(omega)                # |φ_t| per end point
@@ -174,7 +191,7 @@ def block_impulse(assembly: Assembly, result: BlockLimitResult, g: float | None 
             w_in = D * theta_m * (1.0 - sk / (2.0 * ell))
             w_out = D * ell / (2.0 * np.maximum(slip.mean(axis=1), 1e-300))
         W_fric = float(np.where(D > 0, np.where(sk < ell, w_in, w_out), 0.0).sum())
-    W_m = W_body + W_rest + W_fric
+    W_m = W_body + W_rest + W_fric + (sum(W_real.values()) if W_real else 0.0)
     if not W_m > 0:
         raise ParameterError(f"W(theta_m) = {W_m!r} J is out of range: the mechanism must be "
                              "restrained, allowed > 0 J")
@@ -190,4 +207,60 @@ def block_impulse(assembly: Assembly, result: BlockLimitResult, g: float | None 
                         Pi=Pi,
                         theta_m=theta_m, W_m=W_m, W_body=W_body, W_rest=W_rest,
                         W_friction=W_fric, M_rest_share=float(e[rest].sum()) / M,
-                        multiplier=result.multiplier, body_mask=body_mask)
+                        multiplier=result.multiplier, body_mask=body_mask,
+                        W_real=W_real or {})
+
+
+N_THETA = 2049          # the θ grid of W's peak (a real wall), then bounded refinement
+
+
+def _real_peak(assembly, result, real, body, body_mask, rest, phi, O, omega, g):  # noqa: E741
+    """θ_m and the parts of W(θ_m) of a real wall's mechanism (module docstring, "A real
+    wall"): (θ_m, W_body, W_rest, {"W_crushing", "W_floors", "W_ties"}), W maximised over
+    0 <= θ <= π/2 on a grid, then refined (bounded Brent)."""
+    from scipy.optimize import minimize_scalar
+
+    from ..closed_form.real import tie_work
+
+    act = result.actions
+    G = assembly.centroid
+    rest_rate = g * float((assembly.mass * phi[:, 1])[rest].sum())
+    crush_rate = float(np.sum(act["crushing_rate"])) / abs(omega)
+    fl, ti = real.floors, real.ties
+
+    def split(blocks):
+        ok = blocks >= 0
+        b = np.maximum(blocks, 0)
+        return ok & body_mask[b], ok & rest[b], b
+
+    fb, fr, fblk = split(act["floor_block"])
+    tb, tr, tblk = split(act["tie_block"])
+    # a load on the body turns with it exactly; on the rest, first order (φ_w at its point)
+    Q = fl[:, 1]
+    phi_w = phi[fblk, 1] + phi[fblk, 2] * (fl[:, 2] - G[fblk, 0])
+    phi_u = phi[tblk, 0] - phi[tblk, 2] * (ti[:, 0] - G[tblk, 1])
+    d_t = ti[:, 0] - O[1]
+
+    def parts(th):
+        th = np.asarray(th, float)[..., None]
+        s, c1 = np.sin(th), np.cos(th) - 1.0
+        W_body = body.m * g * (body.x_G * s[..., 0] + body.z_G * c1[..., 0])
+        W_f = np.sum(np.where(fb, Q * ((fl[:, 2] - O[0]) * s + (fl[:, 0] - O[1]) * c1), 0.0)
+                     + np.where(fr, Q * phi_w * th, 0.0), axis=-1)
+        # tie elongation: d sin θ on the body (the closed forms' rule), −φ_u θ on the rest
+        delta = np.where(tb, d_t * s, np.where(tr, np.maximum(-phi_u, 0.0) * th, 0.0))
+        W_t = np.sum(tie_work(delta, ti[:, 1], ti[:, 2],
+                              np.where(ti[:, 3] > 0, ti[:, 3], np.inf)), axis=-1)
+        return W_body, rest_rate * th[..., 0], crush_rate * th[..., 0], W_f, W_t
+
+    def total(th):
+        return sum(parts(th))
+
+    grid = np.linspace(0.0, math.pi / 2, N_THETA)
+    k = int(np.argmax(total(grid)))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, N_THETA - 1)]
+    opt = minimize_scalar(lambda t: -float(total(t)), bounds=(lo, hi), method="bounded",
+                          options={"xatol": 1e-12})
+    th = float(opt.x) if -opt.fun >= total(grid[k]) else float(grid[k])
+    W_body, W_rest, W_c, W_f, W_t = (float(v) for v in parts(th))
+    return th, W_body, W_rest, {"W_crushing": W_c, "W_floors": W_f, "W_ties": W_t}

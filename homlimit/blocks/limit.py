@@ -54,6 +54,7 @@ from ..errors import ParameterError, check_range
 from ..fe.solver import SolverOptions, solve_cvxpy
 from ..mechanism.rigidfit import RigidFit
 from .geometry import FACADE, TOOTHING, Assembly, block_speed, vertex_velocity
+from .real import anchor_blocks, real_of
 
 __all__ = ["contact_operator", "loads", "BlockLimitResult", "fit_rotation", "solve_blocks",
            "equilibrium_residual", "check_result", "FRICTION_MODELS"]
@@ -134,6 +135,10 @@ class BlockLimitResult:
     friction        "associative" or "non-associative"; f the friction coefficient
     primal_objective, dual_objective, status, iterations, times [s], sizes
     history         non-associative loop: λ per iteration (associative start first)
+    actions         a real wall's ties, floors and crushing (``_RealTerms.record``; empty for
+                    the paper's wall): per tie its block, force [N] and elongation rate
+                    [m/s], per floor its block, load and reaction of a restraint [N], per
+                    interface the crushing dissipation rate [W]
     """
 
     multiplier: float
@@ -159,6 +164,7 @@ class BlockLimitResult:
     sizes: dict = field(default_factory=dict)
     history: tuple = ()
     converged: bool = True
+    actions: dict = field(default_factory=dict)
 
     @property
     def n_open(self) -> int:
@@ -232,8 +238,16 @@ def fit_rotation(assembly: Assembly, q: np.ndarray, sel: np.ndarray,
     return RigidFit(O, float(omega), sel, fixed, rms, vmax, 1)
 
 
+def _full(x, free, n):
+    """The scaled unknowns of all blocks (zero on the fixed ones)."""
+    xs = np.zeros(3 * n)
+    xs[free] = x
+    return xs
+
+
 def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, raw, iters, times, friction, f,
-            tol_motion, history=(), converged=True, sizes=None) -> BlockLimitResult:
+            tol_motion, history=(), converged=True, sizes=None, actions=None
+            ) -> BlockLimitResult:
     """The result record: block velocities from the scaled unknowns, relative velocities at
     the contact points, the joint states, the failing set and its height, the rigid fit."""
     n = assembly.n_blocks
@@ -266,7 +280,7 @@ def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, raw, iters, times, fricti
         primal_objective=float(getattr(raw, "obj_val", lam)),
         dual_objective=float(getattr(raw, "obj_val_dual", lam)), status="optimal",
         iterations=iters, times=times, sizes=sizes or {}, history=tuple(history),
-        converged=converged)
+        converged=converged, actions=actions or {})
 
 
 def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "associative",
@@ -326,9 +340,19 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
 
     x = cp.Variable(free.size)
     C = sp.vstack([Dnf - f * Dtf, Dnf + f * Dtf]).tocsr()
-    cone = C @ x >= 0
-    norm = l_vec @ x == 1.0
-    prob = cp.Problem(cp.Minimize(c_obj @ x), [norm, cone])
+    real = real_of(assembly)
+    if real is not None and friction != "associative":
+        raise ParameterError(f"friction = {friction!r} with ties, floors or fc is out of "
+                             "range: allowed 'associative' (docs/real-walls.md)")
+    if real is None:                                     # the paper's program, unchanged
+        cone = C @ x >= 0
+        norm = l_vec @ x == 1.0
+        prob = cp.Problem(cp.Minimize(c_obj @ x), [norm, cone])
+        extra = None
+    else:
+        extra = _RealTerms(assembly, real, x, free, ell, kappa, rows, C, c_obj)
+        cone, norm = extra.cone, l_vec @ x == 1.0
+        prob = cp.Problem(cp.Minimize(extra.objective), [norm, cone, *extra.constraints])
     run, times = _solve(prob, options, free.size)
     raw, iters = run.raw, run.iterations
     times["assembly"] = t_asm
@@ -345,6 +369,8 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
              "rows": int(C.shape[0]), "nnz": int(C.nnz),
              "factorisation": run.settings["direct_solve_method"], "attempts": run.attempts}
     xv = np.asarray(x.value, float)
+    actions = {} if extra is None else extra.record(
+        xv, kappa, f, *((D @ _full(xv, free, ell.size)).reshape(-1, 2) for D in (Dn, Dt)))
     history = [lam]
     converged = True
     if friction == "non-associative":
@@ -357,7 +383,138 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
         sizes["non_associative_iterations"] = len(viol)
     times["total"] = sum(v for k, v in times.items() if k != "total")
     return _finish(assembly, free, xv, ell, Dn, Dt, Np.reshape(-1, 2), Tp.reshape(-1, 2), lam,
-                   raw, iters, times, friction, f, tol_motion, history, converged, sizes)
+                   raw, iters, times, friction, f, tol_motion, history, converged, sizes,
+                   actions)
+
+
+class _RealTerms:
+    """The terms a real wall adds to the kinematic program (``blocks.real``; docs/real-walls.md
+    "Rigid blocks"), on the scaled unknowns x of the free blocks:
+
+    - a floor load Q at (e, z) on block i: dead power −Q w_i(e, z), so the objective gains
+      (Q/κ) w_i(e, z); a restraining floor: u_i(z) = 0 (u_i(z) = u_i − ω_i (z − z_Gi), the
+      horizontal velocity of the block's points at height z), its multiplier the reaction;
+    - a tie T_y at height z on block i: its dissipation T_y max(−u_i(z), 0) (it yields as the
+      façade moves outwards, −x, and goes slack inwards), an elongation rate s >= 0,
+      s >= −u_i(z), cost (T_y/κ) s; the multiplier of s + u_i(z) >= 0 is the tie force / κ;
+    - f_c: the dissipation of the stresses 0 <= σ <= f_c, |τ| <= f σ on a contact, the support
+      function of N_e >= (N_0 + N_1)²/(2C) (C = f_c d L) per end e, by conic duality:
+      min Σ_e C (w_e − v_e) over (w_e, u_e, v_e) in the second-order cone, with the closing
+      velocity ξ_e = −(w_e + v_e + √2 (u_0 + u_1)) added to the Coulomb rows
+      (δ_n ∓ f δ_t + ξ >= 0). As f_c → ∞ the cost forces ξ → 0: the paper's rows. Its value
+      is f_c d ∫ (f |δ_t| − δ_n(s))⁺ ds over the contact (``crushing_rate``)."""
+
+    def __init__(self, assembly, real, x, free, ell, kappa, rows, C, c_obj):
+        n = assembly.n_blocks
+        self.assembly, self.real = assembly, real
+        col = np.full(3 * n, -1)
+        col[free] = np.arange(free.size)
+        self.col, self.ell = col, ell
+        obj = c_obj @ x
+        cons = []
+        fl, ti = real.floors, real.ties
+        self.floor_block = anchor_blocks(assembly, fl[:, 0])
+        self.tie_block = anchor_blocks(assembly, ti[:, 0])
+        on = self.floor_block >= 0
+        if np.any(on):
+            Wr = self._rows(self.floor_block[on], fl[on, 0], fl[on, 2], vertical=True,
+                            n_free=free.size)
+            obj = obj + (fl[on, 1] / kappa) @ (Wr @ x)
+        held = on & (fl[:, 3] > 0)
+        self.restraint = None
+        if np.any(held):
+            Ur = self._rows(self.floor_block[held], fl[held, 0], None, False, free.size)
+            self.restraint = Ur @ x == 0
+            cons.append(self.restraint)
+        self.held = held
+        on_t = self.tie_block >= 0
+        self.tie_con, self.tie_s = None, None
+        if np.any(on_t):
+            Ut = self._rows(self.tie_block[on_t], ti[on_t, 0], None, False, free.size)
+            s = cp.Variable(int(on_t.sum()), nonneg=True)
+            self.tie_con = s + Ut @ x >= 0
+            cons.append(self.tie_con)
+            obj = obj + (ti[on_t, 1] / kappa) @ s
+            self.tie_s = s
+        self.on_t = on_t
+        if real.fc > 0:
+            jt = assembly.interfaces
+            P = rows.size
+            k = rows // 2
+            x_mid = 0.5 * (jt.p[k, 0, 0] + jt.p[k, 1, 0])
+            cap = real.fc * real.depth(x_mid) * jt.length[k]        # C per end point [N]
+            w, u, v = cp.Variable(P), cp.Variable(P), cp.Variable(P)
+            pair = sp.kron(sp.identity(P // 2), np.ones((2, 2))).tocsr()  # u_0 + u_1 per end
+            xi = -(w + v + math.sqrt(2.0) * (pair @ u))
+            self.cone = C @ x + cp.hstack([xi, xi]) >= 0
+            cons.append(cp.SOC(w, cp.vstack([u, v]), axis=0))
+            obj = obj + (cap / kappa) @ (w - v)
+        else:
+            self.cone = C @ x >= 0
+        self.objective, self.constraints = obj, cons
+
+    def _rows(self, blocks, z, xe, vertical: bool, n_free: int):
+        """Sparse rows on x: u_i(z) = u_i − ω_i (z − z_Gi) or, ``vertical``, the vertical
+        velocity w_i + ω_i (x_e − x_Gi) of the point (x_e, z) of block i."""
+        G = self.assembly.centroid[blocks]
+        ell = self.ell[blocks]
+        r = np.arange(blocks.size)
+        if vertical:
+            c0, val0 = self.col[3 * blocks + 1], np.ones(blocks.size)
+            val2 = (xe - G[:, 0]) / ell
+        else:
+            c0, val0 = self.col[3 * blocks], np.ones(blocks.size)
+            val2 = -(z - G[:, 1]) / ell
+        return sp.csr_matrix((np.r_[val0, val2], (np.r_[r, r], np.r_[c0, self.col[3 * blocks
+                                                                              + 2]])),
+                             shape=(blocks.size, n_free))
+
+    def record(self, xv, kappa, f, opening, slip) -> dict:
+        """The actions at collapse: ties (block, force F [N], elongation rate [m/s]), floors
+        (block, load, restraint reaction R [N] on the block, +x), the crushing dissipation
+        rate per interface [W] (0 for f_c infinite)."""
+        real = self.real
+        ti, fl = real.ties, real.floors
+        n = self.assembly.n_blocks
+        q = np.zeros(3 * n)
+        q[self.col >= 0] = xv
+        q = q.reshape(n, 3)
+        q[:, 2] /= self.ell
+        G = self.assembly.centroid
+
+        def u_at(blocks, z):
+            ok = blocks >= 0
+            b = np.maximum(blocks, 0)
+            return np.where(ok, q[b, 0] - q[b, 2] * (z - G[b, 1]), 0.0)
+
+        F = np.zeros(len(ti))
+        if self.tie_con is not None:
+            F[self.on_t] = kappa * np.asarray(self.tie_con.dual_value, float).ravel()
+        R = np.zeros(len(fl))
+        if self.restraint is not None:
+            R[self.held] = -kappa * np.asarray(self.restraint.dual_value, float).ravel()
+        return {"tie_block": self.tie_block, "tie_force": F,
+                "tie_rate": np.maximum(-u_at(self.tie_block, ti[:, 0]), 0.0),
+                "floor_block": self.floor_block, "floor_load": fl[:, 1].copy(),
+                "restraint_force": R, "fc": real.fc,
+                "crushing_rate": crushing_rate(self.assembly, real, f, opening, slip)}
+
+
+def crushing_rate(assembly, real, f, opening, slip) -> np.ndarray:
+    """Per interface, f_c d ∫₀ᴸ (f |δ_t| − δ_n(s))⁺ ds [W] for the end-point opening and slip
+    rates (K, 2) (δ_n linear along the contact): the dissipation of 0 <= σ <= f_c, |τ| <= f σ
+    (zero for f_c infinite or a contact that does not close)."""
+    jt = assembly.interfaces
+    if not real.fc:
+        return np.zeros(jt.count)
+    a = f * np.abs(slip) - opening                         # closing rate at the two ends
+    lo, hi = a.min(axis=1), a.max(axis=1)
+    L = jt.length
+    with np.errstate(divide="ignore", invalid="ignore"):
+        part = np.where(lo >= 0, 0.5 * L * (lo + hi),
+                        np.where(hi <= 0, 0.0, 0.5 * L * hi ** 2 / (hi - lo)))
+    x_mid = 0.5 * (jt.p[:, 0, 0] + jt.p[:, 1, 0])
+    return real.fc * real.depth(x_mid) * part
 
 
 def _non_associative(Dnf, Dtf, rows, c_obj, l_vec, kappa, f, N0, options, n_free, max_iter,
@@ -423,4 +580,17 @@ def equilibrium_residual(assembly: Assembly, result: BlockLimitResult) -> np.nda
             np.add.at(R, blk, np.c_[Fe, r[:, 0] * Fe[:, 1] - r[:, 1] * Fe[:, 0]])
     R[:, 0] -= result.multiplier * assembly.mass * g
     R[:, 1] -= assembly.mass * g
+    act = result.actions
+    if act:                 # a real wall: floor loads, tie forces, restraint reactions
+        real = assembly.meta["real"]
+        G = assembly.centroid
+        for blk, z, x, Fx, Fz in (
+                (act["floor_block"], real.floors[:, 0], real.floors[:, 2], act[
+                    "restraint_force"], -act["floor_load"]),
+                (act["tie_block"], real.ties[:, 0], np.zeros(len(real.ties)), act["tie_force"],
+                 np.zeros(len(real.ties)))):
+            ok = blk >= 0
+            b = blk[ok]
+            mom = (x[ok] - G[b, 0]) * Fz[ok] - (z[ok] - G[b, 1]) * Fx[ok]
+            np.add.at(R, b, np.c_[Fx[ok], Fz[ok], mom])
     return R[~assembly.fixed]

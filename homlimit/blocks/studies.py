@@ -31,6 +31,20 @@ log = logging.getLogger(__name__)
 __all__ = ["scan_record", "h_scan_blocks", "BlocksAnalysis", "analyse_blocks",
            "homogenisation_study", "table1_blocks", "DEM_RATIOS"]
 
+#: the choices of a real wall in the blocks (docs/real-walls.md, "Rigid blocks")
+REAL_CHOICES = {
+    "per_metre": "ties and floors per metre of façade; the section (per bay) carries value × l",
+    "floor_mass": "only the floor's vertical load bears on the block under it; its mass moves "
+                  "with the building",
+    "compression": "every contact 0 <= sigma <= fc over its length and out-of-plane depth (l in "
+                   "the façade, s in the wall): the rectangular stress block, exact in (N, M)",
+    "tie_law": "LA: 0 <= F <= T_y at the outer face of the façade block at its height; "
+               "impulse: force min(k delta, T_y) until the ductility limit, delta = d sin theta "
+               "on the body (the closed forms' rule)",
+    "impulse": "W(theta) maximised over 0..pi/2 with the ties' work, the floors' loads "
+               "turning with their blocks and the crushing work (rate of the mechanism) x theta",
+}
+
 DEM_RATIOS = {"B4/B1": 0.564 / 0.377, "B5/B2": 0.720 / 0.443, "B6/B3": 0.846 / 0.509}
 
 
@@ -58,7 +72,11 @@ def scan_record(assembly: Assembly, result: BlockLimitResult, z0: float) -> tupl
                 "x_O": bi.O[0], "z_O": bi.O[1], "method": bi.method, "n_body": bi.n_body,
                 "m_body": bi.body.m, "theta_m": bi.theta_m,
                 "W_rest_share": bi.W_rest / bi.W_m, "W_friction_share": bi.W_friction / bi.W_m,
-                "M_rest_share": bi.M_rest_share})
+                "M_rest_share": bi.M_rest_share, **bi.W_real})
+    act = result.actions
+    if act:                 # a real wall: the ties' total force at collapse, the crushing
+        rec["tie_force"] = float(np.sum(act["tie_force"]))
+        rec["crushing_rate"] = float(np.sum(act["crushing_rate"]))
     return rec, bi
 
 
@@ -209,6 +227,9 @@ def analyse_blocks(case: Case, facade: str = "through", friction: str = "associa
     settings = {"facade": facade, "friction": friction, "step": step,
                 "toothed_first": toothed_first, "collapse_height": "h-scan over course "
                 "boundaries, lowest v_g (h = H - z_O)"}
+    real = A.meta.get("real")
+    if real is not None:            # ties, floors, fc per bay and the choices made
+        settings["real"] = {**real.as_dict(), "choices": dict(REAL_CHOICES)}
     return BlocksAnalysis(case, A, whole, whole_rec, scan, crit, Ac, rc, bi, na, settings,
                           times)
 

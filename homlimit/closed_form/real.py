@@ -39,6 +39,7 @@ from ..params import Case
 from .mechanisms import MechanismResult, geometry_II, lam_max_II, minimise
 
 __all__ = ["KINDS", "RealMechanismResult", "real_mechanism", "vnorm_real", "multiplier_real",
+           "tie_work",
            "work_real", "theta_m_real", "lam_bounds"]
 
 KINDS = ("detachment", "crack", "overturning")     # mechanisms I, II and the overturning
@@ -100,7 +101,7 @@ def _state(case: Case, kind: str, lam, tanpsi=None):
                 N=N, t=t, g=g, t_psi=t_psi)
 
 
-def _tie_work(delta, T, k, du):
+def tie_work(delta, T, k, du):
     """∫ min(kδ, T_y) dδ up to min(δ, δ_u) (k = 0: T_y δ), elementwise."""
     x = np.minimum(delta, du)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -139,7 +140,7 @@ def _work(case: Case, kind: str, st: dict, theta):
         W = m * g * ((xg - t) * np.sin(th) + zg * (np.cos(th) - 1))
         W = W + np.sum(Q * ((e - t[..., None]) * np.sin(ths) + zq * (np.cos(ths) - 1)), axis=-1)
         delta = d * np.sin(ths)
-    return W + np.sum(_tie_work(delta, T, k, du), axis=-1)
+    return W + np.sum(tie_work(delta, T, k, du), axis=-1)
 
 
 def _moment0(case: Case, kind: str, st: dict):

@@ -224,8 +224,16 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
             build_pos, build_th, margin, coinc, cone_build, cone_tol, edge_tol,
             kn, ks_ratio, thick, fac_x, fac_f, trib_floor,
             watch, ref_pos, ref_th, disp_limit, rot_limit, check_every,
-            slip_base, slip_bed, rec_every, rec, z_ref, vel_tol):
+            slip_base, slip_bed, rec_every, rec, z_ref, vel_tol, loads, ties, tstate):
     """Central differences for nsteps steps of dt.
+
+    A real wall (``model``; docs/real-walls.md): ``loads`` (n_l, 5) rows (block, r_x, r_z,
+    F_x, F_z): a dead force (F_x, F_z) at the point r of the block's frame (from its
+    centroid, turning with it), the floors' loads. ``ties`` (n_t, 8) rows (block, r_x, r_z,
+    x0, k, T_y, δ_u, bilateral): a horizontal spring from the point r of the block to a fixed
+    anchor, elongation δ = x0 − x(r) (outwards positive), force k (δ − δ_p) towards +x,
+    capped at T_y (δ_p the plastic elongation, ``tstate[:, 0]``), slack below zero unless
+    ``bilateral`` (a restraint, capped at ±T_y), broken for good past δ_u (``tstate[:, 1]``).
 
     Forces at x_n: gravity −m g ẑ, the ground's inertia −m a_g(t) x̂ (ag[k] at t = ag_t0 + k
     dt, zero past the array), the contacts; with ``damping`` > 0 Cundall's local damping.
@@ -292,6 +300,39 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
             F[b, 2] = 0.0
         record = rec_every > 0 and step % rec_every == 0 and nrow < rec.shape[0]
         elastic = 0.0
+        for q in range(loads.shape[0]):
+            b = int(loads[q, 0])
+            cq, sq = math.cos(th[b]), math.sin(th[b])
+            rx = cq * loads[q, 1] - sq * loads[q, 2]
+            rz = sq * loads[q, 1] + cq * loads[q, 2]
+            F[b, 0] += loads[q, 3]
+            F[b, 1] += loads[q, 4]
+            F[b, 2] += rx * loads[q, 4] - rz * loads[q, 3]
+        for q in range(ties.shape[0]):
+            if tstate[q, 1] > 0.0:
+                continue                              # broken
+            b = int(ties[q, 0])
+            cq, sq = math.cos(th[b]), math.sin(th[b])
+            rx = cq * ties[q, 1] - sq * ties[q, 2]
+            rz = sq * ties[q, 1] + cq * ties[q, 2]
+            delta = ties[q, 3] - (pos[b, 0] + rx)
+            if delta > ties[q, 6]:
+                tstate[q, 1] = 1.0
+                continue
+            kt, ty = ties[q, 4], ties[q, 5]
+            ft = kt * (delta - tstate[q, 0])
+            if ft > ty:
+                tstate[q, 0] = delta - ty / kt
+                ft = ty
+            elif ties[q, 7] > 0.0 and ft < -ty:
+                tstate[q, 0] = delta + ty / kt
+                ft = -ty
+            elif ties[q, 7] == 0.0 and ft < 0.0:
+                ft = 0.0                              # slack
+            if record:
+                elastic += 0.5 * ft * ft / kt
+            F[b, 0] += ft
+            F[b, 2] -= rz * ft
         for c in range(m):
             acted[c] = False
             p = cv[c]

@@ -51,11 +51,12 @@ class DEMState:
     contacts: tuple
     build_pos: np.ndarray
     build_th: np.ndarray
+    tstate: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
 
     def copy(self) -> DEMState:
         return DEMState(self.pos.copy(), self.th.copy(), self.vel.copy(), self.om.copy(),
                         tuple(a.copy() for a in self.contacts), self.build_pos.copy(),
-                        self.build_th.copy())
+                        self.build_th.copy(), self.tstate.copy())
 
 
 @dataclass
@@ -86,6 +87,8 @@ class DEMModel:
     rot_limit: float
     coinc: float
     info: dict = field(default_factory=dict)
+    loads: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
+    ties: np.ndarray = field(default_factory=lambda: np.zeros((0, 8)))
 
     @property
     def n_blocks(self) -> int:
@@ -105,7 +108,8 @@ class DEMModel:
             X, a.offsets, self.nxt, self.prv, self.owner, a.fixed, p.verlet_margin,
             self.coinc, p.cone_tolerance + 0.1, *empty, 0, p.kn, p.ks_over_kn,
             self.thickness, self.fac_x, self.fac_f, p.trib_floor, p.base_joint == "tied")
-        return DEMState(pos, th, np.zeros((n, 2)), np.zeros(n), c, pos.copy(), th.copy())
+        return DEMState(pos, th, np.zeros((n, 2)), np.zeros(n), c, pos.copy(), th.copy(),
+                        np.zeros((len(self.ties), 2)))
 
 
 def _widen_ground(a: Assembly, margin: float) -> np.ndarray:
@@ -136,6 +140,12 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     if not isinstance(p, DEMParams):
         raise ParameterError(f"params = {p!r} is not a DEMParams")
     meta = assembly.meta
+    real = meta.get("real")
+    if real is not None and real.fc > 0:
+        raise ParameterError(f"[masonry] fc = {real.fc!r} Pa: the DEM does not take a finite "
+                             "compressive strength yet (its contacts are the blocks' corners: "
+                             "a cap per corner is not the stress block); allowed fc = 0 "
+                             "(infinite) (docs/real-walls.md)")
     f = meta.get("f") if f is None else f
     if f is None:
         raise ParameterError("f = None is out of range: the assembly has no friction "
@@ -193,11 +203,50 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     disp_limit = check_range("disp_limit", disp_limit, 0.0, lo_open=True, unit="m")
     rot_limit = check_range("rot_limit", rot_limit, 0.0, math.pi, lo_open=True, unit="rad")
     coinc = 1e-6 * size
+    loads, ties = _real_actions(a, real, 0.5 * k_max)
+    if ties.size and ties[:, 4].max() > k_max:             # a stiffer tie sets the step
+        k_max = float(ties[:, 4].max())
+        dt = p.dt_fraction * math.sqrt(m_min / k_max)
     return DEMModel(a, p, f, g, thickness, rel, nxt, prv, owner, inv_m, inv_I,
                     a.mass.astype(float), radius, fac_x, fac_f, watch, dt, k_max, m_min,
                     disp_limit, rot_limit, coinc,
                     info={"n_blocks": n, "n_free": a.n_free, "dt": dt, "k_max": k_max,
-                          "m_min": m_min})
+                          "m_min": m_min, "ties": len(ties), "loads": len(loads)},
+                    loads=loads, ties=ties)
+
+
+def _real_actions(a: Assembly, real, k_rigid: float):
+    """The kernel's ``loads`` (n_l, 5) and ``ties`` (n_t, 8) of a real wall (``kernels.
+    advance``; ``blocks.real``: per bay, on the façade block whose outer face holds z): a
+    floor's load Q at (e, z) as a dead force (0, −Q); a tie at the outer face (x = 0) as an
+    elastic–plastic spring anchored where that point is built, stiffness k l (``k_rigid`` =
+    half the stiffest contact for a rigid-plastic tie, k = 0), yield T_y l, breaking at the
+    ductility δ_u; a restraining floor as a bilateral spring of stiffness ``k_rigid`` at
+    (0, z) that never yields."""
+    from ..blocks.real import anchor_blocks
+
+    loads, ties = np.zeros((0, 5)), np.zeros((0, 8))
+    if real is None:
+        return loads, ties
+    G = a.centroid
+    fl, ti = real.floors, real.ties
+    fb, tb = anchor_blocks(a, fl[:, 0]), anchor_blocks(a, ti[:, 0])
+    on = fb >= 0
+    b = fb[on]
+    loads = np.c_[b, fl[on, 2] - G[b, 0], fl[on, 0] - G[b, 1], np.zeros(b.size), -fl[on, 1]]
+    held = on & (fl[:, 3] > 0)
+    bh = fb[held]
+    rows = [np.c_[bh, -G[bh, 0], fl[held, 0] - G[bh, 1], np.zeros(bh.size),
+                  np.full(bh.size, k_rigid), np.full(bh.size, np.inf),
+                  np.full(bh.size, np.inf), np.ones(bh.size)]]
+    on_t = tb >= 0
+    bt = tb[on_t]
+    k = np.where(ti[on_t, 2] > 0, ti[on_t, 2], k_rigid)
+    du = np.where(ti[on_t, 3] > 0, ti[on_t, 3], np.inf)
+    rows.append(np.c_[bt, -G[bt, 0], ti[on_t, 0] - G[bt, 1], np.zeros(bt.size), k,
+                      ti[on_t, 1], du, np.zeros(bt.size)])
+    ties = np.vstack(rows)
+    return np.ascontiguousarray(loads, float), np.ascontiguousarray(ties, float)
 
 
 @dataclass
@@ -245,7 +294,7 @@ def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: floa
         p.cone_tolerance, model.coinc, p.kn, p.ks_over_kn, model.thickness, model.fac_x,
         model.fac_f, p.trib_floor, model.watch, ref.pos, ref.th, model.disp_limit,
         model.rot_limit, int(check_every), slip_base, slip_bed, int(rec_every), rec, z_ref,
-        vel_tol)
+        vel_tol, model.loads, model.ties, state.tstate)
     steps, status, nrow = out[0], out[1], out[2]
     state.contacts = tuple(out[3:12])
     return steps, status, rec[:nrow], slip_base, slip_bed, out[12]
