@@ -15,7 +15,8 @@ import numpy as np
 
 from . import registry
 
-__all__ = ["figure2", "plot_crack_study", "plot_mechanism", "plot_mesh", "plot_spectra",
+__all__ = ["figure2", "peak_compression", "plot_crack_study", "plot_mechanism", "plot_mesh",
+           "plot_spectra",
            "plot_stress", "plot_table1", "plot_vg_lambda", "pyplot", "save_png",
            "triangle_regions"]
 
@@ -316,7 +317,19 @@ def figure2(path: str | Path, data: dict) -> Path:
     return save_png(fig, path)
 
 
-def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) -> Path:
+def peak_compression(static) -> float:
+    """The largest compression −σ₂ [Pa] of a static field over its vertex values (and, for
+    quadratic stresses, every Bernstein control coefficient: σ is their convex combination,
+    so this bounds −σ₂ everywhere); 0 for a field without stress."""
+    s = static.control if getattr(static, "control", None) is not None else static.stress
+    s = np.asarray(s, float).reshape(-1, 3)
+    s = s[~np.isnan(s).any(axis=1)]
+    low = 0.5 * (s[:, 0] + s[:, 1]) - np.hypot(0.5 * (s[:, 0] - s[:, 1]), s[:, 2])
+    return float(max(0.0, -low.min(initial=0.0)))
+
+
+def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500,
+                fc: float | None = None) -> Path:
     """The lower-bound stress field: the most compressive principal stress σ₂ per triangle
     (colour, kPa or MPa by its size) and its direction (short lines, length ∝ |σ₂|): the
     compression paths.
@@ -324,7 +337,9 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     ``static`` is a ``homlimit.fe.static.StaticSolution``; at most ``n_ticks`` direction lines are
     drawn (the most compressed triangles first); rigid bodies (no stress field) are grey. The
     colour scale is a power law, colour ∝ (−σ₂)^STRESS_GAMMA (said on the colour bar), so that
-    the wall's weak compression shows beside the peak at the façade's toe.
+    the wall's weak compression shows beside the peak at the façade's toe. ``fc`` (Pa; 0 for
+    infinite) adds a line to the title: f_c and the peak compression (``peak_compression``),
+    which the static program keeps <= f_c.
     """
     plt = pyplot()
     m = static.mesh
@@ -364,7 +379,13 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("z [m]")
-    ax.set_title(title or f"lower-bound stress field, λ⁻ = {static.multiplier:.4g}")
+    title = title or f"lower-bound stress field, λ⁻ = {static.multiplier:.4g}"
+    if fc is not None:
+        peak = peak_compression(static)
+        title += (f"\nf_c = {fc / 1e6:.4g} MPa: peak compression {peak / 1e6:.4g} MPa <= f_c"
+                  if fc > 0 else f"\nf_c infinite ([masonry] fc = 0): peak compression "
+                  f"{peak / 1e6:.4g} MPa")
+    ax.set_title(title)
     return save_png(fig, path)
 
 
