@@ -546,7 +546,8 @@ class Capped(StrengthDomain):
         π_c(d) = min{ π_G(d1) + fc·(−tr d2) : d = d1 + d2, d2 ⪯ 0 },
 
     (d1 in the domain of π_G, d2 a compaction; finite for every d when that domain holds a
-    positive definite strain rate, as eq. 15's cone does). As a ConicBlock: y = (G's auxiliaries, d2), G's rows on d − d2, the cone
+    positive definite strain rate, as eq. 15's cone does). As a ConicBlock: y = (G's
+    auxiliaries, d2), G's rows on d − d2, the cone
     (−d2_xx − d2_zz, d2_xx − d2_zz, d2_γ) ∈ SOC(3), cost cx·(d − d2) + cy·y_G − fc tr d2.
     Quadratic static stresses stay rigorous with the cap on every Bernstein coefficient
     (C is convex).
