@@ -149,14 +149,17 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "fc": Key(float, 0.0, "Pa", 0.0, 1e10,
                   doc="compressive strength of the masonry; 0 means infinite (the paper's "
                       "rigid blocks). Finite: the hinge of every closed form retreats to the "
-                      "resultant of a rectangular stress block, t = N/(2 fc l) "
-                      "(docs/real-walls.md); FE, blocks and DEM do not take it yet"),
+                      "resultant of a rectangular stress block, t = N/(2 fc l); both FE "
+                      "bounds cap the principal compressive stress at fc "
+                      "(docs/real-walls.md); blocks and DEM do not take it yet"),
         "cohesion": Key(float, 0.0, "Pa", 0.0, 1e10,
-                        doc="cohesion of the joints (the strength domains' name); no model "
-                            "takes a non-zero value yet (docs/real-walls.md)"),
+                        doc="cohesion of the joints (the strength domains' name); the FE "
+                            "bounds of fe.problems.t_section take it, no model of a run takes "
+                            "a non-zero value yet (docs/real-walls.md)"),
         "tension": Key(float, 0.0, "Pa", 0.0, 1e10,
-                       doc="tensile strength of the joints (the strength domains' name); no "
-                           "model takes a non-zero value yet (docs/real-walls.md)"),
+                       doc="tensile strength of the joints (the strength domains' name); the "
+                           "FE bounds of fe.problems.t_section take it, no model of a run "
+                           "takes a non-zero value yet (docs/real-walls.md)"),
     },
     "mesh": {
         "size": Key(float, 0.25, "m", 0.0, 1e4, lo_open=True,
@@ -752,8 +755,16 @@ def _real_wall_checks(v: dict[str, Any]) -> list[str]:
     if not keys:
         return out
     given = ", ".join(keys)
-    for model, what in (("fe", "the FE bounds"), ("blocks", "the rigid blocks"),
-                        ("dem", "the DEM")):
+    # the FE path takes fc (both bounds, and the scan's mechanisms turn about the hinge they
+    # find); its impulse scan has no tie, floor, cohesion or tension work in v̄_g yet, though
+    # both bounds take them (fe.problems.t_section; docs/real-walls.md "FE bounds")
+    not_fe = [k for k in keys if not k.startswith("[masonry] fc")]
+    if an.get("fe") and not_fe:
+        out.append(f"[analysis] fe = true: the FE path's impulse scan (v̄_g of the FE "
+                   f"mechanism) does not take {', '.join(not_fe)} yet (the FE bounds do, "
+                   "through homlimit.fe.problems.t_section); allowed [analysis] fe = false "
+                   "with these inputs, or only [masonry] fc (docs/real-walls.md)")
+    for model, what in (("blocks", "the rigid blocks"), ("dem", "the DEM")):
         if an.get(model):
             out.append(f"[analysis] {model} = true: {what} do not take {given} yet; allowed "
                        f"[analysis] {model} = false with these inputs (docs/real-walls.md)")
