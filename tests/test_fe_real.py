@@ -189,8 +189,8 @@ def test_t_section_places_ties_and_floors_with_their_resultants():
 def test_t_section_bracket_holds_with_cap_tie_floor(facade):
     """The whole B1 T-section on a coarse mesh with f_c = 2 MPa, a top tie and a floor: both
     programs take the same problem, so λ⁻ <= λ⁺; the cap weakens the wall, the tie
-    strengthens it; the static field keeps every control coefficient's principal stress
-    >= −fc."""
+    strengthens it; the static field keeps every principal stress >= −fc (the façade strip's
+    >= −ρ fc)."""
     base = Case()
     fc = 2e6
     capped = Case(masonry=Masonry(fc=fc))
@@ -202,12 +202,12 @@ def test_t_section_bracket_holds_with_cap_tie_floor(facade):
         s, k = solve_static(p), solve_kinematic(p)
         assert s.multiplier <= k.multiplier * (1 + TOL), name
         out[name] = (s, k)
-        if case.masonry.fc:
-            sig = s.stress.reshape(-1, 3)
-            sig = sig[~np.isnan(sig).any(axis=1)]
-            low = 0.5 * (sig[:, 0] + sig[:, 1]) - np.hypot(0.5 * (sig[:, 0] - sig[:, 1]),
-                                                            sig[:, 2])
-            assert low.min() >= -fc * (1 + 1e-6)
+        if case.masonry.fc:   # the façade strip's stresses are ρ times the façade's
+            for reg, cap in (("facade", case.rho * fc), ("wall", fc)):
+                sig = s.stress[p.mesh.subdomains[reg]].reshape(-1, 3)
+                low = 0.5 * (sig[:, 0] + sig[:, 1]) - np.hypot(0.5 * (sig[:, 0] - sig[:, 1]),
+                                                                sig[:, 2])
+                assert low.min() >= -cap * (1 + 1e-6), reg
     assert out["capped"][1].multiplier < out["base"][1].multiplier
     assert out["real"][0].multiplier > out["capped"][0].multiplier
 
@@ -218,7 +218,8 @@ def test_fc_zero_builds_the_paper_domains():
     assert type(p.domains["facade"]) is strength.BedJoints
     assert type(p.domains["wall"]) is strength.Homogenised
     q = t_section(Case(masonry=Masonry(fc=1e6)), h=1.0)
-    assert isinstance(q.domains["wall"], strength.Capped) and q.meta["fc"] == 1e6
+    assert isinstance(q.domains["wall"], strength.Capped) and q.domains["wall"].fc == 1e6
+    assert q.domains["facade"].fc == 12e6              # ρ fc: the strip stands for l/s of it
     assert math.isinf(strength.capped(strength.Tresca(1.0), 0.0).support(
         np.array([1.0, 0.0, 0.0])))
 
@@ -252,12 +253,33 @@ def test_cli_fe_with_a_tie_exits_2_and_writes_nothing(tmp_path):
     from pathlib import Path
 
     case = tmp_path / "case.toml"
-    case.write_text("[masonry]\nfc = 2e6\n[analysis]\nfe = true\nhinge_check = false\n"
+    case.write_text("[wall]\nH = 9.0\nL = 6.0\ns = 0.5\nb = 0.5\nl = 6.0\n"
+                    "[masonry]\na = 0.3\nc = 0.2\nf = 0.6\nfc = 2e6\n"
+                    "[analysis]\nfe = true\nhinge_check = false\n"
                     "[[tie]]\nz = 9.0\nyield_force = 5000.0\n", encoding="utf-8")
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
     r = subprocess.run([sys.executable, "-m", "homlimit", "run", str(case), "--out",
                         str(tmp_path / "out")], capture_output=True, text=True, env=env,
                        cwd=tmp_path)
     assert r.returncode == 2, r.stderr
-    assert "[analysis] fe = true" in r.stderr and "[[tie]]" in r.stderr
+    assert "[analysis] fe = true" in r.stderr and "problems in" not in r.stderr, r.stderr
+    assert "does not take [[tie]] (1 entries)" in r.stderr
     assert "Traceback" not in r.stderr and not (tmp_path / "out").exists()
+
+
+def test_stress_png_states_fc_and_the_peak(tmp_path):
+    """stress.png's title: f_c and the masonry's peak compression (the façade strip's section
+    stresses over ρ), which the capped static field keeps <= f_c."""
+    from homlimit.app.plots import peak_compression, plot_stress
+
+    fc = 1e6
+    case = Case(masonry=Masonry(fc=fc))
+    s = solve_static(t_section(case, facade="bedjoints", h=1.0))
+    peak = peak_compression(s, case.rho)
+    fac = s.stress[s.mesh.subdomains["facade"]].reshape(-1, 3) / case.rho
+    by_hand = -(0.5 * (fac[:, 0] + fac[:, 1]) - np.hypot(0.5 * (fac[:, 0] - fac[:, 1]),
+                                                        fac[:, 2])).min()
+    assert by_hand <= peak <= fc * (1 + 1e-6)
+    assert peak > 0.9 * fc                     # the façade's toe reaches the cap at collapse
+    out = plot_stress(tmp_path / "s.png", s, fc=fc, rho=case.rho)
+    assert out.stat().st_size > 0

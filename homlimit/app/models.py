@@ -362,7 +362,7 @@ def fe_files(result) -> dict:
             out["stress_png"] = ("stress.png", lambda p: plots.plot_stress(
                 p, art.static, title=f"{title}: lower-bound stress field, λ⁻ = "
                                      f"{art.static.multiplier:.4g}",
-                fc=result.case.masonry.fc))
+                fc=result.case.masonry.fc, rho=result.case.rho))
     if art.adapt is not None:
         cycles = [c.as_dict() for c in art.adapt.cycles]
         out["fe_adapt_csv"] = ("fe_adapt.csv", cycles)

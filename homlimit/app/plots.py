@@ -317,19 +317,24 @@ def figure2(path: str | Path, data: dict) -> Path:
     return save_png(fig, path)
 
 
-def peak_compression(static) -> float:
+def peak_compression(static, rho: float = 1.0) -> float:
     """The largest compression −σ₂ [Pa] of a static field over its vertex values (and, for
     quadratic stresses, every Bernstein control coefficient: σ is their convex combination,
-    so this bounds −σ₂ everywhere); 0 for a field without stress."""
+    so this bounds −σ₂ everywhere); 0 for a field without stress. The T-section's façade
+    strip (region "facade") carries ρ = l/s times the façade's stresses: divided by ``rho``."""
     s = static.control if getattr(static, "control", None) is not None else static.stress
-    s = np.asarray(s, float).reshape(-1, 3)
+    s = np.array(s, float)
+    fac = (static.mesh.subdomains or {}).get("facade")
+    if fac is not None:
+        s[np.asarray(fac)] /= rho
+    s = s.reshape(-1, 3)
     s = s[~np.isnan(s).any(axis=1)]
     low = 0.5 * (s[:, 0] + s[:, 1]) - np.hypot(0.5 * (s[:, 0] - s[:, 1]), s[:, 2])
     return float(max(0.0, -low.min(initial=0.0)))
 
 
 def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500,
-                fc: float | None = None) -> Path:
+                fc: float | None = None, rho: float = 1.0) -> Path:
     """The lower-bound stress field: the most compressive principal stress σ₂ per triangle
     (colour, kPa or MPa by its size) and its direction (short lines, length ∝ |σ₂|): the
     compression paths.
@@ -338,8 +343,9 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500,
     drawn (the most compressed triangles first); rigid bodies (no stress field) are grey. The
     colour scale is a power law, colour ∝ (−σ₂)^STRESS_GAMMA (said on the colour bar), so that
     the wall's weak compression shows beside the peak at the façade's toe. ``fc`` (Pa; 0 for
-    infinite) adds a line to the title: f_c and the peak compression (``peak_compression``),
-    which the static program keeps <= f_c.
+    infinite) adds a line to the title: f_c and the peak compression of the masonry
+    (``peak_compression``: the façade strip's section stresses over ``rho`` = l/s; the
+    colours are the section's stresses), which the static program keeps <= f_c.
     """
     plt = pyplot()
     m = static.mesh
@@ -381,9 +387,11 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500,
     ax.set_ylabel("z [m]")
     title = title or f"lower-bound stress field, λ⁻ = {static.multiplier:.4g}"
     if fc is not None:
-        peak = peak_compression(static)
-        title += (f"\nf_c = {fc / 1e6:.4g} MPa: peak compression {peak / 1e6:.4g} MPa <= f_c"
-                  if fc > 0 else f"\nf_c infinite ([masonry] fc = 0): peak compression "
+        peak = peak_compression(static, rho)
+        what = "peak compression" + (f" (façade: section stress / ρ, ρ = {rho:.4g})"
+                                     if rho != 1.0 else "")
+        title += (f"\nf_c = {fc / 1e6:.4g} MPa: {what} {peak / 1e6:.4g} MPa <= f_c"
+                  if fc > 0 else f"\nf_c infinite ([masonry] fc = 0): {what} "
                   f"{peak / 1e6:.4g} MPa")
     ax.set_title(title)
     return save_png(fig, path)

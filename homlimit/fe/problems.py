@@ -381,6 +381,10 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     b/n_b: ``graded``). An overturning façade bears on its outer face, and a static field can
     put its compression resultant no nearer to that face than about a third of the outermost
     column: the lever arm it loses is O(column width) (docs/static.md, "The outer face").
+    Real walls (issue 30, docs/real-walls.md "FE bounds"): ``case.masonry`` fc (0: infinite),
+    cohesion and tension enter both domains, the façade's times ρ = l/s (its stresses in the
+    section are ρ times the façade's, as its density is ρ γ): fc caps the principal
+    compressive stress (``strength.Capped``). Ties and floors: ``_ties_and_floors``.
     Reference: the prototype's hinge + fan mechanism (docs/kinematic.md); no closed form.
     """
     w, mas = case.wall, case.masonry
@@ -423,21 +427,25 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
                             for name in REGIONS})
     wg = w.gamma * w.g
     wf = w.rho * wg
-    joint = {"cohesion": mas.cohesion, "tension": mas.tension}
+    # the façade strip stands for a bay of length l in a section of thickness s, so its
+    # stresses are ρ = l/s times the façade's: its strengths (fc, cohesion, tension) scale too
+    rho = case.rho
+    joint = {"cohesion": rho * mas.cohesion, "tension": rho * mas.tension}
     fac = (strength.Homogenised(mas.a, mas.c, mas.f, **joint) if facade == "homogenised"
            else strength.BedJoints(mas.f, **joint))
-    wall = strength.Homogenised(mas.a, mas.c, mas.f, **joint)
+    wall = strength.Homogenised(mas.a, mas.c, mas.f, cohesion=mas.cohesion,
+                                tension=mas.tension)
     meta = {"mesh_time": time.perf_counter() - t0, "case": case.as_dict(), "z0": z0,
             "facade": facade, "mesher": mesher, "h": h}
     real = {}
     if case.ties or case.floors:
         m, real, meta["real_wall"] = _ties_and_floors(m, case, z0)
     if mas.fc:
-        meta["fc"] = mas.fc
+        meta["fc"] = {"facade": rho * mas.fc, "wall": mas.fc}
     supports = {"base": "fixed"} | real.get("supports", {})
     return Problem(
         name=f"t_section[{case.name}]", mesh=m,
-        domains={"facade": strength.capped(fac, mas.fc),
+        domains={"facade": strength.capped(fac, rho * mas.fc),
                  "wall": strength.capped(wall, mas.fc)},
         supports=supports,
         live_body={"facade": (-wf, 0.0), "wall": (-wg, 0.0)},
