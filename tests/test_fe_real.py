@@ -270,7 +270,8 @@ def test_cli_fe_with_a_tie_exits_2_and_writes_nothing(tmp_path):
 def test_stress_png_states_fc_and_the_peak(tmp_path):
     """stress.png's title: f_c and the masonry's peak compression (the façade strip's section
     stresses over ρ), which the capped static field keeps <= f_c."""
-    from homlimit.app.plots import peak_compression, plot_stress
+    from homlimit.app.plots import plot_stress
+    from homlimit.fe.static.solution import peak_compression
 
     fc = 1e6
     case = Case(masonry=Masonry(fc=fc))

@@ -15,8 +15,7 @@ import numpy as np
 
 from . import registry
 
-__all__ = ["figure2", "peak_compression", "plot_crack_study", "plot_mechanism", "plot_mesh",
-           "plot_spectra",
+__all__ = ["figure2", "plot_crack_study", "plot_mechanism", "plot_mesh", "plot_spectra",
            "plot_stress", "plot_table1", "plot_vg_lambda", "pyplot", "save_png",
            "triangle_regions"]
 
@@ -317,22 +316,6 @@ def figure2(path: str | Path, data: dict) -> Path:
     return save_png(fig, path)
 
 
-def peak_compression(static, rho: float = 1.0) -> float:
-    """The largest compression −σ₂ [Pa] of a static field over its vertex values (and, for
-    quadratic stresses, every Bernstein control coefficient: σ is their convex combination,
-    so this bounds −σ₂ everywhere); 0 for a field without stress. The T-section's façade
-    strip (region "facade") carries ρ = l/s times the façade's stresses: divided by ``rho``."""
-    s = static.control if getattr(static, "control", None) is not None else static.stress
-    s = np.array(s, float)
-    fac = (static.mesh.subdomains or {}).get("facade")
-    if fac is not None:
-        s[np.asarray(fac)] /= rho
-    s = s.reshape(-1, 3)
-    s = s[~np.isnan(s).any(axis=1)]
-    low = 0.5 * (s[:, 0] + s[:, 1]) - np.hypot(0.5 * (s[:, 0] - s[:, 1]), s[:, 2])
-    return float(max(0.0, -low.min(initial=0.0)))
-
-
 def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500,
                 fc: float | None = None, rho: float = 1.0) -> Path:
     """The lower-bound stress field: the most compressive principal stress σ₂ per triangle
@@ -387,6 +370,8 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500,
     ax.set_ylabel("z [m]")
     title = title or f"lower-bound stress field, λ⁻ = {static.multiplier:.4g}"
     if fc is not None:
+        from ..fe.static.solution import peak_compression
+
         peak = peak_compression(static, rho)
         what = "peak compression" + (f" (façade: section stress / ρ, ρ = {rho:.4g})"
                                      if rho != 1.0 else "")
