@@ -284,3 +284,15 @@ def test_stress_png_states_fc_and_the_peak(tmp_path):
     assert peak > 0.9 * fc                     # the façade's toe reaches the cap at collapse
     out = plot_stress(tmp_path / "s.png", s, fc=fc, rho=case.rho)
     assert out.stat().st_size > 0
+
+
+def test_t_section_takes_cohesion_and_tension():
+    """Cohesion and tension from the case enter both bounds (the domains' cohesive forms, the
+    façade strip's times ρ): the bracket holds and the wall is stronger than dry."""
+    dry = t_section(Case(), facade="bedjoints", h=1.0)
+    wet = t_section(Case(masonry=Masonry(cohesion=2e4, tension=1e4)), facade="bedjoints", h=1.0)
+    assert wet.domains["facade"].cohesion == pytest.approx(12 * 2e4)
+    assert wet.domains["wall"].cohesion == 2e4 and wet.domains["wall"].tension == 1e4
+    lo, up = solve_static(wet).multiplier, solve_kinematic(wet).multiplier
+    assert lo <= up * (1 + TOL)
+    assert lo > solve_kinematic(dry).multiplier        # above the dry wall's upper bound
