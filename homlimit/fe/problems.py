@@ -24,6 +24,7 @@ from ..errors import ParameterError, check_choice, check_range
 from ..geometry import REGIONS, TSection
 from ..params import FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case
 from . import strength
+from .mesh import element_areas
 from .operators import COMPONENTS
 
 __all__ = [
@@ -490,15 +491,16 @@ def _ties_and_floors(m: MeshTri, case: Case, z0: float):
             continue
         f = _outer_band(m, tie.z, a / 2)
         zs = m.p[1, m.facets[:, f]]
-        length = float(np.sum(np.abs(zs[1] - zs[0])))
+        ell = np.abs(zs[1] - zs[0])
+        length = float(ell.sum())
         bnd[f"tie{k}"] = f
         out["ties"][f"tie{k}"] = (rho * tie.yield_force / length, 0.0)
         placed["ties"].append({"index": k, "z": tie.z, "yield_force": tie.yield_force,
                                "band": (float(zs.min()), float(zs.max())),
-                               "z_used": float(np.mean(zs))})
+                               "z_used": float(ell @ zs.mean(axis=0) / length)})
     fac = np.asarray(m.subdomains["facade"])
     cen = m.p[:, m.t[:, fac]].mean(axis=1)
-    area = _areas(m)[fac]
+    area = element_areas(m)[fac]
     for k, fl in enumerate(case.floors):
         if fl.z <= z0:
             continue
@@ -535,7 +537,3 @@ def _ties_and_floors(m: MeshTri, case: Case, z0: float):
         m = m.with_subdomains(sub)
     return m, out, placed
 
-
-def _areas(m: MeshTri) -> np.ndarray:
-    x, z = m.p[0, m.t], m.p[1, m.t]
-    return 0.5 * np.abs((x[1] - x[0]) * (z[2] - z[0]) - (x[2] - x[0]) * (z[1] - z[0]))
