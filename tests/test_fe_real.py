@@ -296,3 +296,20 @@ def test_t_section_takes_cohesion_and_tension():
     lo, up = solve_static(wet).multiplier, solve_kinematic(wet).multiplier
     assert lo <= up * (1 + TOL)
     assert lo > solve_kinematic(dry).multiplier        # above the dry wall's upper bound
+
+
+def test_quadratic_stresses_take_the_cap_on_every_control_coefficient():
+    """stress_degree 2: the cap holds at all six Bernstein coefficients of every triangle
+    (the stress is their convex combination, so it holds everywhere) and λ⁻ <= λ⁺."""
+    from homlimit.fe.solver import SolverOptions
+
+    fc = 1e6
+    case = Case(masonry=Masonry(fc=fc))
+    p = t_section(case, facade="homogenised", h=1.0)
+    s = solve_static(p, SolverOptions(stress_degree=2))
+    assert s.control.shape[1] == 6
+    for reg, cap in (("facade", case.rho * fc), ("wall", fc)):
+        c = s.control[p.mesh.subdomains[reg]].reshape(-1, 3)
+        low = 0.5 * (c[:, 0] + c[:, 1]) - np.hypot(0.5 * (c[:, 0] - c[:, 1]), c[:, 2])
+        assert low.min() >= -cap * (1 + 1e-6), reg
+    assert s.multiplier <= solve_kinematic(p).multiplier * (1 + TOL)
