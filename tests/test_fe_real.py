@@ -198,7 +198,7 @@ def test_t_section_bracket_holds_with_cap_tie_floor(facade):
                 floors=(Floor(4.5, 20000.0, 0.1),))
     out = {}
     for name, case in (("base", base), ("capped", capped), ("real", real)):
-        p = t_section(case, facade=facade, h=0.75)
+        p = t_section(case, facade=facade, h=1.0)
         s, k = solve_static(p), solve_kinematic(p)
         assert s.multiplier <= k.multiplier * (1 + TOL), name
         out[name] = (s, k)
