@@ -165,8 +165,11 @@ BAD = [
     (dict(floor=[{"z": 9.0, "load": 1.0, "eccentricity": 0.1, "restrains": True}]),
      "[[floor]] 0 z = 9.0 m with restrains = true leaves the closed forms a failing body"),
     (dict(masonry={"cohesion": 1e5}), "[masonry] cohesion = 100000.0 Pa: the closed forms"),
-    (dict(masonry={"fc": 2e6}, analysis={"fe": True, "hinge_check": False}),
-     "[analysis] fe = true: the FE bounds do not take [masonry] fc"),
+    (dict(tie=[{"z": 9.0, "yield_force": 1.0}], analysis={"fe": True, "hinge_check": False}),
+     "[analysis] fe = true: the FE path's impulse scan (v̄_g of the FE mechanism) does not "
+     "take [[tie]] (1 entries)"),
+    (dict(masonry={"fc": 2e6, "tension": 1e4}, analysis={"fe": True, "hinge_check": False}),
+     "does not take [masonry] tension = 10000.0 Pa yet"),
     (dict(masonry={"tension": 1e5}, analysis={"fe": False, "blocks": True,
                                               "hinge_check": False, "closed_form": False,
                                               "overturning": True}),

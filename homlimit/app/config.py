@@ -149,15 +149,18 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "fc": Key(float, 0.0, "Pa", 0.0, 1e10,
                   doc="compressive strength of the masonry; 0 means infinite (the paper's "
                       "rigid blocks). Finite: the hinge of every closed form retreats to the "
-                      "resultant of a rectangular stress block, t = N/(2 fc l) "
-                      "(docs/real-walls.md); the rigid blocks cap every contact at fc; FE "
-                      "and DEM do not take it yet (the DEM takes ties and floors)"),
+                      "resultant of a rectangular stress block, t = N/(2 fc l); both FE "
+                      "bounds cap the principal compressive stress at fc; the rigid blocks "
+                      "cap every contact at fc (docs/real-walls.md); the DEM does not take "
+                      "it yet (it takes ties and floors)"),
         "cohesion": Key(float, 0.0, "Pa", 0.0, 1e10,
-                        doc="cohesion of the joints (the strength domains' name); no model "
-                            "takes a non-zero value yet (docs/real-walls.md)"),
+                        doc="cohesion of the joints (the strength domains' name); the FE "
+                            "bounds of fe.problems.t_section take it, no model of a run takes "
+                            "a non-zero value yet (docs/real-walls.md)"),
         "tension": Key(float, 0.0, "Pa", 0.0, 1e10,
-                       doc="tensile strength of the joints (the strength domains' name); no "
-                           "model takes a non-zero value yet (docs/real-walls.md)"),
+                       doc="tensile strength of the joints (the strength domains' name); the "
+                           "FE bounds of fe.problems.t_section take it, no model of a run "
+                           "takes a non-zero value yet (docs/real-walls.md)"),
     },
     "mesh": {
         "size": Key(float, 0.25, "m", 0.0, 1e4, lo_open=True,
@@ -753,9 +756,15 @@ def _real_wall_checks(v: dict[str, Any]) -> list[str]:
     if not keys:
         return out
     given = ", ".join(keys)
-    if an.get("fe"):
-        out.append(f"[analysis] fe = true: the FE bounds do not take {given} yet; allowed "
-                   "[analysis] fe = false with these inputs (docs/real-walls.md)")
+    # the FE path takes fc (both bounds, and the scan's mechanisms turn about the hinge they
+    # find); its impulse scan has no tie, floor, cohesion or tension work in v̄_g yet, though
+    # both bounds take them (fe.problems.t_section; docs/real-walls.md "FE bounds")
+    not_fe = [k for k in keys if not k.startswith("[masonry] fc")]
+    if an.get("fe") and not_fe:
+        out.append(f"[analysis] fe = true: the FE path's impulse scan (v̄_g of the FE "
+                   f"mechanism) does not take {', '.join(not_fe)} yet (the FE bounds do, "
+                   "through homlimit.fe.problems.t_section); allowed [analysis] fe = false "
+                   "with these inputs, or only [masonry] fc (docs/real-walls.md)")
     dem_no = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("fc", "cohesion", "tension")
               if m.get(k)]
     if an.get("dem") and dem_no:      # the DEM takes ties and floors, not these

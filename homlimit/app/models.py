@@ -361,7 +361,8 @@ def fe_files(result) -> dict:
         if art.static is not None:
             out["stress_png"] = ("stress.png", lambda p: plots.plot_stress(
                 p, art.static, title=f"{title}: lower-bound stress field, λ⁻ = "
-                                     f"{art.static.multiplier:.4g}"))
+                                     f"{art.static.multiplier:.4g}",
+                fc=result.case.masonry.fc, rho=result.case.rho))
     if art.adapt is not None:
         cycles = [c.as_dict() for c in art.adapt.cycles]
         out["fe_adapt_csv"] = ("fe_adapt.csv", cycles)

@@ -316,7 +316,8 @@ def figure2(path: str | Path, data: dict) -> Path:
     return save_png(fig, path)
 
 
-def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) -> Path:
+def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500,
+                fc: float | None = None, rho: float = 1.0) -> Path:
     """The lower-bound stress field: the most compressive principal stress σ₂ per triangle
     (colour, kPa or MPa by its size) and its direction (short lines, length ∝ |σ₂|): the
     compression paths.
@@ -324,7 +325,10 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     ``static`` is a ``homlimit.fe.static.StaticSolution``; at most ``n_ticks`` direction lines are
     drawn (the most compressed triangles first); rigid bodies (no stress field) are grey. The
     colour scale is a power law, colour ∝ (−σ₂)^STRESS_GAMMA (said on the colour bar), so that
-    the wall's weak compression shows beside the peak at the façade's toe.
+    the wall's weak compression shows beside the peak at the façade's toe. ``fc`` (Pa; 0 for
+    infinite) adds a line to the title: f_c and the peak compression of the masonry
+    (``peak_compression``: the façade strip's section stresses over ``rho`` = l/s; the
+    colours are the section's stresses), which the static program keeps <= f_c.
     """
     plt = pyplot()
     m = static.mesh
@@ -364,7 +368,17 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500) 
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("z [m]")
-    ax.set_title(title or f"lower-bound stress field, λ⁻ = {static.multiplier:.4g}")
+    title = title or f"lower-bound stress field, λ⁻ = {static.multiplier:.4g}"
+    if fc is not None:
+        from ..fe.static.solution import peak_compression
+
+        peak = peak_compression(static, rho)
+        what = "peak compression" + (f" (façade: section stress / ρ, ρ = {rho:.4g})"
+                                     if rho != 1.0 else "")
+        title += (f"\nf_c = {fc / 1e6:.4g} MPa: {what} {peak / 1e6:.4g} MPa <= f_c"
+                  if fc > 0 else f"\nf_c infinite ([masonry] fc = 0): {what} "
+                  f"{peak / 1e6:.4g} MPa")
+    ax.set_title(title)
     return save_png(fig, path)
 
 

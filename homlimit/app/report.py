@@ -89,7 +89,8 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("vnorm_udec dem_over_udec rel_tol n_trials n_blocks".split(), "-"),
     **dict.fromkeys("loading base_slid hinge_slid collapsed settle_converged".split(), ""),
     # real walls (issue 30; closed_form.real, docs/real-walls.md)
-    **dict.fromkeys("fc cohesion tension".split(), "Pa"),
+    **dict.fromkeys("fc cohesion tension peak_compression".split(), "Pa"),
+    "fc_rule": "",
     **dict.fromkeys("yield_force load".split(), "N/m"),
     "stiffness": "N/m^2", "normal_force": "N",
     **dict.fromkeys("ductility eccentricity hinge_retreat tie_elongation".split(), "m"),

@@ -8,7 +8,9 @@ domain supplies its conic form π(d) = min_y cx·d + cy·y s.t. A d + D y + e �
 ``strength.ConicBlock``); over all points of a region it becomes one sparse matrix per cone
 kind: kron(I, A) B u + kron(I, D) y + 1 ⊗ e ∈ K (no per-point Python objects). Joints to a
 fixed ground (``Problem.interfaces``) add the same blocks on the jump at the Bernstein control
-points of every facet (``operators.boundary_jump_operator``).
+points of every facet (``operators.boundary_jump_operator``). A tie (``Problem.ties``: a
+traction ν t, 0 <= ν <= 1) dissipates max(0, −P_t(u)), P_t(u) = ∫ t·v ds its power at yield:
+one auxiliary s >= 0, s >= −P_t(u), cost s (the dual of the static program's free ν).
 
 Because π is convex and positively homogeneous and d is linear on a triangle, the cone at the
 vertices holds everywhere and the vertex rule overestimates ∫π: every feasible u gives a strict
@@ -43,6 +45,7 @@ class Discretisation:
     F_live: np.ndarray               # P_live = F_live·u
     F_dead: np.ndarray               # P_dead = F_dead·u
     jumps: dict = field(default_factory=dict)   # boundary → (J, w) of interface jumps
+    F_ties: dict = field(default_factory=dict)  # boundary → power of its tie at yield
 
 
 def discretise(problem: Problem) -> Discretisation:
@@ -63,7 +66,8 @@ def discretise(problem: Problem) -> Discretisation:
     for bnd, comp in problem.supports.items():
         fixed[ops.support_dofs(basis, bnd, comp)] = True
     jumps = {bnd: ops.boundary_jump_operator(basis, bnd) for bnd in problem.interfaces}
-    return Discretisation(basis, B, w, np.flatnonzero(~fixed), F_live, F_dead, jumps)
+    F_ties = {bnd: ops.traction_power(basis, bnd, trac) for bnd, trac in problem.ties.items()}
+    return Discretisation(basis, B, w, np.flatnonzero(~fixed), F_live, F_dead, jumps, F_ties)
 
 
 @dataclass
@@ -166,6 +170,11 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
         if c_x is not None:
             c_u = c_u + c_x
         cost_y = cost_y + c_y
+    if disc.F_ties:                                    # ties: s_k >= max(0, −P_k(u)/κ)
+        F_t = np.stack([F[free] for F in disc.F_ties.values()]) / kappa
+        s_tie = cp.Variable(F_t.shape[0], nonneg=True)
+        cons.append(s_tie + F_t @ x >= 0)
+        cost_y = cost_y + cp.sum(s_tie)
     normalise = (disc.F_live[free] / kappa) @ x == 1.0
     prob = cp.Problem(cp.Minimize(c_u @ x + cost_y), [normalise, *cons])
     # compiled once, solved down the ladder: without iterative refinement the LP can stall on

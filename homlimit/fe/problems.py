@@ -24,6 +24,7 @@ from ..errors import ParameterError, check_choice, check_range
 from ..geometry import REGIONS, TSection
 from ..params import FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case
 from . import strength
+from .mesh import element_areas
 from .operators import COMPONENTS
 
 __all__ = [
@@ -69,6 +70,10 @@ class Problem:
     live_traction  boundary → traction (t_x, t_z) [N/m²] scaled by λ
     dead_body      region → body force [N/m³] kept constant (e.g. self-weight)
     dead_traction  boundary → traction [N/m²] kept constant
+    ties           boundary → traction (t_x, t_z) [N/m²] of a tie at its yield force: the tie
+                   applies ν·t with 0 <= ν <= 1 free (a bounded force, issue 30). Static: ν a
+                   column of the program; kinematic: dissipation max(0, −∫ t·v ds), the
+                   largest power the tie can resist
     reference      literature value of λ, if any; ``bounds`` its known (lower, upper) bracket
     meta           free-form facts about the set-up (geometry, mesh time, ...)
     """
@@ -82,6 +87,7 @@ class Problem:
     live_traction: Mapping[str, tuple] = field(default_factory=dict)
     dead_body: Mapping[str, tuple] = field(default_factory=dict)
     dead_traction: Mapping[str, tuple] = field(default_factory=dict)
+    ties: Mapping[str, tuple] = field(default_factory=dict)
     reference: float | None = None
     bounds: tuple[float, float] | None = None
     meta: Mapping[str, object] = field(default_factory=dict)
@@ -95,7 +101,8 @@ class Problem:
                                   ("boundary", self.supports, bnds),
                                   ("boundary", self.interfaces, bnds),
                                   ("boundary", self.live_traction, bnds),
-                                  ("boundary", self.dead_traction, bnds)):
+                                  ("boundary", self.dead_traction, bnds),
+                                  ("boundary", self.ties, bnds)):
             for name in names:
                 if name not in have:
                     raise ParameterError(f"{kind} = {name!r} is out of range: the mesh has "
@@ -110,7 +117,8 @@ class Problem:
         for kind, loads, unit in (("live_body", self.live_body, "N/m³"),
                                   ("dead_body", self.dead_body, "N/m³"),
                                   ("live_traction", self.live_traction, "Pa"),
-                                  ("dead_traction", self.dead_traction, "Pa")):
+                                  ("dead_traction", self.dead_traction, "Pa"),
+                                  ("ties", self.ties, "Pa")):
             for name, v in loads.items():
                 arr = np.asarray(v, float)
                 if arr.shape != (2,) or not np.all(np.isfinite(arr)):
@@ -374,6 +382,10 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     b/n_b: ``graded``). An overturning façade bears on its outer face, and a static field can
     put its compression resultant no nearer to that face than about a third of the outermost
     column: the lever arm it loses is O(column width) (docs/static.md, "The outer face").
+    Real walls (issue 30, docs/real-walls.md "FE bounds"): ``case.masonry`` fc (0: infinite),
+    cohesion and tension enter both domains, the façade's times ρ = l/s (its stresses in the
+    section are ρ times the façade's, as its density is ρ γ): fc caps the principal
+    compressive stress (``strength.Capped``). Ties and floors: ``_ties_and_floors``.
     Reference: the prototype's hinge + fan mechanism (docs/kinematic.md); no closed form.
     """
     w, mas = case.wall, case.masonry
@@ -416,13 +428,112 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
                             for name in REGIONS})
     wg = w.gamma * w.g
     wf = w.rho * wg
-    fac = (strength.Homogenised(mas.a, mas.c, mas.f) if facade == "homogenised"
-           else strength.BedJoints(mas.f))
+    # the façade strip stands for a bay of length l in a section of thickness s, so its
+    # stresses are ρ = l/s times the façade's: its strengths (fc, cohesion, tension) scale too
+    rho = case.rho
+    joint = {"cohesion": rho * mas.cohesion, "tension": rho * mas.tension}
+    fac = (strength.Homogenised(mas.a, mas.c, mas.f, **joint) if facade == "homogenised"
+           else strength.BedJoints(mas.f, **joint))
+    wall = strength.Homogenised(mas.a, mas.c, mas.f, cohesion=mas.cohesion,
+                                tension=mas.tension)
+    meta = {"mesh_time": time.perf_counter() - t0, "case": case.as_dict(), "z0": z0,
+            "facade": facade, "mesher": mesher, "h": h}
+    real = {}
+    if case.ties or case.floors:
+        m, real, meta["real_wall"] = _ties_and_floors(m, case, z0)
+    if mas.fc:
+        meta["fc"] = {"facade": rho * mas.fc, "wall": mas.fc}
+    supports = {"base": "fixed"} | real.get("supports", {})
     return Problem(
         name=f"t_section[{case.name}]", mesh=m,
-        domains={"facade": fac, "wall": strength.Homogenised(mas.a, mas.c, mas.f)},
-        supports={"base": "fixed"},
+        domains={"facade": strength.capped(fac, rho * mas.fc),
+                 "wall": strength.capped(wall, mas.fc)},
+        supports=supports,
         live_body={"facade": (-wf, 0.0), "wall": (-wg, 0.0)},
-        dead_body={"facade": (0.0, -wf), "wall": (0.0, -wg)},
-        meta={"mesh_time": time.perf_counter() - t0, "case": case.as_dict(), "z0": z0,
-              "facade": facade, "mesher": mesher, "h": h})
+        dead_body={"facade": (0.0, -wf), "wall": (0.0, -wg)} | real.get("dead_body", {}),
+        ties=real.get("ties", {}), meta=meta)
+
+
+def _outer_band(m: MeshTri, z: float, half: float) -> np.ndarray:
+    """The façade's outer-face facets (boundary "outer") whose midpoint lies within ``half``
+    of z, or the one nearest to z if none does."""
+    facets = np.asarray(m.boundaries["outer"])
+    zm = m.p[1, m.facets[:, facets]].mean(axis=0)
+    sel = np.abs(zm - z) <= half * (1 + 1e-9)
+    return facets[sel] if np.any(sel) else facets[[np.argmin(np.abs(zm - z))]]
+
+
+def _ties_and_floors(m: MeshTri, case: Case, z0: float):
+    """Ties and floors of ``case`` on the T-section mesh ``m`` (issue 30, docs/real-walls.md
+    "FE bounds"), per unit thickness of the section: a value per metre of façade times ρ = l/s
+    (the façade's density is ρ γ, the paper's 2D reduction). Each acts over one course
+    (height a) centred on its z:
+
+    - a tie: a uniform traction (ρ T_y / ℓ, 0) towards the wall on the outer-face facets whose
+      midpoint lies within a/2 of z (``_outer_band``; ℓ their length), a bounded force
+      0 <= N <= T_y (``Problem.ties``). Its stiffness and ductility are dynamic (W(θ)) and do
+      not enter limit analysis.
+    - a floor: its load ρ Q as vertical dead body forces on the façade's triangles whose
+      centroid lies within a/2 of z (at least the row nearest z), split into those with
+      centroid x <= e and > e with uniform forces whose resultant acts at x = e (clipped to the
+      groups' mean x's: ``e_used``); a rigid motion of the patch takes the same power as a
+      point load Q at (e, z). ``restrains``: v_x = 0 on the outer-face facets of the band (a
+      support "x"; the static reaction there is free).
+
+    Ties and floors at or below the base z0 do not act on the part. Returns the mesh with the
+    tags added, the Problem fields and what was placed (for ``meta``)."""
+    w, a = case.wall, case.masonry.a
+    rho = case.rho
+    bnd, sub, out = {}, {}, {"ties": {}, "dead_body": {}, "supports": {}}
+    placed = {"ties": [], "floors": []}
+    for k, tie in enumerate(case.ties):
+        if tie.z <= z0 or tie.yield_force == 0:
+            continue
+        f = _outer_band(m, tie.z, a / 2)
+        zs = m.p[1, m.facets[:, f]]
+        ell = np.abs(zs[1] - zs[0])
+        length = float(ell.sum())
+        bnd[f"tie{k}"] = f
+        out["ties"][f"tie{k}"] = (rho * tie.yield_force / length, 0.0)
+        placed["ties"].append({"index": k, "z": tie.z, "yield_force": tie.yield_force,
+                               "band": (float(zs.min()), float(zs.max())),
+                               "z_used": float(ell @ zs.mean(axis=0) / length)})
+    fac = np.asarray(m.subdomains["facade"])
+    cen = m.p[:, m.t[:, fac]].mean(axis=1)
+    area = element_areas(m)[fac]
+    for k, fl in enumerate(case.floors):
+        if fl.z <= z0:
+            continue
+        near = np.abs(cen[1] - fl.z)
+        sel = near <= a / 2 * (1 + 1e-9)
+        if not np.any(sel):
+            sel = near <= near.min() * (1 + 1e-9) + 1e-12 * w.H
+        x_c, A_c, els = cen[0, sel], area[sel], fac[sel]
+        left = x_c <= fl.eccentricity
+        if not np.any(left):
+            left = x_c <= x_c.min() * (1 + 1e-12)
+        if np.all(left):
+            left = x_c < x_c.max() * (1 - 1e-12) if np.ptp(x_c) > 0 else left
+        groups = [g for g in (left, ~left) if np.any(g)]
+        xg = [float(np.average(x_c[g], weights=A_c[g])) for g in groups]
+        e_used = float(np.clip(fl.eccentricity, min(xg), max(xg)))
+        share = ([1.0] if len(groups) == 1 else
+                 [(xg[1] - e_used) / (xg[1] - xg[0]), (e_used - xg[0]) / (xg[1] - xg[0])])
+        for j, (g, q) in enumerate(zip(groups, share)):
+            if q > 0:
+                sub[f"floor{k}_{j}"] = els[g]
+                out["dead_body"][f"floor{k}_{j}"] = (0.0, -rho * fl.load * q / A_c[g].sum())
+        rec = {"index": k, "z": fl.z, "load": fl.load, "eccentricity": fl.eccentricity,
+               "e_used": e_used, "band": (float(m.p[1, m.t[:, els]].min()),
+                                          float(m.p[1, m.t[:, els]].max())),
+               "restrains": fl.restrains}
+        if fl.restrains:
+            bnd[f"floor{k}_held"] = _outer_band(m, fl.z, a / 2)
+            out["supports"][f"floor{k}_held"] = "x"
+        placed["floors"].append(rec)
+    if bnd:
+        m = m.with_boundaries(bnd)
+    if sub:
+        m = m.with_subdomains(sub)
+    return m, out, placed
+

@@ -117,7 +117,7 @@ class StrengthDomain(ABC):
 # Concrete domains
 # ---------------------------------------------------------------------------------------------
 
-__all__ += ["Homogenised", "BedJoints", "Tresca", "MohrCoulomb", "Rigid"]
+__all__ += ["Homogenised", "BedJoints", "Tresca", "MohrCoulomb", "Rigid", "Capped"]
 
 
 def _norm(x: np.ndarray) -> np.ndarray:
@@ -352,18 +352,31 @@ class BedJoints(_Polyhedral):
     T_h = min(T, C/f). Dry (C = T = 0): |τ| + fσ_z <= 0. Since σ_x is free, π(d) = +inf unless
     d_xx = 0; then π = T_h d_zz + (C − f T_h)|γ| where d_zz >= f|γ| (vertex (T_h, ±(C − fT_h))
     of the joint domain), +inf otherwise.
+
+    ``fc`` > 0 (a joint's compression cap, issue 30; 0: none) adds the linear facet
+    −σ_z <= fc: the joint's normal stress σ_n = σ_z >= −fc. Its dual splits the jump into a
+    Coulomb part and a pure closing normal part j2 = (0, j2_zz <= 0, 0) dissipating
+    fc·(−j2_zz): π = T_h d_zz + (C − fT_h)|γ| where d_zz >= f|γ|, and
+    π = −fc d_zz + (C + f fc)|γ| where d_zz < f|γ| (the vertex (−fc, ±(C + f fc))), finite
+    whenever d_xx = 0. For a joint the cap is this linear row; a continuum of bed joints takes
+    the principal-stress cap instead (``Capped``).
     """
 
-    def __init__(self, f: float, cohesion: float = 0.0, tension: float = 0.0):
+    def __init__(self, f: float, cohesion: float = 0.0, tension: float = 0.0,
+                 fc: float = 0.0):
         self.f = check_range("f", f, 0.0, lo_open=True)
         self.cohesion = check_range("cohesion", cohesion, 0.0, unit="Pa")
         self.tension = check_range("tension", tension, 0.0, unit="Pa")
+        self.fc = check_range("fc", fc, 0.0, unit="Pa")
         f, C = self.f, self.cohesion
         self.t_h = min(self.tension, C / f)
         rows, rhs = [(0.0, f, 1.0), (0.0, f, -1.0)], [C, C]
         if C > 0 and self.t_h < C / f:
             rows.append((0.0, 1.0, 0.0))
             rhs.append(self.t_h)
+        if self.fc > 0:
+            rows.append((0.0, -1.0, 0.0))
+            rhs.append(self.fc)
         self.normals = np.array(rows)
         self.rhs = np.array(rhs)
 
@@ -371,14 +384,19 @@ class BedJoints(_Polyhedral):
         d = np.asarray(d, float)
         dxx, dzz, g = d[..., 0], d[..., 1], d[..., 2]
         tol = rtol * (1.0 + _norm(d))
-        ok = (np.abs(dxx) <= tol) & (dzz - self.f * np.abs(g) >= -tol)
+        opening = dzz - self.f * np.abs(g) >= -tol
+        ok = (np.abs(dxx) <= tol) & (opening | (self.fc > 0))
         val = self.t_h * dzz + (self.cohesion - self.f * self.t_h) * np.abs(g)
+        if self.fc > 0:
+            val = np.where(opening, val,
+                           -self.fc * dzz + (self.cohesion + self.f * self.fc) * np.abs(g))
         return np.where(ok, val, np.inf)
 
     def kinematic_cone(self) -> ConicBlock:
-        """Dry: d_xx = 0 (equality) and d_zz/f ∓ γ >= 0, π = 0. Otherwise the generator form,
-        whose first equality row reads d_xx = 0 since every N_k has N_k,x = 0."""
-        if self.cohesion > 0:
+        """Dry: d_xx = 0 (equality) and d_zz/f ∓ γ >= 0, π = 0. Otherwise (cohesion or a cap)
+        the generator form, whose first equality row reads d_xx = 0 since every N_k has
+        N_k,x = 0."""
+        if self.cohesion > 0 or self.fc > 0:
             return self.generator_cone()
         f = self.f
         A = np.array([[1.0, 0.0, 0.0], [0.0, 1.0 / f, -1.0], [0.0, 1.0 / f, 1.0]])
@@ -480,3 +498,125 @@ class Rigid(StrengthDomain):
 
     def static_cone(self) -> ConicBlock:
         return ConicBlock(A=np.zeros((0, 3)), D=np.zeros((0, 0)), e=np.zeros(0))
+
+
+def _stack_kinds(*parts):
+    """Rows (A, D, e) of several blocks' pieces, each piece tagged with its kind, reordered
+    into one ConicBlock's order eq, lin, soc: [(kind, A, D, e, soc sizes)]."""
+    out = {}
+    for kind in ("eq", "lin", "soc"):
+        got = [p for p in parts if p[0] == kind and p[1].shape[0]]
+        out[kind] = got
+    rows = [p for kind in ("eq", "lin", "soc") for p in out[kind]]
+    A = np.vstack([p[1] for p in rows])
+    D = np.vstack([p[2] for p in rows])
+    e = np.concatenate([p[3] for p in rows])
+    soc = tuple(q for p in out["soc"] for q in p[4])
+    return A, D, e, sum(p[1].shape[0] for p in out["eq"]), \
+        sum(p[1].shape[0] for p in out["lin"]), soc
+
+
+def _pieces(blk: ConicBlock, A: np.ndarray, D: np.ndarray):
+    """``blk``'s rows split by kind, with their A and D columns replaced by ``A``, ``D``."""
+    ends = np.cumsum([0, blk.n_eq, blk.n_lin, sum(blk.soc)])
+    return [(kind, A[lo:hi], D[lo:hi], blk.e[lo:hi], blk.soc if kind == "soc" else ())
+            for kind, lo, hi in zip(("eq", "lin", "soc"), ends[:-1], ends[1:])]
+
+
+# σ + fc I ⪰ 0 (a 2×2 symmetric matrix is PSD iff its trace bounds the norm of the rest):
+# (σ_x + σ_z + 2fc, σ_x − σ_z, 2τ) ∈ SOC(3)
+_PSD_ROWS = np.array([[1.0, 1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 0.0, 2.0]])
+# D ⪯ 0 for the tensor D = [[d_xx, γ/2], [γ/2, d_zz]] of d = (d_xx, d_zz, γ):
+# (−d_xx − d_zz, d_xx − d_zz, γ) ∈ SOC(3)
+_NSD_ROWS = np.array([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 0.0, 1.0]])
+
+
+class Capped(StrengthDomain):
+    """A continuum domain G with a compression cap (issue 30): G_c = G ∩ C,
+    C = {σ : σ + fc I ⪰ 0}, i.e. the most compressive principal stress >= −fc.
+
+    Static: G's rows plus one second-order cone (σ_x + σ_z + 2fc, σ_x − σ_z, 2τ) ∈ SOC(3).
+
+    Kinematic (the support function of the intersection). π_C(d) = sup{σ : D, σ ⪰ −fc I}
+    = −fc tr D if D ⪯ 0, +inf otherwise (D the strain-rate tensor of d, σ : D = σ·d with the
+    engineering shear γ): σ = −fc I + S, S ⪰ 0, and sup_S S : D is 0 for D ⪯ 0, +inf otherwise.
+    Since 0 ∈ G lies in the interior of C, the support function of G ∩ C is the infimal
+    convolution (Rockafellar, Convex Analysis, Cor. 16.4.1)
+
+        π_c(d) = min{ π_G(d1) + fc·(−tr d2) : d = d1 + d2, d2 ⪯ 0 },
+
+    (d1 in the domain of π_G, d2 a compaction; finite for every d when that domain holds a
+    positive definite strain rate, as eq. 15's cone does). As a ConicBlock: y = (G's
+    auxiliaries, d2), G's rows on d − d2, the cone
+    (−d2_xx − d2_zz, d2_xx − d2_zz, d2_γ) ∈ SOC(3), cost cx·(d − d2) + cy·y_G − fc tr d2.
+    Quadratic static stresses stay rigorous with the cap on every Bernstein coefficient
+    (C is convex).
+    """
+
+    def __init__(self, base: StrengthDomain, fc: float):
+        if not isinstance(base, StrengthDomain) or isinstance(base, (Capped, Rigid)):
+            raise ValueError(f"Capped: base = {base!r} is out of range: allowed a continuum "
+                             "StrengthDomain (not Rigid, not already capped)")
+        self.base = base
+        self.fc = check_range("fc", fc, 0.0, lo_open=True, unit="Pa")
+
+    def __getattr__(self, name):          # the base's facts (f, cohesion, a, c, ...)
+        if name == "base":
+            raise AttributeError(name)
+        return getattr(self.base, name)
+
+    def is_admissible(self, sigma, tol: float = 1e-9):
+        s = np.asarray(sigma, float)
+        low = 0.5 * (s[..., 0] + s[..., 1]) - np.hypot(0.5 * (s[..., 0] - s[..., 1]), s[..., 2])
+        return self.base.is_admissible(s, tol) & (low >= -self.fc - tol * (self.fc + _norm(s)))
+
+    def support(self, d):
+        """π_c(d) by the ConicBlock (a small conic program per point: for checks, not for the
+        programs, which stack the block)."""
+        import cvxpy as cp
+
+        d = np.asarray(d, float)
+        blk = self.kinematic_cone()
+        out = np.empty(d.shape[:-1])
+        for idx in np.ndindex(out.shape):
+            y = cp.Variable(blk.n_aux)
+            r = blk.A @ d[idx] + blk.D @ y + blk.e
+            cons, o = [], 0
+            if blk.n_eq:
+                cons.append(r[:blk.n_eq] == 0)
+            if blk.n_lin:
+                cons.append(r[blk.n_eq:blk.n_eq + blk.n_lin] >= 0)
+            o = blk.n_eq + blk.n_lin
+            for q in blk.soc:
+                cons.append(cp.SOC(r[o], r[o + 1:o + q]))
+                o += q
+            prob = cp.Problem(cp.Minimize(blk.cx @ d[idx] + blk.cy @ y), cons)
+            prob.solve(solver="CLARABEL")
+            out[idx] = prob.value if prob.status in ("optimal", "optimal_inaccurate") else np.inf
+        return out
+
+    def static_cone(self) -> ConicBlock:
+        b = self.base.static_cone()
+        na = b.n_aux
+        A, D, e, n_eq, n_lin, soc = _stack_kinds(
+            *_pieces(b, b.A, b.D),
+            ("soc", _PSD_ROWS, np.zeros((3, na)), np.array([2.0 * self.fc, 0.0, 0.0]), (3,)))
+        return ConicBlock(A=A, D=D, e=e, n_eq=n_eq, n_lin=n_lin, soc=soc)
+
+    def kinematic_cone(self) -> ConicBlock:
+        b = self.base.kinematic_cone()
+        na = b.n_aux
+        # y = (y_G, d2): G's rows on d1 = d − d2, i.e. A d + D y_G − A d2 + e
+        D_base = np.hstack([b.D, -b.A])
+        D_cap = np.hstack([np.zeros((3, na)), _NSD_ROWS])
+        A, D, e, n_eq, n_lin, soc = _stack_kinds(
+            *_pieces(b, b.A, D_base),
+            ("soc", np.zeros((3, 3)), D_cap, np.zeros(3), (3,)))
+        cy = np.concatenate([b.cy, -b.cx - self.fc * np.array([1.0, 1.0, 0.0])])
+        return ConicBlock(A=A, D=D, e=e, n_eq=n_eq, n_lin=n_lin, soc=soc, cx=b.cx, cy=cy)
+
+
+def capped(domain: StrengthDomain, fc: float) -> StrengthDomain:
+    """``domain`` with the compression cap fc (``Capped``), or ``domain`` itself for fc = 0
+    (infinite strength: the paper's programs, unchanged)."""
+    return domain if fc == 0 else Capped(domain, fc)

@@ -329,7 +329,23 @@ class FEResult:
             "critical_multiplier": None if crit is None else crit.multiplier,
             "vg_method": None if crit is None else crit.vg_method,
             "critical_at": self.critical_at, "h_min": self.h_min,
-            "scan": [m.record() for m in self.scan]}
+            "scan": [m.record() for m in self.scan]} | self._fc_dict()
+
+    def _fc_dict(self) -> dict:
+        """With a finite fc (issue 30): fc, the cap's rule and the static field's peak
+        compression of the masonry (``peak_compression``); nothing for fc = 0."""
+        case = self.whole.case
+        fc = case.masonry.fc
+        if not fc:
+            return {}
+        from ..fe.static.solution import peak_compression
+
+        return {"fc": fc, "fc_infinite": False,
+                "fc_rule": "both bounds: principal compressive stress >= -fc (the facade "
+                           "strip's section stresses >= -rho fc, rho = l/s); static: at "
+                           "every control point of the stress field",
+                "peak_compression": None if self.static is None
+                else peak_compression(self.static, case.rho)}
 
 
 def scan_midpoints(hs, vg, step: float, rtol: float) -> list[float]:

@@ -9,8 +9,9 @@ admissible* for the live multiplier λ when
   with b the live and b⁰ the dead body force per unit volume [N/m³];
 - the traction t = σ n is continuous across every interior edge (t is linear along an edge,
   so equality at both ends: four equations per edge);
-- t = λ t_live + t_dead on free boundaries, for every traction component whose displacement
-  component is not supported (a roller u_x = 0 leaves t_x free and imposes t_z);
+- t = λ t_live + t_dead (+ Σ ν_k t_k of the ties, 0 <= ν_k <= 1, ``Problem.ties``) on free
+  boundaries, for every traction component whose displacement component is not supported (a
+  roller u_x = 0 leaves t_x free and imposes t_z);
 - σ ∈ G at the three vertices of every triangle, which for a convex G and a linear σ means
   σ ∈ G everywhere in the triangle;
 - regions of ``strength.Rigid`` carry no stress: each connected one is a body whose resultant
