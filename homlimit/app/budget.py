@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+from ..fe.geometry import graded_columns
 from ..params import MESHERS, PART_DIVISIONS
 
 __all__ = ["DEFAULT_MAX_TRIANGLES", "KIB_PER_TRIANGLE", "MEMORY_BUDGET_GIB", "MESHERS",
@@ -54,20 +55,26 @@ def estimate_triangles(H: float, b: float, L: float, h: float, mesher: str = "cr
     far spacing max(h, b/N_B) over L, plus the graded columns between the two sizes
     (ln(max/min)/ln(GROWTH)); exact to within +0 .. +32 % above 5 000 triangles.
     gmsh: area over h² (GMSH_AREA) plus the junction band at min(h, b/N_B).
-    gmsh-strip: the façade's crossed rows exactly, 4·N_B·max(2, ⌈H/h⌉), plus gmsh's wall.
-    ``h_outer`` (crossed): the façade's columns graded from that width at the outer face (the
-    static bound's own mesh): ln(b/N_B / h_outer)/ln(OUTER_GROWTH) more columns at most.
+    gmsh-strip: the façade's crossed rows exactly, 4·N_B·max(2, ⌈H/h⌉), plus gmsh's wall at
+    max(h, b/N_B).
+    ``h_outer``: the façade's columns graded from that width at the outer face (the static
+    bound's mesh): crossed, ln(b/N_B / h_outer)/ln(OUTER_GROWTH) more columns at most;
+    gmsh-strip, the columns of ``geometry.graded_columns`` exactly.
     Returns a float (inf when the count would not fit a float).
     """
     h_j = min(h, b / N_B)
     try:
         if mesher in ("gmsh", "gmsh-strip"):
+            hw = max(h, b / N_B) if mesher == "gmsh-strip" else h   # problems.t_section's wall
             band = min(b, L)
-            transition = H * min(b, max(L - band, 0.0)) / (h_j * h)
-            far = H * max(L - 2 * b, 0.0) / h ** 2
+            transition = H * min(b, max(L - band, 0.0)) / (h_j * hw)
+            far = H * max(L - 2 * b, 0.0) / hw ** 2
             wall = GMSH_AREA * (H * band / h_j ** 2 + far) + GMSH_TRANSITION * transition
             if mesher == "gmsh-strip":
-                return 4.0 * N_B * max(2, math.ceil(H / h)) + wall
+                cols = N_B
+                if h_outer is not None and h_outer < b / N_B:
+                    cols = graded_columns(b, h_outer, N_B, OUTER_GROWTH)[0]
+                return 4.0 * cols * max(2, math.ceil(H / h)) + wall
             return GMSH_AREA * H * b / h_j ** 2 + wall
         h_far = max(h, b / N_B)
         graded = math.log(h_far / h_j) / math.log(GROWTH)
@@ -82,11 +89,11 @@ def fe_triangles(H: float, b: float, L: float, size: float, lams=(),
                  mesher: str = "crossed", divisions: int = PART_DIVISIONS,
                  outer_ratio: float = 0.0) -> float:
     """The largest problem of an FE run [triangles]: the whole wall at ``size`` (and on the
-    static bound's own mesh, ``outer_ratio`` > 0 on the crossed grid) and each part of the
+    static bound's graded mesh, ``outer_ratio`` > 0 on crossed or gmsh-strip) and each part of the
     impulse scan (``lams``: slenderness λ = h/b of the parts; a part of height h is meshed at
     min(size, h/divisions), ``mechanism.analysis.part_problem``)."""
     n = estimate_triangles(H, b, L, size, mesher)
-    if mesher == "crossed" and outer_ratio > 0:
+    if mesher in ("crossed", "gmsh-strip") and outer_ratio > 0:
         n = max(n, estimate_triangles(H, b, L, size, mesher,
                                       h_outer=min(size / outer_ratio, b / N_B)))
     for lam in lams:

@@ -105,10 +105,19 @@ def real_closed_forms(config, kinds) -> tuple[dict, dict]:
 
 # ----------------------------------------------------------------------------- the FE path
 def adaptive(config: CaseConfig) -> bool:
-    """The whole wall's bracket is adaptive on unstructured gmsh meshes (``[mesh] mesher =
-    "gmsh"``) with the static bound on and more than one cycle allowed."""
-    return (config.mesh.mesher == "gmsh" and config.analysis.static
+    """The whole wall's bracket is adaptive on gmsh meshes (``[mesh] mesher = "gmsh"`` or
+    "gmsh-strip") with the static bound on and more than one cycle allowed."""
+    return (config.mesh.mesher in ("gmsh", "gmsh-strip") and config.analysis.static
             and config.adapt.max_cycles > 1)
+
+
+def outer_width(config: CaseConfig) -> float | None:
+    """Width [m] of the façade's outermost column on a graded mesh (crossed or gmsh-strip with
+    ``[mesh] outer_ratio`` > 0): size/outer_ratio, at most b/4; else None."""
+    me = config.mesh
+    if me.mesher not in ("crossed", "gmsh-strip") or me.outer_ratio <= 0:
+        return None
+    return min(me.size / me.outer_ratio, config.case.wall.b / 4)
 
 
 def adaptive_bracket_of(config: CaseConfig, timings: dict):
@@ -128,7 +137,8 @@ def adaptive_bracket_of(config: CaseConfig, timings: dict):
     with stage(timings, "adaptive bracket", f"target gap {100 * ad.target_gap:g} %, at most "
                 f"{ad.max_cycles} meshes"):
         res = adaptive_bracket(config.case, config.analysis.facade, config.mesh.size, opts,
-                               solver_options(config.analysis.tol), progress)
+                               solver_options(config.analysis.tol), progress,
+                               mesher=config.mesh.mesher, h_outer=outer_width(config))
     if not res.converged:
         log.warning("warning: the adaptive bracket stopped (%s) at a gap of %.2f %%, above "
                     "its target %g %%", res.stop, 100 * res.cycles[-1].rel_gap,
@@ -145,18 +155,18 @@ def whole_problem(config: CaseConfig):
 
 
 def static_problem(config: CaseConfig):
-    """The whole wall on the static bound's own mesh: on the crossed grid with ``[mesh]
-    outer_ratio`` > 0, the façade's columns graded to width size/outer_ratio at the outer
-    face (``t_section(h_outer=)``, docs/static.md "The outer face"); else None (the static
-    bound on the kinematic bound's mesh)."""
+    """The whole wall on the static bound's own mesh: with ``[mesh] outer_ratio`` > 0 on the
+    crossed grid or gmsh-strip, the façade's columns graded to width size/outer_ratio at the
+    outer face (``t_section(h_outer=)``, docs/static.md "The outer face"); else None (the
+    static bound on the kinematic bound's mesh)."""
     from ..fe.problems import t_section
 
     me = config.mesh
-    if not (config.analysis.static and me.mesher == "crossed" and me.outer_ratio > 0):
+    h_outer = outer_width(config)
+    if not config.analysis.static or h_outer is None:
         return None
-    b = config.case.wall.b
     return t_section(config.case, facade=config.analysis.facade, h=me.size,
-                     mesher=me.mesher, h_outer=min(me.size / me.outer_ratio, b / 4))
+                     mesher=me.mesher, h_outer=h_outer)
 
 
 FE_CACHE_FORMAT = "homlimit FE rocker 1"

@@ -31,7 +31,7 @@ import numpy as np
 from ..errors import MeshError, ParameterError, check_choice, check_range
 from ..geometry import BOUNDARIES, REGIONS, TSection
 
-__all__ = ["gmsh_session", "polygon_mesh", "tsection", "TSECTION_REGIONS",
+__all__ = ["graded_columns", "gmsh_session", "polygon_mesh", "tsection", "TSECTION_REGIONS",
            "TSECTION_BOUNDARIES", "STRIPS"]
 
 Point = tuple[float, float]
@@ -129,7 +129,7 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
                  refine_points: Sequence = (),
                  refine_segments: Sequence = (),
                  embed_lines: Sequence[Segment] = (),
-                 structured: Mapping[str, tuple[int, int]] | None = None,
+                 structured: Mapping[str, tuple] | None = None,
                  size_map=None,
                  name: str = "polygon",
                  verbosity: int = 0) -> meshio.Mesh:
@@ -152,7 +152,8 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
                     quadrangles), each cell cut by its two diagonals into four triangles at its
                     centre (the "crossed" cells of ``problems.crossed_mesh``, whose edges are
                     aligned with x and z); the other regions stay unstructured and conform to
-                    its edge nodes. No embedded line may cross it.
+                    its edge nodes. No embedded line may cross it. (nx, nz, r): the columns
+                    grow geometrically by r (> 0) from the region's left side (x min).
     size_map:       (points (2, n), triangles (3, nt), sizes (nt,)): a background mesh whose
                     element sizes [m] also bound the size (``homlimit.fe.adapt``).
     Returns a meshio.Mesh (see the module docstring).
@@ -186,11 +187,14 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
             raise ParameterError(f"structured region {k!r} is not an axis-aligned rectangle: "
                                  "allowed four vertices joined by horizontal and vertical edges")
         try:
-            nx, nz = v
+            nx, nz, *r = v
+            (r,) = r or (1.0,)
         except (TypeError, ValueError):
-            raise ParameterError(f"structured[{k!r}] = {v!r} is not (nx, nz)") from None
+            raise ParameterError(f"structured[{k!r}] = {v!r} is not (nx, nz) or "
+                                 "(nx, nz, r)") from None
         grid[k] = (int(check_range(f"structured[{k!r}].nx", nx, 1, 10 ** 5)),
-                   int(check_range(f"structured[{k!r}].nz", nz, 1, 10 ** 5)))
+                   int(check_range(f"structured[{k!r}].nz", nz, 1, 10 ** 5)),
+                   check_range(f"structured[{k!r}].r", r, 0.0, lo_open=True))
     allp = np.vstack(list(polys.values()))
     extent = float(np.max(allp.max(0) - allp.min(0)))
     check_range("size", size, 0.0, extent, lo_open=True, unit="m")
@@ -238,8 +242,8 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
         for k, cs in bnd_curves.items():
             gmsh.model.addPhysicalGroup(1, sorted(cs), name=k)
 
-        for k, (nx, nz) in grid.items():
-            _transfinite(gmsh, k, reg_surf[k], nx, nz)
+        for k, (nx, nz, r) in grid.items():
+            _transfinite(gmsh, k, reg_surf[k], nx, nz, r)
         _size_field(gmsh, size, rpts, rsegs, _size_map(size_map))
         gmsh.model.mesh.generate(2)
         return _to_meshio(gmsh, tol)
@@ -254,8 +258,9 @@ def _curves_in_surfaces(gmsh, surfaces) -> set[int]:
     return cs
 
 
-def _transfinite(gmsh, region, surfaces, nx, nz):
-    """Make the rectangle ``region`` a transfinite surface of nx × nz quadrangles."""
+def _transfinite(gmsh, region, surfaces, nx, nz, r=1.0):
+    """Make the rectangle ``region`` a transfinite surface of nx × nz quadrangles, the
+    columns growing by ``r`` from its left side."""
     if len(surfaces) != 1:
         raise MeshError(f"structured region {region!r} is cut into {len(surfaces)} surfaces "
                         "by embedded or named lines: allowed none crossing it")
@@ -267,7 +272,13 @@ def _transfinite(gmsh, region, surfaces, nx, nz):
     for c in curves:
         x0, z0, _, x1, z1, _ = gmsh.model.getBoundingBox(1, c)
         # OCC pads bounding boxes (~1e-7): a side is horizontal if wider than tall
-        gmsh.model.mesh.setTransfiniteCurve(c, (nx if x1 - x0 > z1 - z0 else nz) + 1)
+        if x1 - x0 > z1 - z0:
+            start = gmsh.model.getBoundary([(1, c)], oriented=True)[0][1]
+            xs = gmsh.model.getValue(0, abs(start), [])[0]
+            coef = r if abs(xs - x0) < abs(xs - x1) else 1.0 / r
+            gmsh.model.mesh.setTransfiniteCurve(c, nx + 1, "Progression", coef)
+        else:
+            gmsh.model.mesh.setTransfiniteCurve(c, nz + 1)
     gmsh.model.mesh.setTransfiniteSurface(s)
     gmsh.model.mesh.setRecombine(2, s)
 
@@ -402,12 +413,31 @@ def _to_meshio(gmsh, tol) -> meshio.Mesh:
 
 # ---------------------------------------------------------------------------------- T-section
 
+def graded_columns(b: float, h_outer: float, n_b: int = 4, growth: float = 1.5
+                   ) -> tuple[int, float]:
+    """(n, r): n columns across the width b growing geometrically by r from ``h_outer``
+    (h_outer·(rⁿ − 1)/(r − 1) = b), the fewest with r <= ``growth`` and n >= n_b."""
+    b = check_range("b", b, 0.0, lo_open=True, unit="m")
+    h_outer = check_range("h_outer", h_outer, 0.0, b / max(int(n_b), 1), lo_open=True, unit="m")
+    growth = check_range("growth", growth, 1.0, lo_open=True)
+    n = max(int(n_b), int(math.ceil(math.log1p(b * (growth - 1.0) / h_outer)
+                                    / math.log(growth) - 1e-9)))
+    if abs(n * h_outer - b) <= 1e-12 * b:
+        return n, 1.0
+    lo, hi = 1.0 + 1e-12, growth            # Σ h_outer·r^k = b, increasing in r
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if h_outer * (mid ** n - 1.0) / (mid - 1.0) < b else (lo, mid)
+    return n, 0.5 * (lo + hi)
+
+
 def tsection(H: float, b: float, L: float, size: float, *,
              size_junction: float | None = None, size_top: float | None = None,
              radius_junction: float | None = None, radius_top: float | None = None,
              z0: float = 0.0, embed_lines: Sequence[Segment] = (),
              refine_points: Sequence = (), refine_segments: Sequence = (),
-             strip: str = "free", n_b: int = 4, size_map=None,
+             strip: str = "free", n_b: int = 4, rows: float | None = None,
+             h_outer: float | None = None, growth: float = 1.5, size_map=None,
              verbosity: int = 0) -> meshio.Mesh:
     """Mesh of the x–z section: façade 0 <= x <= b, transversal wall b <= x <= b + L,
     z0 <= z <= H (the failing part of height h = H − z0 when z0 > 0).
@@ -420,10 +450,13 @@ def tsection(H: float, b: float, L: float, size: float, *,
     mesh must conform to, e.g. rays from a hinge (0, z_h) on the outer face; ``refine_points``
     (x, z, size, radius) and ``refine_segments``: more local refinement (see ``polygon_mesh``).
     ``strip``: "free" (default: the façade strip meshed unstructured like the wall) or
-    "structured": the strip is a grid of ``n_b`` columns across b and max(2, ⌈(H − z0)/size⌉)
-    equal rows, each cell cut by its diagonals into four triangles (the crossed cells of
-    ``problems.crossed_mesh``, edges aligned with x), and the wall, unstructured, conforms to
-    its nodes on the junction; no embedded line may cross the strip then.
+    "structured": the strip is a grid of ``n_b`` columns across b and max(2, ⌈(H − z0)/rows⌉)
+    equal rows (``rows`` [m], default ``size``), each cell cut by its diagonals into four
+    triangles (the crossed cells of ``problems.crossed_mesh``, edges aligned with x), and the
+    wall, unstructured, conforms to its nodes on the junction; no embedded line may cross the strip then. ``h_outer`` (with
+    "structured"): the strip's columns grow geometrically from width ``h_outer`` at the outer
+    face x = 0 (``graded_columns``: at least n_b columns, growth at most ``growth``), where an
+    overturning façade bears (docs/static.md, "The outer face").
     """
     geo = TSection(H, b, L, z0)
     H, b, z0 = geo.H, geo.b, geo.z0
@@ -436,7 +469,14 @@ def tsection(H: float, b: float, L: float, size: float, *,
             raise ParameterError(f"embed_lines = {list(embed_lines)!r} with strip = "
                                  "'structured' is out of range: allowed none (the strip is a "
                                  "structured grid; use strip = 'free')")
-        structured = {"facade": (n_b, max(2, int(math.ceil(geo.height / size))))}
+        nx, r = (n_b, 1.0) if h_outer is None else graded_columns(b, h_outer, n_b, growth)
+        rows = size if rows is None else check_range("rows", rows, 0.0, geo.height,
+                                                     lo_open=True, unit="m")
+        structured = {"facade": (nx, max(2, int(math.ceil(geo.height / rows))), r)}
+    elif h_outer is not None or rows is not None:
+        what = "h_outer" if h_outer is not None else "rows"
+        raise ParameterError(f"{what} = {h_outer if h_outer is not None else rows} with strip = "
+                             f"{strip!r} is out of range: allowed only with strip = 'structured'")
     refine = []
     seg = geo.boundaries
     for what, s, r, line in (("junction", size_junction, radius_junction, seg["junction"]),

@@ -374,10 +374,12 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     ``mesher="gmsh"``: an unstructured gmsh mesh instead (``geometry.tsection`` with size h,
     refined to b/n_b along the junction; adds the interior boundary "junction").
     ``mesher="gmsh-strip"``: gmsh with the façade strip structured and x-aligned like the
-    crossed grid (n_b columns, rows of h, crossed cells) and the wall unstructured, refined to
-    b/n_b along the junction as with "gmsh" and conforming to the strip's nodes there
-    (``geometry.tsection(strip="structured")``).
-    ``h_outer`` (crossed only): the façade's columns graded from this width at the outer face
+    crossed grid (n_b columns, rows of h, crossed cells) and the wall unstructured at
+    max(h, b/n_b) (the crossed grid's wall columns), refined to min(h, b/n_b) along the
+    junction and conforming to the strip's nodes there (``geometry.tsection(strip=
+    "structured")``).
+    ``h_outer`` (crossed and gmsh-strip; on gmsh-strip a geometric progression,
+    ``geometry.graded_columns``): the façade's columns graded from this width at the outer face
     x = 0 (spacing h_outer + (OUTER_GROWTH − 1)·x up to b/n_b, the last column at most 1.5
     b/n_b: ``graded``). An overturning façade bears on its outer face, and a static field can
     put its compression resultant no nearer to that face than about a third of the outermost
@@ -400,9 +402,9 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     h_far = h if h_far is None else check_range("h_far", h_far, 0.0, lo_open=True, unit="m")
     if h_outer is not None:
         h_outer = check_range("h_outer", h_outer, 0.0, b / n_b, lo_open=True, unit="m")
-        if mesher != "crossed":
+        if mesher == "gmsh":
             raise ParameterError(f"h_outer = {h_outer} with mesher = {mesher!r} is out of "
-                                 f"range: allowed only with mesher = 'crossed'")
+                                 f"range: allowed only with mesher = 'crossed' or 'gmsh-strip'")
     if mesher == "gmsh":
         from .geometry import tsection
         from .mesh import to_skfem
@@ -412,8 +414,9 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
         from .geometry import tsection
         from .mesh import to_skfem
 
-        m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0,
-                              strip="structured", n_b=n_b))
+        m = to_skfem(tsection(H, b, geo.L, size=max(h, b / n_b), size_junction=min(h, b / n_b),
+                              z0=z0, strip="structured", n_b=n_b, rows=h, h_outer=h_outer,
+                              growth=OUTER_GROWTH))
     else:
         xf = (np.linspace(0.0, b, n_b + 1) if h_outer is None else
               graded(0.0, b, h_outer, b / n_b, foci=(0.0,), growth=OUTER_GROWTH))

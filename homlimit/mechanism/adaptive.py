@@ -22,10 +22,11 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
+from ..errors import check_choice
 from ..fe import adapt as fe_adapt
 from ..fe import geometry
 from ..fe.mesh import to_skfem
-from ..fe.problems import t_section
+from ..fe.problems import OUTER_GROWTH, t_section
 from ..fe.solver import SolverOptions
 from ..params import Case
 from .analysis import densities
@@ -77,7 +78,8 @@ def hinge_refinement(point, h_min: float, size: float, ratio: float = 5.0) -> li
 
 def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
                       follow: bool = False, n_fan: int = 16, h_hinge: float | None = None,
-                      corners: bool = False, outer: float | None = None):
+                      corners: bool = False, outer: float | None = None,
+                      strip: bool = False, h_outer: float | None = None):
     """``remesh(size_map, last)`` for ``fe.adapt.adapt`` on the T-section (gmsh, element size
     ``size``, b/n_b at the junction), the gap-driven sizes only by default; ``corners``: fans
     of 6 rays at the outer toe and the façade's top corners; ``follow``: after a cycle, the
@@ -85,7 +87,10 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
     hinge (module docstring). Both are off by default: measured on B1's homogenised façade
     they slow the static bound down (docs/adaptive.md). ``outer`` [m]: the façade's outer
     face refined to this size within 2.5·outer, where an overturning façade bears (the static
-    bound's lever arm: docs/static.md, "The outer face")."""
+    bound's lever arm: docs/static.md, "The outer face"). ``strip``: the façade strip a
+    structured x-aligned grid of rows ``size`` (``geometry.tsection(strip="structured")``: the
+    bed-joint façade does not lock there), its columns graded from ``h_outer`` at the outer
+    face; the size map then refines the wall only (a transfinite strip takes no size field)."""
     w = case.wall
     fans = [(0.0, z0, 0, 90), (0.0, w.H, -90, 0), (w.b, w.H, -180, 0)] if corners else []
     base = [r for x, z, a0, a1 in fans for r in fe_adapt.fan_rays((x, z), a0, a1, 6, w.b)]
@@ -101,20 +106,26 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
                 if T is not None and math.isfinite(T) and T > 0:
                     rays.append(((hf.x, hf.z), (hf.x + T * (w.H - hf.z), w.H)))
         segs = [] if outer is None else [((0.0, z0), (0.0, w.H), outer, 2.5 * outer)]
+        grid = (dict(strip="structured", n_b=n_b, h_outer=h_outer, growth=OUTER_GROWTH)
+                if strip else {})
         return to_skfem(geometry.tsection(w.H, w.b, w.L, size=size, z0=z0,
                                           size_junction=min(size, w.b / n_b),
                                           embed_lines=rays, refine_points=points,
-                                          refine_segments=segs, size_map=size_map))
+                                          refine_segments=segs, size_map=size_map, **grid))
     return remesh
 
 
 def adaptive_bracket(case: Case, facade: str, size: float, options: fe_adapt.AdaptOptions,
-                     solver=None, progress=None) -> fe_adapt.AdaptResult:
-    """The whole wall's bracket by ``fe.adapt.adapt`` on gmsh meshes that follow the last
-    mechanism (``tsection_remesher``), starting at element size ``size``."""
-    remesh = tsection_remesher(case, size=size)
+                     solver=None, progress=None, mesher: str = "gmsh",
+                     h_outer: float | None = None) -> fe_adapt.AdaptResult:
+    """The whole wall's bracket by ``fe.adapt.adapt`` on gmsh meshes (``tsection_remesher``),
+    starting at element size ``size``; ``mesher`` "gmsh" (unstructured) or "gmsh-strip" (the
+    façade strip structured, its columns graded from ``h_outer``, the wall refined)."""
+    check_choice("mesher", mesher, ("gmsh", "gmsh-strip"))
+    strip = mesher == "gmsh-strip"
+    remesh = tsection_remesher(case, size=size, strip=strip, h_outer=h_outer if strip else None)
     first = remesh(None)
-    problem = dataclasses.replace(t_section(case, facade=facade, h=size, mesher="gmsh"),
-                                  mesh=first)
+    problem = dataclasses.replace(t_section(case, facade=facade, h=size, mesher=mesher,
+                                            h_outer=h_outer if strip else None), mesh=first)
     return fe_adapt.adapt(problem, remesh, options, solver or SolverOptions(), progress,
                           first_mesh=first)
