@@ -454,9 +454,10 @@ def tsection(H: float, b: float, L: float, size: float, *,
     equal rows (``rows`` [m], default ``size``), each cell cut by its diagonals into four
     triangles (the crossed cells of ``problems.crossed_mesh``, edges aligned with x), and the
     wall, unstructured, conforms to its nodes on the junction; no embedded line may cross the
-    strip then. ``h_outer`` (with "structured"): the strip's columns grow geometrically from width ``h_outer`` at the outer
-    face x = 0 (``graded_columns``: at least n_b columns, growth at most ``growth``), where an
-    overturning façade bears (docs/static.md, "The outer face").
+    strip then. ``h_outer`` (with "structured"): the strip's columns grow geometrically from
+    width ``h_outer`` at the outer face x = 0 (``graded_columns``: at least n_b columns,
+    growth at most ``growth``), where an overturning façade bears (docs/static.md, "The
+    outer face").
     """
     geo = TSection(H, b, L, z0)
     H, b, z0 = geo.H, geo.b, geo.z0
