@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from homlimit.app import models, pipeline
+from homlimit.app import models, models_rigid, pipeline
 from homlimit.app.config import (
     SCHEMA,
     CaseConfig,
@@ -158,7 +158,7 @@ def test_nothing_is_computed_before_validation(monkeypatch):
     def boom(*a, **k):  # pragma: no cover - must never run
         raise AssertionError("computation started on an invalid case")
 
-    monkeypatch.setattr(models, "closed_forms", boom)
+    monkeypatch.setattr(models_rigid, "closed_forms", boom)
     monkeypatch.setattr(models, "fe_result", boom)
     with pytest.raises(ConfigError):
         pipeline.run({**B1, "wall": {**B1["wall"], "H": float("nan")}}, write=False)
