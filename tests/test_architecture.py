@@ -191,3 +191,13 @@ def test_the_private_import_check_sees_one(tmp_path):
                                       "from .pipeline import run\nimport numpy._core\n")
     assert _private_imports("homlimit.app.a", mods["homlimit.app.a"], mods) == [
         "homlimit.app.a:1: from homlimit.app.pipeline import _hinges"]
+
+
+APP_MAX_LINES = 400
+
+
+def test_every_app_module_is_at_most_400_lines():
+    """One concept per module in the app layer (issue 28): none longer than 400 lines."""
+    long = {str(p.relative_to(PKG)): n for p in sorted((PKG / "app").rglob("*.py"))
+            if (n := len(p.read_text(encoding="utf-8").splitlines())) > APP_MAX_LINES}
+    assert not long, f"app/ modules over {APP_MAX_LINES} lines: {long}"
