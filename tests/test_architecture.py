@@ -15,7 +15,7 @@ import pytest
 PKG = Path(__file__).resolve().parents[1] / "homlimit"
 
 # the layers, lowest first: a module may import its own subpackage or any lower layer
-LAYERS = [("errors", "_version"), ("_io",), ("params",), ("geometry",), ("impulse",),
+LAYERS = [("errors", "_version"), ("fields",), ("_io",), ("params",), ("geometry",), ("impulse",),
           ("closed_form",), ("fe",), ("mechanism",), ("blocks", "dynamics"), ("dem",), ("app",),
           ("__init__", "__main__")]
 RANK = {name: k for k, names in enumerate(LAYERS) for name in names}
@@ -201,3 +201,4 @@ def test_every_app_module_is_at_most_400_lines():
     long = {str(p.relative_to(PKG)): n for p in sorted((PKG / "app").rglob("*.py"))
             if (n := len(p.read_text(encoding="utf-8").splitlines())) > APP_MAX_LINES}
     assert not long, f"app/ modules over {APP_MAX_LINES} lines: {long}"
+
