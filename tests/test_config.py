@@ -166,7 +166,8 @@ def test_nothing_is_computed_before_validation(monkeypatch):
 
 def test_docs_list_every_key_with_default_unit_and_range():
     doc = (ROOT / "docs" / "case-file.md").read_text(encoding="utf-8")
-    assert schema_markdown() in doc, "docs/case-file.md is out of date: paste schema_markdown()"
+    assert schema_markdown() in doc, ("docs/case-file.md is out of date: run "
+                                      "homlimit.app.schema_doc.update_case_file_doc")
     for sec, keys in SCHEMA.items():
         for name in keys:
             assert f"| `{name}` |" in doc, (sec, name)

@@ -51,12 +51,7 @@ def shown(value) -> str:
 def range_problem(where: str, name: str, key: Key, value) -> str | None:
     """The out-of-range line of a number (its unit and the allowed range with units)."""
     x = float(value) if abs(value) < 1e308 else (math.inf if value > 0 else -math.inf)
-    bad = not math.isfinite(x)
-    if key.lo is not None and (x <= key.lo if key.lo_open else x < key.lo):
-        bad = True
-    if key.hi is not None and (x >= key.hi if key.hi_open else x > key.hi):
-        bad = True
-    if not bad:
+    if key.range.holds(x):
         return None
     u = f" {key.unit}" if key.unit else ""
     return (f"{where} {name} = {shown(value)}{u} is out of range: allowed "

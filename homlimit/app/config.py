@@ -44,8 +44,8 @@ from .schema import (
     SCHEMA,
     TOP_LEVEL,
     Key,
-    schema_markdown,
 )
+from .schema_doc import schema_markdown
 from .sections import (
     SECTIONS,
     AdaptConfig,

@@ -1,6 +1,6 @@
 """The case file's keys: one ``Key`` per key of every section, the single source of truth
 for reading case files (``app.config``), checking them (``app.case_checks``) and their
-documentation (``schema_markdown`` → docs/case-file.md).
+documentation (``app.schema_doc``: ``schema_markdown`` → docs/case-file.md).
 
 SCHEMA: section → key → Key; ARRAYS: the arrays of tables ([[tie]], [[floor]]); TOP_LEVEL: the
 keys outside any section (the case name).
@@ -8,17 +8,27 @@ keys outside any section (the case name).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
 from ..blocks.geometry import FACADE_BONDS
-from ..dynamics.pulses import PULSE_KINDS
-from ..params import FACADE_DEFAULT, FACADE_MODELS, MESHER_DEFAULT, MESHERS, PART_DIVISIONS
+from ..dynamics.pulses import PULSE_KINDS, MavroeidisPapageorgiouPulse
+from ..dynamics.rocking import RigidRocker
+from ..fields import Range, default_of, range_of
+from ..params import (
+    FACADE_DEFAULT,
+    FACADE_MODELS,
+    MESHER_DEFAULT,
+    MESHERS,
+    PART_DIVISIONS,
+    Floor,
+    Masonry,
+    Tie,
+    Wall,
+)
 from . import budget, registry
 
-__all__ = ["ARRAYS", "MAX_ARRAY", "REQUIRED", "REQUIRED_SECTIONS", "SCHEMA", "TOP_LEVEL", "Key",
-           "schema_markdown", "toml_value"]
+__all__ = ["ARRAYS", "MAX_ARRAY", "REQUIRED", "REQUIRED_SECTIONS", "SCHEMA", "TOP_LEVEL", "Key"]
 
 REQUIRED = object()
 
@@ -39,20 +49,29 @@ class Key:
     item: type | None = None      # the type of a list's items (range and choices apply to each)
     typical: tuple[float, float] | None = None   # outside: a warning (valid but implausible)
 
+    @classmethod
+    def of(cls, owner, name: str, kind: type = float, **kw) -> Key:
+        """The key of the ranged field ``name`` of the dataclass ``owner``
+        (``fields.ranged``): its default and range are the field's, written once there;
+        ``kw``: the rest (``doc``, ``typical``, ``unit`` as the docs spell it)."""
+        r = range_of(owner, name)
+        return cls(kind, default_of(owner, name), kw.pop("unit", r.unit), r.lo, r.hi,
+                   r.lo_open, r.hi_open, **kw)
+
     @property
     def required(self) -> bool:
         return self.default is REQUIRED
 
+    @property
+    def range(self) -> Range:
+        """The allowed range of a number (``fields.Range``, shared with the parameter
+        objects' fields)."""
+        return Range(self.lo, self.hi, self.lo_open, self.hi_open, self.unit)
+
     def range_text(self, name: str) -> str:
         if self.choices:
             return "one of " + ", ".join(repr(c) for c in self.choices)
-        text = name
-        if self.lo is not None:
-            text = f"{self.lo:g} {'<' if self.lo_open else '<='} {text}"
-        if self.hi is not None:
-            text = f"{text} {'<' if self.hi_open else '<='} {self.hi:g}"
-        return "" if text == name else text
-
+        return self.range.text(name)
 
 
 def _len(hi: float, typical: tuple[float, float]) -> dict:
@@ -71,9 +90,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "b": Key(float, **_len(1e3, (0.1, 2.0)), doc="thickness of the façade"),
         "l": Key(float, **_len(1e4, (0.5, 50.0)),
                  doc="length of the façade between transversal walls (ρ = l/s, eq. 11)"),
-        "gamma": Key(float, 2000.0, "kg/m³", 1.0, 1e5, typical=(1000.0, 3000.0),
+        "gamma": Key(float, default_of(Wall, "gamma"), "kg/m³", 1.0, 1e5, typical=(1000.0, 3000.0),
                      doc="mass density of masonry γ"),
-        "g": Key(float, 9.81, "m/s²", 1e-2, 1e3, typical=(9.7, 9.9),
+        "g": Key(float, default_of(Wall, "g"), "m/s²", 1e-2, 1e3, typical=(9.7, 9.9),
                  doc="gravitational acceleration"),
     },
     "masonry": {
@@ -81,15 +100,15 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "c": Key(float, **_len(1e3, (0.03, 1.5)), doc="half block length (2c <= L)"),
         "f": Key(float, unit="", lo=1e-3, hi=100.0, typical=(0.3, 1.0),
                  doc="joint friction coefficient (α = √(cf/a), eq. 11)"),
-        "fc": Key(float, 0.0, "Pa", 0.0, 1e10,
+        "fc": Key(float, default_of(Masonry, "fc"), "Pa", 0.0, 1e10,
                   doc="compressive strength of the masonry; 0 means infinite (the paper's "
                       "rigid blocks). Finite: the hinge of every closed form retreats to the "
                       "resultant of a rectangular stress block, t = N/(2 fc l) "
                       "(docs/real-walls.md); FE, blocks and DEM do not take it yet"),
-        "cohesion": Key(float, 0.0, "Pa", 0.0, 1e10,
+        "cohesion": Key(float, default_of(Masonry, "cohesion"), "Pa", 0.0, 1e10,
                         doc="cohesion of the joints (the strength domains' name); no model "
                             "takes a non-zero value yet (docs/real-walls.md)"),
-        "tension": Key(float, 0.0, "Pa", 0.0, 1e10,
+        "tension": Key(float, default_of(Masonry, "tension"), "Pa", 0.0, 1e10,
                        doc="tensile strength of the joints (the strength domains' name); no "
                            "model takes a non-zero value yet (docs/real-walls.md)"),
     },
@@ -281,17 +300,17 @@ SCHEMA: dict[str, dict[str, Key]] = {
                               "first: its critical body, rigid or one-DOF)"),
         "gravity_I": Key(str, "linearised", choices=("linearised", "exact"),
                          doc="mechanism I's gravity: as eq. 10 (linearised) or exact"),
-        "restitution": Key(float, 0.0, "", 0.0, 1.0,
-                           doc="coefficient of restitution at re-seating (0: the body "
-                               "stays seated)"),
+        "restitution": Key.of(RigidRocker, "restitution",
+                              doc="coefficient of restitution at re-seating (0: the body "
+                                  "stays seated)"),
         "rtol": Key(float, 1e-6, "", 1e-13, 1e-2, lo_open=False,
                     doc="relative tolerance of the threshold amplitude (brentq)"),
         "scan_ratio": Key(float, 1.05, "", 1.0, 10.0, lo_open=True,
                           doc="amplitude step of the search from lift-off to overturning"),
-        "gamma": Key(float, 2.0, "", 1.0, 10.0, lo_open=True,
-                     doc="Mavroeidis–Papageorgiou oscillation parameter γ (kind mp)"),
-        "nu": Key(float, 0.0, "rad", -2 * math.pi, 2 * math.pi,
-                  doc="Mavroeidis–Papageorgiou phase ν (kind mp)"),
+        "gamma": Key.of(MavroeidisPapageorgiouPulse, "gamma",
+                        doc="Mavroeidis–Papageorgiou oscillation parameter γ (kind mp)"),
+        "nu": Key.of(MavroeidisPapageorgiouPulse, "nu",
+                     doc="Mavroeidis–Papageorgiou phase ν (kind mp)"),
         "record": Key(str, "", doc="a ground-acceleration record, two-column CSV t [s], "
                                    "a_g [m/s²] (relative to the case file): its critical "
                                    "scale per mechanism"),
@@ -312,10 +331,10 @@ ARRAYS: dict[str, dict[str, Key]] = {
         "yield_force": Key(float, unit="N/m", lo=0.0, hi=1e9,
                            doc="yield force per metre of façade (a bay of length l carries "
                                "yield_force·l)"),
-        "stiffness": Key(float, 0.0, "N/m²", 0.0, 1e15,
+        "stiffness": Key(float, default_of(Tie, "stiffness"), "N/m²", 0.0, 1e15,
                          doc="axial stiffness per metre of façade (force per metre per metre "
                              "of elongation); 0: rigid-plastic"),
-        "ductility": Key(float, 0.0, "m", 0.0, 1e3,
+        "ductility": Key(float, default_of(Tie, "ductility"), "m", 0.0, 1e3,
                          doc="elongation at which the tie breaks; 0: none (it yields without "
                              "limit)"),
     },
@@ -328,7 +347,7 @@ ARRAYS: dict[str, dict[str, Key]] = {
         "eccentricity": Key(float, unit="m", lo=0.0, hi=1e3,
                             doc="where the load acts, from the façade's outer face "
                                 "(0 <= eccentricity <= b)"),
-        "restrains": Key(bool, False,
+        "restrains": Key(bool, default_of(Floor, "restrains"),
                          doc="the floor holds the façade horizontally at z: a failing body "
                              "lies above it"),
     },
@@ -339,34 +358,3 @@ TOP_LEVEL = {"name": Key(str, "", doc="case name, used in titles and the output 
                                       "(empty: the file's stem; at most 100 characters, no "
                                       "control characters; the folder name keeps letters, "
                                       "digits and -_.+ only)")}
-
-
-
-def schema_markdown() -> str:
-    """The key reference of docs/case-file.md, generated from SCHEMA (one table per section)."""
-    lines = []
-    for sec, keys in ([("(top level)", TOP_LEVEL)] + [(f"[{s}]", k) for s, k in SCHEMA.items()]
-                      + [(f"[[{a}]] (array of tables; a sweep's {a}.0.z)", k)
-                         for a, k in ARRAYS.items()]):
-        req = " (required section)" if sec.strip("[]") in REQUIRED_SECTIONS else ""
-        lines += [f"### {sec}{req}", "",
-                  "| key | type | default | unit | allowed | typical | meaning |",
-                  "|---|---|---|---|---|---|---|"]
-        for name, key in keys.items():
-            default = "**required**" if key.required else f"`{toml_value(key.default)}`"
-            kind = key.kind.__name__ + (f" of {key.item.__name__}" if key.item else "")
-            typical = f"{key.typical[0]:g} .. {key.typical[1]:g}" if key.typical else "–"
-            lines.append(f"| `{name}` | {kind} | {default} | {key.unit or '–'} | "
-                         f"{key.range_text(name) or 'any'} | {typical} | {key.doc} |")
-        lines.append("")
-    return "\n".join(lines)
-
-
-def toml_value(v) -> str:
-    if isinstance(v, list | tuple):
-        return "[" + ", ".join(toml_value(x) for x in v) + "]"
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, str):
-        return f'"{v}"'
-    return f"{v:g}" if isinstance(v, float) else str(v)

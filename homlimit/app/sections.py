@@ -1,119 +1,137 @@
-"""The validated sections of a case: one frozen dataclass per section of the case file
-(``schema.SCHEMA``), and ``CaseConfig``, the whole case."""
+"""The validated sections of a case: one frozen dataclass per section of the case file, its
+defaults the schema's (``section``, ``schema.SCHEMA``), and ``CaseConfig``, the whole case."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from ..params import FACADE_DEFAULT, MESHER_DEFAULT, PART_DIVISIONS, Case
-from . import budget
-from .schema import SCHEMA, toml_value
+from ..params import Case
+from .schema import SCHEMA
+from .schema_doc import toml_value
 
 __all__ = ["AdaptConfig", "AnalysisConfig", "BlocksConfig", "CaseConfig", "DemConfig",
-           "MeshConfig", "OutputConfig", "PulseConfig", "SECTIONS"]
+           "MeshConfig", "OutputConfig", "PulseConfig", "SECTIONS", "section"]
 
 
-@dataclass(frozen=True)
+def section(name: str):
+    """A frozen dataclass of the section ``name`` whose fields' defaults are the schema's
+    (``SCHEMA[name]``: written once, there; lists become tuples). The class body lists the
+    fields with their types only, in the schema's order."""
+
+    def make(cls):
+        keys = SCHEMA[name]
+        if list(cls.__annotations__) != list(keys):
+            raise TypeError(f"{cls.__name__}'s fields {list(cls.__annotations__)} are not "
+                            f"[{name}]'s keys {list(keys)}")
+        for k, key in keys.items():
+            setattr(cls, k, tuple(key.default) if isinstance(key.default, list)
+                    else key.default)
+        return dataclass(frozen=True)(cls)
+
+    return make
+
+
+@section("mesh")
 class MeshConfig:
     """[mesh]: the T-section triangulation of ``homlimit.fe.problems.t_section``."""
 
-    size: float = 0.25
-    max_triangles: int = budget.DEFAULT_MAX_TRIANGLES
-    part_divisions: int = PART_DIVISIONS
-    mesher: str = MESHER_DEFAULT
-    outer_ratio: float = 25.0
+    size: float
+    max_triangles: int
+    part_divisions: int
+    mesher: str
+    outer_ratio: float
 
 
-@dataclass(frozen=True)
+@section("adapt")
 class AdaptConfig:
     """[adapt]: the adaptive bracket of the whole wall (``homlimit.fe.adapt``)."""
 
-    target_gap: float = 0.01
-    max_cycles: int = 6
-    min_size: float = 0.005
+    target_gap: float
+    max_cycles: int
+    min_size: float
 
 
-@dataclass(frozen=True)
+@section("analysis")
 class AnalysisConfig:
     """[analysis]: which analyses run and how."""
 
-    closed_form: bool = True
-    tanpsi: float = 0.0
-    lam_points: int = 200
-    overturning: bool = False
-    fe: bool = True
-    facade: str = FACADE_DEFAULT
-    heights: int = 6
-    static: bool = True
-    tol: float = 0.0
-    blocks: bool = False
-    dem: bool = False
-    hinge_check: bool = True
+    closed_form: bool
+    tanpsi: float
+    lam_points: int
+    overturning: bool
+    fe: bool
+    facade: str
+    heights: int
+    static: bool
+    tol: float
+    blocks: bool
+    dem: bool
+    hinge_check: bool
 
 
-@dataclass(frozen=True)
+@section("blocks")
 class BlocksConfig:
     """[blocks]: the rigid-block model (``homlimit.blocks.analyse_blocks``)."""
 
-    facade: str = "through"
-    friction: str = "associative"
-    step: int = 1
-    non_associative_check: bool = False
-    max_blocks: int = 50000
+    facade: str
+    friction: str
+    step: int
+    non_associative_check: bool
+    max_blocks: int
 
 
-@dataclass(frozen=True)
+@section("dem")
 class DemConfig:
     """[dem]: the explicit rigid-block DEM (``homlimit.dem``; ``app.dem_stage``)."""
 
-    kn: float = 1.0e9
-    ks_over_kn: float = 0.5
-    facade_stiffness: float = 0.0
-    dt_fraction: float = 0.1
-    settle_damping: float = 0.8
-    settle_time: float = 2.0
-    settle_velocity: float = 1e-5
-    base_joint: str = "frictional"
-    ground_margin: float = 2.0
-    verlet_margin: float = 0.005
-    cone_tolerance: float = 0.05
-    trib_floor: float = 0.05
-    loading: str = "impulse"
-    pulse_period: float = 0.2
-    polarity: int = 1
-    rel_tol: float = 0.01
-    t_max: float = 5.0
-    guess: float = 0.0
-    max_blocks: int = 5000
-    frame_interval: float = 0.05
-    animation: bool = True
+    kn: float
+    ks_over_kn: float
+    facade_stiffness: float
+    dt_fraction: float
+    settle_damping: float
+    settle_time: float
+    settle_velocity: float
+    base_joint: str
+    ground_margin: float
+    verlet_margin: float
+    cone_tolerance: float
+    trib_floor: float
+    loading: str
+    pulse_period: float
+    polarity: int
+    rel_tol: float
+    t_max: float
+    guess: float
+    max_blocks: int
+    frame_interval: float
+    animation: bool
 
 
-@dataclass(frozen=True)
+@section("pulse")
 class PulseConfig:
     """[pulse]: the overturning spectra of ``homlimit pulse`` (``homlimit.dynamics``)."""
 
-    kinds: tuple = ("rectangular", "one-sine")
-    periods: tuple = (0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0)
-    polarities: tuple = (1, -1)
-    mechanisms: tuple = ("I", "II")
-    gravity_I: str = "linearised"
-    restitution: float = 0.0
-    rtol: float = 1e-6
-    scan_ratio: float = 1.05
-    gamma: float = 2.0
-    nu: float = 0.0
-    record: str = ""
+    kinds: tuple
+    periods: tuple
+    polarities: tuple
+    mechanisms: tuple
+    gravity_I: str
+    restitution: float
+    rtol: float
+    scan_ratio: float
+    gamma: float
+    nu: float
+    record: str
 
 
-@dataclass(frozen=True)
+@section("output")
 class OutputConfig:
     """[output]: what is written and where."""
 
-    dir: str = ""
-    json: bool = True
-    png: bool = True
-    vtu: bool = True
+    dir: str
+    json: bool
+    png: bool
+    vtu: bool
 
 
 SECTIONS = {"mesh": MeshConfig, "adapt": AdaptConfig, "analysis": AnalysisConfig,
