@@ -202,3 +202,17 @@ def test_every_app_module_is_at_most_400_lines():
             if (n := len(p.read_text(encoding="utf-8").splitlines())) > APP_MAX_LINES}
     assert not long, f"app/ modules over {APP_MAX_LINES} lines: {long}"
 
+
+def _calls(source: str, name: str) -> list[int]:
+    """Lines calling ``name`` (as a bare name or an attribute)."""
+    return [node.lineno for node in ast.walk(ast.parse(source)) if isinstance(node, ast.Call)
+            and getattr(node.func, "id", getattr(node.func, "attr", None)) == name]
+
+
+def test_result_files_have_one_writer():
+    """Every JSON, CSV and Parquet result file is written by ``app.writers.write`` (the output
+    registry), which alone calls ``_io.write_output`` (issue 28: one writer per file)."""
+    bad = [f"{name}:{line}" for name, path in sorted(_modules().items())
+           if name not in ("homlimit._io", "homlimit.app.writers")
+           for line in _calls(path.read_text(encoding="utf-8"), "write_output")]
+    assert not bad, "write_output called outside app.writers:\n  " + "\n  ".join(bad)

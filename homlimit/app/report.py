@@ -1,18 +1,13 @@
-"""What a run shows and writes: the terminal summary, plain-text tables, the result meshes and
-one writer per file format.
+"""What a run shows: the terminal summary and the plain-text tables (``format_table``,
+``format_spectra``, ``summary_text``).
 
-``write(path, data)`` picks the writer from the file's suffix (``WRITERS``): JSON data, CSV
-records, a meshio mesh (.vtu, .xdmf, .msh) or a picture (a function that draws to a path).
-Every writer is whole-or-nothing (``homlimit._io``).
-
-Units: ``UNITS`` gives every quantity a result file carries its SI unit, once. JSON and CSV
-go through the one writer ``_io.write_output``: every JSON file starts with ``schema_version``
-and ``homlimit_version`` and ends with a ``units`` map (summary.json's by section,
-``units_table``; other files by key, ``units_of``); CSV headers carry the unit as
-``name [unit]`` (``vg [m/s]``, ``lam [-]``; text columns plain, ``mechanism``), the way the
-terminal tables do, and the sidecar ``NAME.csv.json`` gives the schema version and the units
-by header; floats are written to 15 significant digits. ``read_csv`` reads such a CSV back into
-plain keys and numbers.
+What it writes lives beside: ``app.writers`` (``write``: the registry of output files and one
+writer per format, whole or nothing), ``app.units`` (``UNITS``: every quantity's SI unit,
+once; the unit tables of JSON files and CSV sidecars) and ``app.result_mesh``
+(mechanism.vtu's mesh). Their public names are importable from here too (``report.write``,
+``report.UNITS``, ...). CSV headers carry the unit as ``name [unit]`` (``vg [m/s]``,
+``lam [-]``; text columns plain, ``mechanism``), the way the terminal tables do; floats are
+written to 15 significant digits.
 """
 
 
@@ -24,12 +19,12 @@ import numpy as np
 
 from . import registry
 from .result_mesh import mechanism_mesh
-from .units import OUTPUT_NAMES, UNITS, column_unit, csv_header, input_units, units_table
-from .writers import WRITERS, read_csv, write
+from .units import UNITS, column_unit, csv_header, input_units, units_table
+from .writers import OUTPUT_NAMES, OUTPUTS, WRITERS, read_csv, write
 
-__all__ = ["OUTPUT_NAMES", "UNITS", "WRITERS", "column_unit", "csv_header", "format_spectra",
-           "format_table", "input_units", "mechanism_mesh", "read_csv", "summary_text",
-           "units_table", "write"]
+__all__ = ["OUTPUTS", "OUTPUT_NAMES", "UNITS", "WRITERS", "column_unit", "csv_header",
+           "format_spectra", "format_table", "input_units", "mechanism_mesh", "read_csv",
+           "summary_text", "units_table", "write"]
 
 
 def _fmt(x) -> str:

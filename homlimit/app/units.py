@@ -1,7 +1,7 @@
 """The unit of every quantity a result file carries, once (``UNITS``), and the unit tables
 the writers put in every JSON file and CSV sidecar: summary.json's by section
 (``units_table``), other files' by key (``units_of``), a CSV column's header ``name [unit]``
-(``csv_header``), and every file name a command writes (``OUTPUT_NAMES``).
+(``csv_header``). The files themselves: ``app.writers.OUTPUTS``.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from collections.abc import Mapping
 from ..errors import ParameterError
 from .schema import SCHEMA, TOP_LEVEL
 
-__all__ = ["OUTPUT_NAMES", "UNITS", "column_unit", "csv_header", "input_units", "unknown_units",
+__all__ = ["UNITS", "column_unit", "csv_header", "input_units", "unknown_units",
            "units_of", "units_table"]
 
 _DIMENSIONLESS = (
@@ -74,21 +74,6 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("restrains kind fc_infinite choices per_metre floor_mass hinge_rule tie_law "
                     "abutment_friction_I".split(), ""),
 }
-#: every file name a homlimit command writes (result sets written before manifests existed
-#: are recognised by these, ``_io.is_result_set``)
-OUTPUT_NAMES = ("summary.json", "vg_lambda.png", "mesh.png", "mechanism.png", "stress.png",
-                "fe_scan.csv", "mechanism.vtu", "mesh.vtu", "table1.csv", "table1.json",
-                "table1.png", "figure2.png", "figure2.json", "crack_study.csv",
-                "crack_study.png", "spectra.csv", "spectra.png", "mesh.json", "blocks.vtu",
-                "blocks_contacts.vtu", "blocks_contacts.csv", "blocks_mechanism.png",
-                "blocks_whole.png", "blocks_scan.csv", "table1_blocks.csv",
-                "table1_blocks_ratios.json", "sweep.json", "results.parquet", "results.csv",
-                "vnorm_swept.png", "critical_map.png", "tanpsi.png", "vg_histogram.png",
-                "verify.json", "verify.csv", "fe_adapt.csv", "adapt.png", "dem.pvd",
-                "dem_snapshots.png", "table1_dem.csv", "table1_dem_ratios.json")
-OUTPUT_NAMES += tuple(n + ".json" for n in OUTPUT_NAMES if n.endswith(".csv"))  # sidecars
-
-
 def csv_header(key: str) -> str:
     """The CSV header of a column: ``key [unit]`` (``key`` for text); ParameterError if the
     quantity has no unit in ``UNITS``."""
