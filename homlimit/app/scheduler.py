@@ -4,7 +4,6 @@ answer within ``SCHEDULER_TIMEOUT`` is a ParameterError (exit 2), not a wait."""
 
 from __future__ import annotations
 
-import asyncio
 import threading
 
 from ..errors import ParameterError
@@ -56,6 +55,8 @@ def handshake(address: str, timeout: float) -> BaseException | None:
     or the error. A Client alone waits forever for a server that accepts the connection and
     never answers; this runs in a thread of its own (an event loop may run in this one), left
     behind if it hangs."""
+    import asyncio  # here, not at start-up: only a --scheduler run needs it
+
     from distributed.comm import connect
 
     errors: list[BaseException] = []
