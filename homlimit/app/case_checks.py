@@ -121,24 +121,32 @@ def collect(data: dict, problems: list[str]) -> dict[str, dict[str, Any]]:
             problems.append(f"[{sec}] section is missing: required keys "
                             + ", ".join(k for k, key in keys.items() if key.required))
             continue
-        for name, v in given.items():
-            if name not in keys:
-                problems.append(f"[{sec}] unknown key {str(name)[:40]!r}: allowed "
-                                + ", ".join(keys))
-                continue
-            out = check_key(f"[{sec}]", name, keys[name], v, problems)
-            if out is not None:
-                vals[name] = out
-        for name, key in keys.items():
-            if name in given:
-                continue
-            if key.required:
-                u = f" {key.unit}" if key.unit else ""
-                problems.append(f"[{sec}] {name} is missing ({key.doc}, {key.unit or '-'}; "
-                                f"allowed {key.range_text(name)}{u})")
-            else:
-                vals[name] = key.default
+        vals.update(_table(f"[{sec}]", keys, given, problems))
     return values
+
+
+def _table(where: str, keys: dict[str, Key], given: dict, problems: list[str]) -> dict:
+    """The valid values of one table (a section, or an entry of an array), defaults filled
+    in; a problem for each unknown, bad or missing required key, named ``where``."""
+    vals = {}
+    for name, v in given.items():
+        if name not in keys:
+            problems.append(f"{where} unknown key {str(name)[:40]!r}: allowed "
+                            + ", ".join(keys))
+            continue
+        out = check_key(where, name, keys[name], v, problems)
+        if out is not None:
+            vals[name] = out
+    for name, key in keys.items():
+        if name in given:
+            continue
+        if key.required:
+            u = f" {key.unit}" if key.unit else ""
+            problems.append(f"{where} {name} is missing ({key.doc}, {key.unit or '-'}; "
+                            f"allowed {key.range_text(name)}{u})")
+        else:
+            vals[name] = key.default
+    return vals
 
 
 def collect_array(name: str, given, problems: list[str]) -> list[dict]:
@@ -153,24 +161,8 @@ def collect_array(name: str, given, problems: list[str]) -> list[dict]:
         return []
     keys, out = ARRAYS[name], []
     for k, entry in enumerate(given):
-        where, vals, n = f"[[{name}]] {k}", {}, len(problems)
-        for key, v in entry.items():
-            if key not in keys:
-                problems.append(f"{where} unknown key {str(key)[:40]!r}: allowed "
-                                + ", ".join(keys))
-                continue
-            got = check_key(where, key, keys[key], v, problems)
-            if got is not None:
-                vals[key] = got
-        for key, spec in keys.items():
-            if key in entry:
-                continue
-            if spec.required:
-                u = f" {spec.unit}" if spec.unit else ""
-                problems.append(f"{where} {key} is missing ({spec.doc}, {spec.unit or '-'}; "
-                                f"allowed {spec.range_text(key)}{u})")
-            else:
-                vals[key] = spec.default
+        n = len(problems)
+        vals = _table(f"[[{name}]] {k}", keys, entry, problems)
         if len(problems) == n:
             out.append(vals)
     return out
