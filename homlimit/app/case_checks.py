@@ -252,22 +252,15 @@ def cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> li
                        f"L/(b tan ψ) = {w['L'] / (w['b'] * t):.4g} is out of range: allowed "
                        f"L/(b tan ψ) >= {LAM_MIN_CLOSED:g} (mechanism II's wedge must fit the "
                        f"transversal wall at λ = {LAM_MIN_CLOSED:g}: λ tan ψ <= L/b)")
-    bl = v.get("blocks", {})
-    if (not mesh_only and an.get("blocks") and has(w, "H", "L") and has(m, "a", "c")
-            and has(bl, "max_blocks")):
-        n = math.ceil(w["H"] / m["a"]) * (math.ceil(w["L"] / (2 * m["c"])) + 1)
-        if n > bl["max_blocks"]:
-            out.append(f"[analysis] blocks = true needs about {n} blocks ((H/a)(L/2c + 1)): "
-                       f"out of range: allowed up to [blocks] max_blocks = {bl['max_blocks']} "
-                       "(larger blocks a, c, or raise max_blocks)")
-    dm = v.get("dem", {})
-    if (not mesh_only and an.get("dem") and has(w, "H", "L") and has(m, "a", "c")
-            and has(dm, "max_blocks")):
-        n = math.ceil(w["H"] / m["a"]) * (math.ceil(w["L"] / (2 * m["c"])) + 1)
-        if n > dm["max_blocks"]:
-            out.append(f"[analysis] dem = true needs about {n} blocks ((H/a)(L/2c + 1)): out "
-                       f"of range: allowed up to [dem] max_blocks = {dm['max_blocks']} "
-                       "(larger blocks a, c, or raise max_blocks)")
+    for model in ("blocks", "dem"):   # the block models' assembly size
+        lim = v.get(model, {})
+        if (not mesh_only and an.get(model) and has(w, "H", "L") and has(m, "a", "c")
+                and has(lim, "max_blocks")):
+            n = math.ceil(w["H"] / m["a"]) * (math.ceil(w["L"] / (2 * m["c"])) + 1)
+            if n > lim["max_blocks"]:
+                out.append(f"[analysis] {model} = true needs about {n} blocks ((H/a)(L/2c + "
+                           f"1)): out of range: allowed up to [{model}] max_blocks = "
+                           f"{lim['max_blocks']} (larger blocks a, c, or raise max_blocks)")
     pulse_fe = registry.needs_mesh(v.get("pulse", {}).get("mechanisms") or ())  # FE for `pulse`
     fe = mesh_only or an.get("fe", False) or pulse_fe
     if not (fe and has(me, "size", "max_triangles") and has(w, "H", "b", "L")):
