@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ParameterError, check_range
+from .fields import check_fields, ranged
 from .params import Case
 
 __all__ = ["TSection", "REGIONS", "BOUNDARIES"]
@@ -38,15 +39,14 @@ class TSection:
     0 <= z0 < H.
     """
 
-    H: float
-    b: float
-    L: float
+    H: float = ranged(0.0, lo_open=True, unit="m")
+    b: float = ranged(0.0, lo_open=True, unit="m")
+    L: float = ranged(0.0, lo_open=True, unit="m")
     z0: float = 0.0
 
     def __post_init__(self):
-        for name in ("H", "b", "L"):
-            object.__setattr__(self, name, check_range(name, getattr(self, name), 0.0,
-                                                       lo_open=True, unit="m"))
+        check_fields(self)
+        # the upper bound is a field's: checked here
         object.__setattr__(self, "z0", check_range("z0", self.z0, 0.0, self.H, hi_open=True,
                                                    unit="m"))
 

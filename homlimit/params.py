@@ -10,6 +10,7 @@ import math
 from dataclasses import dataclass, fields
 
 from .errors import ParameterError, check_range
+from .fields import check_fields, ranged
 
 __all__ = ["Wall", "Masonry", "Case", "Tie", "Floor", "G_STANDARD", "FACADE_DEFAULT",
            "FACADE_MODELS", "MESHERS", "MESHER_DEFAULT", "PART_DIVISIONS"]
@@ -45,19 +46,16 @@ class Wall:
     g : gravitational acceleration [m/s²]
     """
 
-    H: float = 9.0
-    L: float = 6.0
-    s: float = 0.5
-    b: float = 0.5
-    l: float = 6.0
-    gamma: float = 2000.0
-    g: float = G_STANDARD
+    H: float = ranged(0.0, lo_open=True, unit="m", default=9.0)
+    L: float = ranged(0.0, lo_open=True, unit="m", default=6.0)
+    s: float = ranged(0.0, lo_open=True, unit="m", default=0.5)
+    b: float = ranged(0.0, lo_open=True, unit="m", default=0.5)
+    l: float = ranged(0.0, lo_open=True, unit="m", default=6.0)
+    gamma: float = ranged(0.0, lo_open=True, unit="kg/m^3", default=2000.0)
+    g: float = ranged(0.0, lo_open=True, unit="m/s^2", default=G_STANDARD)
 
     def __post_init__(self):
-        for name, unit in (("H", "m"), ("L", "m"), ("s", "m"), ("b", "m"), ("l", "m"),
-                           ("gamma", "kg/m^3"), ("g", "m/s^2")):
-            object.__setattr__(self, name, check_range(name, getattr(self, name), 0.0,
-                                                       lo_open=True, unit=unit))
+        check_fields(self)
 
     @property
     def rho(self) -> float:
@@ -80,20 +78,15 @@ class Masonry:
     names, ``fe.strength``), 0 by default (the paper's dry joints).
     """
 
-    a: float = 0.3
-    c: float = 0.2
-    f: float = 0.6
-    fc: float = 0.0
-    cohesion: float = 0.0
-    tension: float = 0.0
+    a: float = ranged(0.0, lo_open=True, unit="m", default=0.3)
+    c: float = ranged(0.0, lo_open=True, unit="m", default=0.2)
+    f: float = ranged(0.0, lo_open=True, default=0.6)
+    fc: float = ranged(0.0, unit="Pa", default=0.0)
+    cohesion: float = ranged(0.0, unit="Pa", default=0.0)
+    tension: float = ranged(0.0, unit="Pa", default=0.0)
 
     def __post_init__(self):
-        object.__setattr__(self, "a", check_range("a", self.a, 0.0, lo_open=True, unit="m"))
-        object.__setattr__(self, "c", check_range("c", self.c, 0.0, lo_open=True, unit="m"))
-        object.__setattr__(self, "f", check_range("f", self.f, 0.0, lo_open=True))
-        for name in ("fc", "cohesion", "tension"):
-            object.__setattr__(self, name, check_range(name, getattr(self, name), 0.0,
-                                                       unit="Pa"))
+        check_fields(self)
 
     @property
     def fc_finite(self) -> bool:
@@ -116,16 +109,13 @@ class Tie:
     yields without limit). docs/real-walls.md.
     """
 
-    z: float
-    yield_force: float
-    stiffness: float = 0.0
-    ductility: float = 0.0
+    z: float = ranged(0.0, unit="m")
+    yield_force: float = ranged(0.0, unit="N/m")
+    stiffness: float = ranged(0.0, unit="N/m^2", default=0.0)
+    ductility: float = ranged(0.0, unit="m", default=0.0)
 
     def __post_init__(self):
-        for name, unit in (("z", "m"), ("yield_force", "N/m"), ("stiffness", "N/m^2"),
-                           ("ductility", "m")):
-            object.__setattr__(self, name, check_range(f"tie {name}", getattr(self, name),
-                                                       0.0, unit=unit))
+        check_fields(self, prefix="tie ")
 
 
 @dataclass(frozen=True)
@@ -135,15 +125,13 @@ class Floor:
     ``restrains``: it holds the façade horizontally at z (a failing body lies above it).
     Only its load bears on the façade: its mass moves with the building, not the façade."""
 
-    z: float
-    load: float
-    eccentricity: float
+    z: float = ranged(0.0, unit="m")
+    load: float = ranged(0.0, unit="N/m")
+    eccentricity: float = ranged(0.0, unit="m")
     restrains: bool = False
 
     def __post_init__(self):
-        for name, unit in (("z", "m"), ("load", "N/m"), ("eccentricity", "m")):
-            object.__setattr__(self, name, check_range(f"floor {name}", getattr(self, name),
-                                                       0.0, unit=unit))
+        check_fields(self, prefix="floor ")
         object.__setattr__(self, "restrains", bool(self.restrains))
 
 

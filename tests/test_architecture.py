@@ -15,7 +15,7 @@ import pytest
 PKG = Path(__file__).resolve().parents[1] / "homlimit"
 
 # the layers, lowest first: a module may import its own subpackage or any lower layer
-LAYERS = [("errors", "_version"), ("_io",), ("params",), ("geometry",), ("impulse",),
+LAYERS = [("errors", "_version"), ("fields",), ("_io",), ("params",), ("geometry",), ("impulse",),
           ("closed_form",), ("fe",), ("mechanism",), ("blocks", "dynamics"), ("dem",), ("app",),
           ("__init__", "__main__")]
 RANK = {name: k for k, names in enumerate(LAYERS) for name in names}
@@ -191,3 +191,28 @@ def test_the_private_import_check_sees_one(tmp_path):
                                       "from .pipeline import run\nimport numpy._core\n")
     assert _private_imports("homlimit.app.a", mods["homlimit.app.a"], mods) == [
         "homlimit.app.a:1: from homlimit.app.pipeline import _hinges"]
+
+
+APP_MAX_LINES = 400
+
+
+def test_every_app_module_is_at_most_400_lines():
+    """One concept per module in the app layer (issue 28): none longer than 400 lines."""
+    long = {str(p.relative_to(PKG)): n for p in sorted((PKG / "app").rglob("*.py"))
+            if (n := len(p.read_text(encoding="utf-8").splitlines())) > APP_MAX_LINES}
+    assert not long, f"app/ modules over {APP_MAX_LINES} lines: {long}"
+
+
+def _calls(source: str, name: str) -> list[int]:
+    """Lines calling ``name`` (as a bare name or an attribute)."""
+    return [node.lineno for node in ast.walk(ast.parse(source)) if isinstance(node, ast.Call)
+            and getattr(node.func, "id", getattr(node.func, "attr", None)) == name]
+
+
+def test_result_files_have_one_writer():
+    """Every JSON, CSV and Parquet result file is written by ``app.writers.write`` (the output
+    registry), which alone calls ``_io.write_output`` (issue 28: one writer per file)."""
+    bad = [f"{name}:{line}" for name, path in sorted(_modules().items())
+           if name not in ("homlimit._io", "homlimit.app.writers")
+           for line in _calls(path.read_text(encoding="utf-8"), "write_output")]
+    assert not bad, "write_output called outside app.writers:\n  " + "\n  ".join(bad)

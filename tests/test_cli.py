@@ -26,7 +26,7 @@ from test_report import assert_png
 from typer.testing import CliRunner
 
 import homlimit
-from homlimit.app import models
+from homlimit.app import models_rigid
 from homlimit.app.cli import app
 from homlimit.errors import SolverError
 
@@ -322,7 +322,7 @@ def test_solver_failure_exits_3(tmp_path, monkeypatch):
         raise SolverError("Clarabel ended with status 'PrimalInfeasible'",
                           status="PrimalInfeasible")
 
-    monkeypatch.setattr(models, "closed_forms", fail)
+    monkeypatch.setattr(models_rigid, "closed_forms", fail)
     res = CliRunner().invoke(app, ["run", str(EXAMPLES / "c4-closed-form" / "case.toml"),
                                    "--out", str(tmp_path)])
     assert res.exit_code == 3

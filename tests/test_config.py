@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from homlimit.app import models, pipeline
+from homlimit.app import models, models_rigid, pipeline
 from homlimit.app.config import (
     SCHEMA,
     CaseConfig,
@@ -158,7 +158,7 @@ def test_nothing_is_computed_before_validation(monkeypatch):
     def boom(*a, **k):  # pragma: no cover - must never run
         raise AssertionError("computation started on an invalid case")
 
-    monkeypatch.setattr(models, "closed_forms", boom)
+    monkeypatch.setattr(models_rigid, "closed_forms", boom)
     monkeypatch.setattr(models, "fe_result", boom)
     with pytest.raises(ConfigError):
         pipeline.run({**B1, "wall": {**B1["wall"], "H": float("nan")}}, write=False)
@@ -166,7 +166,8 @@ def test_nothing_is_computed_before_validation(monkeypatch):
 
 def test_docs_list_every_key_with_default_unit_and_range():
     doc = (ROOT / "docs" / "case-file.md").read_text(encoding="utf-8")
-    assert schema_markdown() in doc, "docs/case-file.md is out of date: paste schema_markdown()"
+    assert schema_markdown() in doc, ("docs/case-file.md is out of date: run "
+                                      "homlimit.app.schema_doc.update_case_file_doc")
     for sec, keys in SCHEMA.items():
         for name in keys:
             assert f"| `{name}` |" in doc, (sec, name)

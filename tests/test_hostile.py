@@ -17,7 +17,7 @@ import pytest
 from typer.testing import CliRunner
 
 from homlimit import _io
-from homlimit.app import models, pipeline
+from homlimit.app import models, models_rigid, pipeline
 from homlimit.app.cli import app
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -309,14 +309,14 @@ def test_internal_names_never_reach_the_user(sandbox, no_compute, sets, message)
 
 
 def test_a_non_finite_result_is_exit_3_naming_mechanism_and_quantity(sandbox, monkeypatch):
-    real = models.closed_forms
+    real = models_rigid.closed_forms
 
     def nan_II(config):
         mechs, curves = real(config)
         mechs["II"] = types.SimpleNamespace(**{**vars(mechs["II"]), "vg": float("nan")})
         return mechs, curves
 
-    monkeypatch.setattr(models, "closed_forms", nan_II)
+    monkeypatch.setattr(models_rigid, "closed_forms", nan_II)
     res = invoke("demo", "--set", "analysis.fe=false", "--json")
     assert res.exit_code == 3 and res.stdout == ""
     assert doc("no result: mechanism II: vg = nan is not a finite number") in res.stderr

@@ -98,7 +98,7 @@ def test_interface_dissipation_is_written_where_it_is_not_zero():
     base opens by ω x and dissipates T ω b²/2; the .vtu's interface line cells carry it per
     facet (times velocity_scale), and the multiplier is b/h + T b/(γ g h²) (moments about
     the toe)."""
-    from homlimit.app import report
+    from homlimit.app import result_mesh
     from homlimit.fe import problems, strength
     from homlimit.fe.kinematic import solve_kinematic
 
@@ -112,7 +112,7 @@ def test_interface_dissipation_is_written_where_it_is_not_zero():
     v = m.point_data["velocity"]
     scale = np.linalg.norm(v, axis=1).max()
     notes: dict = {}
-    out = report._interface_cells(m, prob, sol, scale, notes)
+    out = result_mesh.interface_cells(m, prob, sol, scale, notes)
     assert [c.type for c in out.cells] == ["triangle", "line"] and not notes
     line = out.cells[1].data
     assert len(line) == 2 and np.all(out.points[line][..., 1] == 0.0)    # the base facets
@@ -124,7 +124,7 @@ def test_interface_dissipation_is_written_where_it_is_not_zero():
     # a dry joint dissipates nothing: no field, a note
     dry = dataclasses.replace(prob, interfaces={"base": strength.BedJoints(0.8)})
     notes = {}
-    out = report._interface_cells(m, dry, sol, scale, notes)
+    out = result_mesh.interface_cells(m, dry, sol, scale, notes)
     assert "interface_dissipation" not in out.cell_data
     assert notes["interface_dissipation"].startswith("not written")
 

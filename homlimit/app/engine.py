@@ -24,8 +24,6 @@ that does not answer within ``SCHEDULER_TIMEOUT`` is a ParameterError (exit 2), 
 
 from __future__ import annotations
 
-import hashlib
-import json
 import logging
 import os
 import signal
@@ -34,13 +32,12 @@ import threading
 import time
 from collections.abc import Callable, Iterable, Sequence
 from contextlib import contextmanager
-from pathlib import Path
 
-import orjson
-
-from .._io import MANIFEST, json_bytes, to_jsonable, write_json, write_text
+from .._io import to_jsonable
 from ..errors import ParameterError, check_range
 from ..params import MESHER_DEFAULT
+from .records import RecordStore, batch_json, json_text, read_json, record_key
+from .scheduler import ADDRESS_HINT, SCHEDULER_TIMEOUT, check_scheduler, handshake
 
 __all__ = ["BLAS_ENV", "Engine", "Interrupted", "RecordStore", "SCHEDULER_TIMEOUT", "batch_json",
            "check_scheduler", "cpu_count", "json_text", "read_json", "record_key"]
@@ -49,73 +46,6 @@ log = logging.getLogger(__name__)
 
 #: environment of every embedded worker process: one BLAS/OpenMP thread (one task per core)
 BLAS_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-#: seconds to wait for a scheduler (``--scheduler``) to answer before giving up
-SCHEDULER_TIMEOUT = 5.0
-#: schemes of a scheduler address whose location is host:port
-_HOST_PORT = ("tcp", "tls", "ws", "wss")
-_SCHEMES = (*_HOST_PORT, "inproc", "ucx")
-_ADDRESS_HINT = ("allowed the address of a running Dask scheduler, tcp://HOST:PORT (e.g. "
-                 "tcp://127.0.0.1:8786, as `dask scheduler` prints it)")
-
-
-def check_scheduler(address: str) -> tuple[str, str | None, int | None]:
-    """(address, host, port) of a scheduler address ``[scheme://]host:port`` (scheme tcp by
-    default; host and port None for the schemes without them), checked before any
-    connection: ParameterError naming the option otherwise."""
-    text = str(address).strip()
-    scheme, sep, loc = text.rpartition("://")
-    scheme = scheme if sep else "tcp"
-
-    def bad(why: str):
-        raise ParameterError(f"scheduler (--scheduler) = {text[:80]!r} is not a scheduler "
-                             f"address: {why}; {_ADDRESS_HINT}")
-
-    if not text:
-        bad("it is empty")
-    if scheme not in _SCHEMES:
-        bad(f"unknown scheme {scheme!r} (allowed {', '.join(_SCHEMES)})")
-    if scheme not in _HOST_PORT:
-        return text, None, None
-    if loc.startswith("["):                       # IPv6: [addr]:port
-        host, _, tail = loc[1:].partition("]")
-        port = tail[1:] if tail.startswith(":") else ""
-    else:
-        host, colon, port = loc.rpartition(":")
-        host, port = (host, port) if colon else (loc, "")
-    if not port.isdigit() or not 1 <= int(port) <= 65535:
-        bad("no port number 1 .. 65535")
-    if not host or any(ch.isspace() or ch in "/?#@" for ch in host):
-        bad("no host name")
-    return f"{scheme}://{loc}", host, int(port)
-
-
-def _handshake(address: str, timeout: float) -> BaseException | None:
-    """Dask's own connection to ``address``, handshake included, within ``timeout`` s: None,
-    or the error. A Client alone waits forever for a server that accepts the connection and
-    never answers; this runs in a thread of its own (an event loop may run in this one), left
-    behind if it hangs."""
-    import asyncio
-
-    from distributed.comm import connect
-
-    errors: list[BaseException] = []
-
-    async def probe():
-        comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
-        await comm.close()
-
-    def run():
-        try:
-            asyncio.run(probe())
-        except BaseException as e:  # reported to the caller, whatever it is
-            errors.append(e)
-
-    thread = threading.Thread(target=run, name="homlimit scheduler probe", daemon=True)
-    thread.start()
-    thread.join(timeout + 1.0)
-    if thread.is_alive():
-        return TimeoutError(f"no handshake within {timeout:.1f} s")
-    return errors[0] if errors else None
 
 
 @contextmanager
@@ -170,95 +100,6 @@ def cpu_count() -> int:
     except AttributeError:  # pragma: no cover - not Linux
         return os.cpu_count() or 1
 
-
-def json_text(data, indent: bool = False) -> str:
-    """``data`` as JSON text (``_io.json_bytes``), ending with a newline."""
-    return json_bytes(data, indent=indent).decode("utf-8") + "\n"
-
-
-def record_key(kind: str, inputs, version: str | None = None) -> str:
-    """The key of a record: SHA-256 (20 hex digits) of the task kind, its resolved inputs and
-    the package version, as canonical JSON (sorted keys). Same inputs, same key."""
-    if version is None:
-        from .pipeline import package_version
-
-        version = package_version()
-    text = json_bytes({"kind": kind, "inputs": inputs, "homlimit_version": version},
-                       sort_keys=True)
-    return hashlib.sha256(text).hexdigest()[:20]
-
-
-def batch_json(records: dict[str, dict]) -> str:
-    """The text of a batch file, ``{"records": {key: record}}`` as compact JSON (NaN as null,
-    as ``write_json``): a batch holds thousands of records; indented, it takes 3x as long."""
-    return json_text({"records": records})
-
-
-def read_json(text: str | bytes):
-    """A record or batch file's data (orjson: the fast reader of what ``batch_json`` wrote;
-    Python's reader for a record ``RecordStore.put(exact=True)`` wrote with NaN)."""
-    try:
-        return orjson.loads(text)
-    except orjson.JSONDecodeError:
-        return json.loads(text)
-
-
-class RecordStore:
-    """A folder of records: ``<key>.json`` per task, or ``batch-<key>.json`` holding
-    ``{"records": {key: record}}`` for a vectorised batch. Every file is written whole or not
-    at all, so whatever a stop leaves here is complete; hidden temporary files are ignored.
-    The folder carries a result-set manifest (``_io.MANIFEST``, command "records"), so that a
-    result set around it (``_io.result_set``) accepts it and carries it over when it is
-    replaced: the records of an interrupted study stay for its resume."""
-
-    def __init__(self, folder: str | Path):
-        self.folder = Path(folder)
-
-    def _mark(self):
-        if not (self.folder / MANIFEST).is_file():
-            write_json(self.folder / MANIFEST, {"command": "records", "files": []})
-
-    def _files(self):
-        if not self.folder.is_dir():
-            return []
-        return sorted(p for p in self.folder.glob("*.json") if not p.name.startswith("."))
-
-    def load(self) -> dict[str, dict]:
-        """Every stored record, key → record."""
-        out = {}
-        for p in self._files():
-            data = read_json(p.read_bytes())
-            recs = data["records"] if p.name.startswith("batch-") else {p.stem: data}
-            for key, rec in recs.items():   # a success recorded later wins over a failure
-                if out.get(key, {}).get("status", "failed") != "ok":
-                    out[key] = rec
-        return out
-
-    def put(self, key: str, record: dict, exact: bool = False) -> Path:
-        """Write one record; ``exact``: NaN kept as NaN (Python's JSON reads it back), so a
-        record read back equals the one computed; otherwise null, as summary.json has it."""
-        self._mark()
-        path = self.folder / f"{key}.json"
-        if not exact:
-            return write_json(path, record)
-        return write_text(path, json.dumps(record, indent=1, ensure_ascii=False,
-                                           default=to_jsonable) + "\n")
-
-    def put_batch(self, records: dict[str, dict]) -> Path:
-        """Write a batch of records as one file (its name: the key of its keys)."""
-        return self.put_batch_json(list(records), batch_json(records))
-
-    def put_batch_json(self, keys: list[str], text: str) -> Path:
-        """Write a batch file whose text ``batch_json`` made (where the records were
-        computed: a worker), holding the records of ``keys``."""
-        self._mark()
-        name = record_key("batch", sorted(keys), version="")
-        return write_text(self.folder / f"batch-{name}.json", text)
-
-    def clear(self):
-        """Remove every record (a sweep run with resume off starts from nothing)."""
-        for p in self._files():
-            p.unlink()
 
 
 def _progress(total: int, description: str, enabled: bool):
@@ -332,14 +173,14 @@ class Engine:
         def fail(reason: str):
             raise ParameterError(f"scheduler (--scheduler) = {address!r}: no Dask scheduler "
                                  f"answers there ({reason}; waited at most "
-                                 f"{SCHEDULER_TIMEOUT:g} s); {_ADDRESS_HINT}") from None
+                                 f"{SCHEDULER_TIMEOUT:g} s); {ADDRESS_HINT}") from None
 
         if host is not None:
             try:
                 socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT).close()
             except OSError as e:
                 fail(str(e.strerror or e or type(e).__name__))
-        error = _handshake(address, max(0.5, SCHEDULER_TIMEOUT - (time.monotonic() - t0)))
+        error = handshake(address, max(0.5, SCHEDULER_TIMEOUT - (time.monotonic() - t0)))
         if isinstance(error, MemoryError):  # a length prefix read from another server
             fail("the reply is not a Dask scheduler's")
         if error is not None:
@@ -498,3 +339,4 @@ def _plain(obj):
 
 def _sigterm(signum, frame):
     raise Interrupted(signum)
+

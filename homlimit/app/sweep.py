@@ -36,7 +36,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .._io import sidecar, write_output
+from .._io import sidecar
 from .config import ConfigError, load_case_inputs
 from .engine import Engine, RecordStore, check_scheduler, cpu_count, record_key
 from .pipeline import folder_name, package_version, result_folder, source_of
@@ -55,6 +55,7 @@ from .sweep_cases import (
 )
 from .sweep_table import META, flatten, record_row, table_rows, write_table
 from .sweep_tasks import BatchText, batch_closed_form, evaluate_item, failed_record, run_case
+from .writers import write
 
 __all__ = ["MAX_CASES", "MAX_DIGITS", "MAX_PROBLEMS", "MAX_TABLE_BYTES", "META", "SweepCase",
            "SweepResult", "batch_closed_form", "flatten", "parse_grid", "plan_sweep",
@@ -192,7 +193,7 @@ def _sweep_into(staging: Path, folder: Path, t0: float, data: dict, source: str,
         swept = list(dict.fromkeys(
             [f"inputs.{k}" if "." in k else "case" for k in grid_d]
             + [f"inputs.{k}" if "." in k else "case" for c in cases for k in c.overrides]))
-        write_output(staging / "sweep.json", {
+        write(staging / "sweep.json", {
             "homlimit_version": package_version(), "base": source, "base_case": data,
             "grid": grid_d, "table": None if table is None or isinstance(table, list)
             else str(table), "swept": swept, "n_cases": len(cases),

@@ -6,9 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 from sys import intern
 
-from .._io import write_output
 from .report import column_unit
 from .sweep_cases import SweepCase
+from .writers import write
 
 __all__ = ["META", "flatten", "record_row", "table_rows", "write_table"]
 
@@ -91,7 +91,7 @@ def _column(values: list):
 def write_table(folder: Path, rows: list[dict], swept: list[str]) -> dict[str, Path]:
     """results.parquet and results.csv: one row per case, META, the swept inputs, the rest;
     the unit of every column (``report.column_unit``) and the schema version as the Parquet
-    metadata and in the CSV's sidecar results.csv.json (``_io.write_output``)."""
+    metadata and in the CSV's sidecar results.csv.json (``writers.write``)."""
     import pyarrow as pa
 
     seen: dict = {}
@@ -102,5 +102,5 @@ def write_table(folder: Path, rows: list[dict], swept: list[str]) -> dict[str, P
     units = {c: column_unit(c) for c in cols if c not in META}
     files = {"parquet": folder / "results.parquet", "csv": folder / "results.csv"}
     for path in files.values():       # units and schema version: metadata, CSV's sidecar
-        write_output(path, table, units=units)
+        write(path, table, units=units)
     return files

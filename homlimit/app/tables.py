@@ -19,10 +19,17 @@ from . import budget, models, plots, report
 from .config import CaseConfig, check_mesh
 from .models import solver_options, stage
 from .outputs import result_folder, source_of
+from .schema import SCHEMA
 from .studies import STUDY_WALL, crack_angle_study
 
 __all__ = ["check_budget", "crack_study_records", "figure2_curves", "mesh_case",
            "table1_blocks_records", "table1_records"]
+
+
+def _option(section: str, key: str, value) -> float:
+    """A command's option checked against its case-file key's range (one range, the
+    schema's): ParameterError naming the option, its value and the range."""
+    return SCHEMA[section][key].range.check(key, value)
 
 
 def check_budget(option: str, cases, size: float, max_triangles: int, scan: bool = True,
@@ -55,10 +62,10 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
     walls, one ``FEResult`` each (default: ``fe_result`` wall after wall here;
     ``engine.Engine.fe_results`` runs every height as a Dask task)."""
     check_range("mesh_size", mesh_size, 0.0, 9.0, lo_open=True, unit="m")
-    check_range("heights", heights, 2, 200)
+    _option("analysis", "heights", heights)
     check_choice("facade", facade, FACADE_MODELS)
     check_choice("mesher", mesher, MESHERS)
-    check_range("max_triangles", max_triangles, 100, 1e8)
+    _option("mesh", "max_triangles", max_triangles)
     cases = {t.test: t.case for t in table1()}
     for t in tests or ():
         check_choice("test", t, tuple(cases))
@@ -95,7 +102,7 @@ def table1_blocks_records(tests: list[str] | None = None, step: int = 1,
                           ) -> tuple[list[dict], dict]:
     """Table 1 with the rigid-block column (``blocks.table1_blocks``): rows and the ratios
     B4/B1, B5/B2, B6/B3 of v̄_g/√(gb) of the DEM, I, II and the blocks."""
-    check_range("step", step, 1, 1000)
+    _option("blocks", "step", step)
     check_choice("facade", facade, FACADE_BONDS)
     names = [t.test for t in table1()]
     for t in tests or ():
@@ -148,7 +155,7 @@ def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quic
     check_range("mesh_size", mesh_size, 0.0, min(w.H, w.b + w.L), lo_open=True, unit="m")
     if finer is not None:
         check_range("finer", finer, 0.0, mesh_size, lo_open=True, hi_open=True, unit="m")
-    check_range("max_triangles", max_triangles, 100, 1e8)
+    _option("mesh", "max_triangles", max_triangles)
     check_choice("mesher", mesher, MESHERS)
     for name, values in (("c_over_a", c_over_a), ("f", frictions)):
         for v in values or ():

@@ -42,6 +42,7 @@ from scipy.integrate import cumulative_trapezoid
 from scipy.optimize import minimize_scalar
 
 from ..errors import ParameterError, check_range
+from ..fields import Range, check_fields, ranged
 
 __all__ = ["Pulse", "RectangularPulse", "OneSinePulse", "OneCosinePulse", "RickerPulse",
            "MavroeidisPapageorgiouPulse", "RecordPulse", "PULSE_KINDS", "make_pulse",
@@ -52,6 +53,10 @@ RECORD_MIN_SAMPLES = 16    # fewer samples cannot describe a ground motion
 RECORD_MAX_STEP = 0.05     # s: a longer sample step gets a warning (peaks between samples lost)
 RECORD_MAX_DURATION = 600.0  # s: a longer record gets a warning (no earthquake lasts that long)
 _N_PEAK = 20001  # samples for numerically found peaks (smooth pulses: error ~ (T/N)²)
+
+
+_AMPLITUDE = Range(0.0, lo_open=True, unit="m/s^2")    # a_p of a pulse
+_PERIOD = Range(0.0, lo_open=True, unit="s")            # T_p of a pulse
 
 
 def _polarity(value) -> int:
@@ -136,16 +141,13 @@ class Pulse:
 class RectangularPulse(Pulse):
     """a_g = polarity · a_p on 0 <= t <= duration (a_p [m/s²], duration [s])."""
 
-    a_p: float
-    duration: float
+    a_p: float = ranged(_AMPLITUDE)
+    duration: float = ranged(0.0, lo_open=True, unit="s")
     polarity: int = 1
     kind = "rectangular"
 
     def __post_init__(self):
-        object.__setattr__(self, "a_p", check_range("a_p", self.a_p, 0.0, lo_open=True,
-                                                    unit="m/s^2"))
-        object.__setattr__(self, "duration", check_range("duration", self.duration, 0.0,
-                                                         lo_open=True, unit="s"))
+        check_fields(self)
         object.__setattr__(self, "polarity", _polarity(self.polarity))
 
     @property
@@ -187,15 +189,12 @@ class RectangularPulse(Pulse):
 class _CyclePulse(Pulse):
     """One cycle a_g = polarity · a_p f(2πt/T_p) on 0 <= t <= T_p (cycloidal pulses)."""
 
-    a_p: float
-    T_p: float
+    a_p: float = ranged(_AMPLITUDE)
+    T_p: float = ranged(_PERIOD)
     polarity: int = 1
 
     def __post_init__(self):
-        object.__setattr__(self, "a_p", check_range("a_p", self.a_p, 0.0, lo_open=True,
-                                                    unit="m/s^2"))
-        object.__setattr__(self, "T_p", check_range("T_p", self.T_p, 0.0, lo_open=True,
-                                                    unit="s"))
+        check_fields(self)
         object.__setattr__(self, "polarity", _polarity(self.polarity))
 
     @property
@@ -270,16 +269,13 @@ class RickerPulse(Pulse):
     t0 = 1.5 T_p, support [0, 2 t0]. Its velocity is v = a_p τ exp(−π²τ²/T_p²), peak
     pgv = a_p T_p e^{-1/2} / (π√2) at τ = T_p/(π√2)."""
 
-    a_p: float
-    T_p: float
+    a_p: float = ranged(_AMPLITUDE)
+    T_p: float = ranged(_PERIOD)
     polarity: int = 1
     kind = "ricker"
 
     def __post_init__(self):
-        object.__setattr__(self, "a_p", check_range("a_p", self.a_p, 0.0, lo_open=True,
-                                                    unit="m/s^2"))
-        object.__setattr__(self, "T_p", check_range("T_p", self.T_p, 0.0, lo_open=True,
-                                                    unit="s"))
+        check_fields(self)
         object.__setattr__(self, "polarity", _polarity(self.polarity))
 
     @property
@@ -340,22 +336,15 @@ class MavroeidisPapageorgiouPulse(Pulse):
     ends of the support [0, γ T_p]; pga and pgv are found numerically.
     """
 
-    v_p: float
-    T_p: float
-    gamma: float = 2.0
-    nu: float = 0.0
+    v_p: float = ranged(0.0, lo_open=True, unit="m/s")
+    T_p: float = ranged(_PERIOD)
+    gamma: float = ranged(1.0, 10.0, lo_open=True, default=2.0)
+    nu: float = ranged(-2 * math.pi, 2 * math.pi, unit="rad", default=0.0)
     polarity: int = 1
     kind = "mp"
 
     def __post_init__(self):
-        object.__setattr__(self, "v_p", check_range("v_p", self.v_p, 0.0, lo_open=True,
-                                                    unit="m/s"))
-        object.__setattr__(self, "T_p", check_range("T_p", self.T_p, 0.0, lo_open=True,
-                                                    unit="s"))
-        object.__setattr__(self, "gamma", check_range("gamma", self.gamma, 1.0, 10.0,
-                                                      lo_open=True))
-        object.__setattr__(self, "nu", check_range("nu", self.nu, -2 * math.pi, 2 * math.pi,
-                                                   unit="rad"))
+        check_fields(self)
         object.__setattr__(self, "polarity", _polarity(self.polarity))
 
     @property
@@ -406,7 +395,7 @@ class RecordPulse(Pulse):
 
     t: np.ndarray
     a_g: np.ndarray
-    scale: float = 1.0
+    scale: float = ranged(0.0, lo_open=True, default=1.0)
     polarity: int = 1
     name: str = "record"
     _v: np.ndarray = field(init=False, repr=False)
@@ -434,7 +423,7 @@ class RecordPulse(Pulse):
                                  "some a_g != 0")
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "a_g", a)
-        object.__setattr__(self, "scale", check_range("scale", self.scale, 0.0, lo_open=True))
+        check_fields(self)       # scale
         object.__setattr__(self, "polarity", _polarity(self.polarity))
         object.__setattr__(self, "_v", cumulative_trapezoid(a, t, initial=0.0))
 

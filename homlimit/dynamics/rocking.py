@@ -45,6 +45,7 @@ from scipy.optimize import brentq
 
 from ..closed_form.mechanisms import mechanism_I, work_I
 from ..errors import ParameterError, check_range
+from ..fields import Range, check_fields, ranged
 from ..impulse import RigidBody, peak_work
 from ..params import G_STANDARD, Case
 
@@ -54,8 +55,11 @@ __all__ = ["Rocker", "RigidRocker", "MechanismIRocker", "GeneralisedRocker", "fr
 THETA_FALL = math.pi / 2  # rad: the body lies on the ground; overturned whatever follows
 
 
+RESTITUTION = Range(0.0, 1.0)    # a coefficient of restitution
+
+
 def _restitution(e) -> float:
-    return check_range("restitution", e, 0.0, 1.0)
+    return RESTITUTION.check("restitution", e)
 
 
 def _geometry(value) -> str:
@@ -147,9 +151,9 @@ class RigidRocker(Rocker):
     """
 
     body: RigidBody
-    g: float = G_STANDARD
+    g: float = ranged(0.0, lo_open=True, unit="m/s^2", default=G_STANDARD)
     geometry: str = "exact"
-    restitution: float = 0.0
+    restitution: float = ranged(RESTITUTION, default=0.0)
     two_sided: bool = False
     name: str = "rigid body"
 
@@ -159,10 +163,8 @@ class RigidRocker(Rocker):
         if self.body.x_G <= 0:
             raise ParameterError(f"x_G = {self.body.x_G!r} m is out of range: a rocking body "
                                  "needs a restoring lever, allowed 0 < x_G")
-        object.__setattr__(self, "g", check_range("g", self.g, 0.0, lo_open=True,
-                                                  unit="m/s^2"))
+        check_fields(self)
         object.__setattr__(self, "geometry", _geometry(self.geometry))
-        object.__setattr__(self, "restitution", _restitution(self.restitution))
         object.__setattr__(self, "two_sided", bool(self.two_sided))
 
     @property
@@ -425,11 +427,11 @@ class GeneralisedRocker(Rocker):
     """
 
     M: float
-    Pi: float
+    Pi: float = ranged(0.0, lo_open=True, unit="kg m")
     block: RigidBody
-    lift_rest: float = 0.0
-    g: float = G_STANDARD
-    restitution: float = 0.0
+    lift_rest: float = ranged(0.0, unit="N m", default=0.0)
+    g: float = ranged(0.0, lo_open=True, unit="m/s^2", default=G_STANDARD)
+    restitution: float = ranged(RESTITUTION, default=0.0)
     name: str = "FE one-DOF"
     two_sided: bool = field(default=False, init=False)
 
@@ -441,13 +443,7 @@ class GeneralisedRocker(Rocker):
                                  "a restoring lever, allowed 0 < x_G")
         object.__setattr__(self, "M", check_range("M", self.M, self.block.I_O * (1 - 1e-9),
                                                   unit="kg m^2"))
-        object.__setattr__(self, "Pi", check_range("Pi", self.Pi, 0.0, lo_open=True,
-                                                   unit="kg m"))
-        object.__setattr__(self, "lift_rest", check_range("lift_rest", self.lift_rest, 0.0,
-                                                          unit="N m"))
-        object.__setattr__(self, "g", check_range("g", self.g, 0.0, lo_open=True,
-                                                  unit="m/s^2"))
-        object.__setattr__(self, "restitution", _restitution(self.restitution))
+        check_fields(self)       # Pi, lift_rest, g, restitution
 
     @classmethod
     def from_impulse(cls, gi, g: float = G_STANDARD, restitution: float = 0.0,

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, check_range
+from ..fields import check_fields, ranged
 
 __all__ = ["RigidBody", "triangle_moments"]
 
@@ -30,16 +31,13 @@ class RigidBody:
     I_O : polar moment of inertia about O [kg m²] (same thickness convention as m)
     """
 
-    m: float
-    x_G: float
-    z_G: float
-    I_O: float
+    m: float = ranged(0.0, lo_open=True)
+    x_G: float = ranged()           # any finite number
+    z_G: float = ranged(0.0, lo_open=True)
+    I_O: float = ranged(0.0, lo_open=True)
 
     def __post_init__(self):
-        for name in ("m", "z_G", "I_O"):
-            object.__setattr__(self, name, check_range(name, getattr(self, name), 0.0,
-                                                       lo_open=True))
-        object.__setattr__(self, "x_G", check_range("x_G", self.x_G))
+        check_fields(self)
         i_min = self.m * (self.x_G ** 2 + self.z_G ** 2)
         if self.I_O < i_min * (1 - 1e-12):
             raise ParameterError(f"I_O = {self.I_O!r} is out of range: the polar inertia about O "

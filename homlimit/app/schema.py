@@ -1,0 +1,364 @@
+"""The case file's keys: one ``Key`` per key of every section, the single source of truth
+for reading case files (``app.config``), checking them (``app.case_checks``) and their
+documentation (``app.schema_doc``: ``schema_markdown`` → docs/case-file.md).
+
+SCHEMA: section → key → Key; ARRAYS: the arrays of tables ([[tie]], [[floor]]); TOP_LEVEL: the
+keys outside any section (the case name).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from ..blocks.geometry import FACADE_BONDS
+from ..dynamics.pulses import PULSE_KINDS, MavroeidisPapageorgiouPulse
+from ..dynamics.rocking import RigidRocker
+from ..fields import Range, default_of, range_of
+from ..params import (
+    FACADE_DEFAULT,
+    FACADE_MODELS,
+    MESHER_DEFAULT,
+    MESHERS,
+    PART_DIVISIONS,
+    Floor,
+    Masonry,
+    Tie,
+    Wall,
+)
+from . import budget, registry
+
+__all__ = ["ARRAYS", "MAX_ARRAY", "REQUIRED", "REQUIRED_SECTIONS", "SCHEMA", "TOP_LEVEL", "Key"]
+
+REQUIRED = object()
+
+
+@dataclass(frozen=True)
+class Key:
+    """One case-file key: its type, default (or REQUIRED), unit, allowed range and meaning."""
+
+    kind: type                    # float, int, bool, str, or list (of ``item``)
+    default: Any = REQUIRED
+    unit: str = ""
+    lo: float | None = None
+    hi: float | None = None
+    lo_open: bool = False
+    hi_open: bool = False
+    choices: tuple = ()
+    doc: str = ""
+    item: type | None = None      # the type of a list's items (range and choices apply to each)
+    typical: tuple[float, float] | None = None   # outside: a warning (valid but implausible)
+
+    @classmethod
+    def of(cls, owner, name: str, kind: type = float, **kw) -> Key:
+        """The key of the ranged field ``name`` of the dataclass ``owner``
+        (``fields.ranged``): its default and range are the field's, written once there;
+        ``kw``: the rest (``doc``, ``typical``, ``unit`` as the docs spell it)."""
+        r = range_of(owner, name)
+        return cls(kind, default_of(owner, name), kw.pop("unit", r.unit), r.lo, r.hi,
+                   r.lo_open, r.hi_open, **kw)
+
+    @property
+    def required(self) -> bool:
+        return self.default is REQUIRED
+
+    @property
+    def range(self) -> Range:
+        """The allowed range of a number (``fields.Range``, shared with the parameter
+        objects' fields)."""
+        return Range(self.lo, self.hi, self.lo_open, self.hi_open, self.unit)
+
+    def range_text(self, name: str) -> str:
+        if self.choices:
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        return self.range.text(name)
+
+
+def _len(hi: float, typical: tuple[float, float]) -> dict:
+    """A length [m] between 1 mm and ``hi`` (the physically meaningful range: nothing smaller
+    than a millimetre is built of blocks, and the bounds keep every product finite)."""
+    return dict(unit="m", lo=1e-3, hi=hi, typical=typical)
+
+
+#: section -> key -> Key. The single source of truth for case files and their documentation.
+SCHEMA: dict[str, dict[str, Key]] = {
+    "wall": {
+        "H": Key(float, **_len(1e4, (1.0, 40.0)),
+                 doc="height of façade and transversal wall (H/b >= 0.5)"),
+        "L": Key(float, **_len(1e4, (0.5, 50.0)), doc="length of the transversal wall"),
+        "s": Key(float, **_len(1e3, (0.1, 2.0)), doc="thickness of the transversal wall"),
+        "b": Key(float, **_len(1e3, (0.1, 2.0)), doc="thickness of the façade"),
+        "l": Key(float, **_len(1e4, (0.5, 50.0)),
+                 doc="length of the façade between transversal walls (ρ = l/s, eq. 11)"),
+        "gamma": Key(float, default_of(Wall, "gamma"), "kg/m³", 1.0, 1e5, typical=(1000.0, 3000.0),
+                     doc="mass density of masonry γ"),
+        "g": Key(float, default_of(Wall, "g"), "m/s²", 1e-2, 1e3, typical=(9.7, 9.9),
+                 doc="gravitational acceleration"),
+    },
+    "masonry": {
+        "a": Key(float, **_len(1e3, (0.03, 1.0)), doc="block height (a <= H)"),
+        "c": Key(float, **_len(1e3, (0.03, 1.5)), doc="half block length (2c <= L)"),
+        "f": Key(float, unit="", lo=1e-3, hi=100.0, typical=(0.3, 1.0),
+                 doc="joint friction coefficient (α = √(cf/a), eq. 11)"),
+        "fc": Key(float, default_of(Masonry, "fc"), "Pa", 0.0, 1e10,
+                  doc="compressive strength of the masonry; 0 means infinite (the paper's "
+                      "rigid blocks). Finite: the hinge of every closed form retreats to the "
+                      "resultant of a rectangular stress block, t = N/(2 fc l); both FE "
+                      "bounds cap the principal compressive stress at fc; the rigid blocks "
+                      "cap every contact at fc (docs/real-walls.md); the DEM does not take "
+                      "it yet (it takes ties and floors)"),
+        "cohesion": Key(float, default_of(Masonry, "cohesion"), "Pa", 0.0, 1e10,
+                        doc="cohesion of the joints (the strength domains' name); the FE "
+                            "bounds of fe.problems.t_section take it, no model of a run takes "
+                            "a non-zero value yet (docs/real-walls.md)"),
+        "tension": Key(float, default_of(Masonry, "tension"), "Pa", 0.0, 1e10,
+                       doc="tensile strength of the joints (the strength domains' name); the "
+                           "FE bounds of fe.problems.t_section take it, no model of a run "
+                           "takes a non-zero value yet (docs/real-walls.md)"),
+    },
+    "mesh": {
+        "size": Key(float, 0.25, "m", 0.0, 1e4, lo_open=True,
+                    doc="element spacing of the T-section mesh along z, and in the wall far "
+                        "from the junction (homlimit.fe.problems.t_section h; 4 columns across "
+                        "the façade, graded towards the junction); size <= min(H, b + L)"),
+        "max_triangles": Key(int, budget.DEFAULT_MAX_TRIANGLES, "", 100, 1e8,
+                             doc="problem-size budget: the largest FE problem of the run "
+                                 "(estimated from the wall and size before meshing, "
+                                 "homlimit.app.budget) must not have more triangles; the "
+                                 "default fits a 2-core, 24 GiB machine with margin "
+                                 f"(about {budget.memory_gib(budget.DEFAULT_MAX_TRIANGLES):.1f}"
+                                 " GiB at its peak; docs/cli.md)"),
+        "part_divisions": Key(int, PART_DIVISIONS, "", 2, 1000,
+                              doc="elements per height of a failing part in the FE impulse "
+                                  "scan: a part of height h is meshed at min(size, "
+                                  "h/part_divisions), so short parts stay resolved"),
+        "mesher": Key(str, MESHER_DEFAULT, choices=MESHERS,
+                      doc="the mesh of the whole wall and of every part of the FE scan: "
+                          "\"crossed\" (structured grid, every cell cut by its diagonals), "
+                          "\"gmsh\" (unstructured, refined to b/4 along the junction) or "
+                          "\"gmsh-strip\" (gmsh with the façade strip a crossed grid of 4 "
+                          "columns, the wall unstructured; docs/kinematic.md)"),
+        "outer_ratio": Key(float, 25.0, "", 0.0, 1000.0,
+                           doc="the static bound's own mesh (crossed mesher only; 0: the "
+                               "kinematic bound's mesh): the façade's columns graded to a "
+                               "width of size/outer_ratio at the outer face, where an "
+                               "overturning façade bears (docs/static.md, \"The outer "
+                               "face\"; measured on B1: 25 keeps the columns' aspect "
+                               "ratio where linear and quadratic stresses agree)"),
+    },
+    "adapt": {
+        "target_gap": Key(float, 0.01, "", 0.0, 1.0, lo_open=True,
+                          doc="adaptive bracket of the whole wall (mesher \"gmsh\" only): stop "
+                              "when (λ⁺ − λ⁻)/mean <= target_gap (homlimit.fe.adapt)"),
+        "max_cycles": Key(int, 6, "", 1, 50,
+                          doc="at most this many meshes of the adaptive bracket (1: one bracket "
+                              "on the first mesh)"),
+        "min_size": Key(float, 0.005, "m", 0.0, 1e4, lo_open=True,
+                        doc="no element of the adaptive bracket is asked to be smaller"),
+    },
+    "analysis": {
+        "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),
+        "tanpsi": Key(float, 0.0, "", lo=0.0, hi=100.0,
+                      doc="crack slope tan ψ of mechanism II (0: √(cf/a), eq. 16)"),
+        "lam_points": Key(int, 200, "", lo=10, hi=100000,
+                          doc="points of the v̄_g(λ) curves over 0 < λ <= H/b"),
+        "overturning": Key(bool, False,
+                           doc="the simple overturning of the façade about its toe (no "
+                               "abutment; closed form with ties, floors and fc; "
+                               "docs/real-walls.md)"),
+        "fe": Key(bool, True, doc="finite-element kinematic mechanism, crack and impulse"),
+        "facade": Key(str, FACADE_DEFAULT, choices=FACADE_MODELS,
+                      doc="strength domain of the façade in the FE model: bed joints only "
+                          "(its blocks run through the thickness, as in the paper) or eq. 15 "
+                          "(homogenised, the β → 0 idealisation)"),
+        "heights": Key(int, 6, "", lo=2, hi=200,
+                       doc="starting heights of the FE impulse scan, spaced geometrically "
+                           "from one course (a) to H, refined around the minimum of v̄_g "
+                           "(eq. 7) to one course (two courses within 0.5 %)"),
+        "static": Key(bool, True,
+                      doc="static lower bound of the whole wall's FE multiplier (the bracket "
+                          "λ⁻ <= λ <= λ⁺; on its own graded mesh with [mesh] outer_ratio), "
+                          "its stress field in stress.png, and in mechanism.vtu when both "
+                          "bounds share a mesh (needs fe)"),
+        "tol": Key(float, 0.0, "", lo=0.0, hi=1e-2,
+                   doc="Clarabel gap and feasibility tolerance (0: the solver default of "
+                       "homlimit.fe.solver.SolverOptions)"),
+        "blocks": Key(bool, False, doc="the rigid-block model of the running bond "
+                                       "(``homlimit.blocks``, [blocks]): the block size "
+                                       "enters; files blocks*.vtu/png/csv"),
+        "dem": Key(bool, False, doc="the explicit rigid-block DEM (``homlimit.dem``, [dem]): "
+                                    "its collapse threshold by bisection, failing height and "
+                                    "slide flags; files dem.pvd + dem/*.vtu, "
+                                    "dem_snapshots.png (minutes of CPU per wall: "
+                                    "docs/dem.md)"),
+        "hinge_check": Key(bool, True, doc="the hinge's impulse ratio |P_x/P_z| against f "
+                                           "and the shortest rectangular pulse it holds, "
+                                           "per mechanism (summary 'hinges'; about 0.07 s "
+                                           "per mechanism: off for large closed-form "
+                                           "sweeps)"),
+    },
+    "blocks": {
+        "facade": Key(str, "through", choices=FACADE_BONDS,
+                      doc="façade of the block model: one block through its thickness b, as "
+                          "the paper builds it, or laid in running bond"),
+        "friction": Key(str, "associative", choices=("associative", "non-associative"),
+                        doc="joint flow rule: associative Coulomb (the homogenised domain's), "
+                            "or no dilatancy by the iterative scheme of Gilbert, Casapulla & "
+                            "Ahmed (2006)"),
+        "step": Key(int, 1, "", 1, 1000, doc="courses between the scanned part heights"),
+        "non_associative_check": Key(bool, False,
+                                     doc="also solve the critical height without "
+                                         "dilatancy (associative friction only)"),
+        "max_blocks": Key(int, 50000, "", 1, 10 ** 6,
+                          doc="largest assembly allowed ((H/a)(L/2c + 1) blocks; 20 000 "
+                              "blocks solve in about 90 s of CPU)"),
+    },
+    "dem": {
+        "kn": Key(float, 1.0e9, "Pa/m", 1e5, 1e13,
+                  doc="joint normal stiffness per unit joint area (a contact point gets kn × "
+                      "tributary length × s); not in the paper: the order of UDEC joint "
+                      "stiffnesses for masonry, 10⁹–10¹⁰ Pa/m (Lemos 2007), the lower end "
+                      "for a longer time step"),
+        "ks_over_kn": Key(float, 0.5, "", 0.0, 10.0, lo_open=True,
+                          doc="shear over normal joint stiffness; not in the paper: a common "
+                              "UDEC choice (an elastic interface: 1/(2(1 + ν)) ≈ 0.4)"),
+        "facade_stiffness": Key(float, 0.0, "", 0.0, 1e3,
+                                doc="factor on the façade's contact stiffness (0: ρ = l/s, "
+                                    "the paper's uniform lowering: contacts stiffened like "
+                                    "the façade's density)"),
+        "dt_fraction": Key(float, 0.1, "", 0.0, 0.5, lo_open=True,
+                           doc="dt = dt_fraction × √(m_min/k_max) (package choice: a block "
+                               "held by ~40 such springs stays below the central-difference "
+                               "limit)"),
+        "settle_damping": Key(float, 0.8, "", 0.0, 1.0, hi_open=True,
+                              doc="Cundall's local damping while settling under gravity "
+                                  "(UDEC's default for static solutions); none after"),
+        "settle_time": Key(float, 2.0, "s", 0.0, 600.0,
+                           doc="longest settling run (package choice)"),
+        "settle_velocity": Key(float, 1e-5, "m/s", 0.0, 1.0, lo_open=True,
+                               doc="settling stops once every block is slower (package "
+                                   "choice)"),
+        "base_joint": Key(str, "frictional", choices=("frictional", "tied"),
+                          doc="joint with the ground: frictional like the others (the "
+                              "paper's UDEC base is not described) or tied (the contacts "
+                              "present at the start neither open nor slide)"),
+        "ground_margin": Key(float, 2.0, "m", 0.0, 100.0,
+                             doc="the ground is widened by this on both sides (the "
+                                 "assembly's ends flush with the façade's toe; package "
+                                 "choice)"),
+        "verlet_margin": Key(float, 0.005, "m", 0.0, 0.1, lo_open=True,
+                             doc="contact candidates: vertex–edge pairs closer than this; "
+                                 "rebuilt after a move of half of it (package choice)"),
+        "cone_tolerance": Key(float, 0.05, "rad", 0.0, 0.5,
+                              doc="widening of a vertex's normal cone in the contact test "
+                                  "(package choice)"),
+        "trib_floor": Key(float, 0.05, "", 0.0, 0.5, lo_open=True,
+                          doc="least tributary length, as a fraction of the shorter edge "
+                              "(package choice)"),
+        "loading": Key(str, "impulse", choices=("impulse", "rectangular", "one-sine",
+                                                "one-cosine", "ricker"),
+                       doc="the load whose threshold is found: the ideal impulse (v̄_g, the "
+                           "paper's) or a base-acceleration pulse of duration/period "
+                           "pulse_period (its amplitude a_g; homlimit.dynamics.pulses)"),
+        "pulse_period": Key(float, 0.2, "s", 1e-3, 100.0,
+                            doc="Δt of the pulse (rectangular: its duration; loading other "
+                                "than impulse)"),
+        "polarity": Key(int, 1, choices=(1, -1),
+                        doc="pulse polarity: +1 pushes the ground towards +x first (the "
+                            "façade's inertia outwards)"),
+        "rel_tol": Key(float, 0.01, "", 0.0, 0.5, lo_open=True,
+                       doc="bisection tolerance of the threshold: (hi − lo)/(hi + lo)"),
+        "t_max": Key(float, 5.0, "s", 0.0, 600.0, lo_open=True,
+                     doc="length of a trial: a trial collapses when a façade or toothing "
+                         "block moved outwards by more than H/4 before t_max "
+                         "(docs/dem.md, section 3)"),
+        "guess": Key(float, 0.0, "", 0.0, 1e4,
+                     doc="first trial amplitude (m/s, or m/s² for a pulse; 0: the paper's "
+                         "v̄_g rounded to 0.1 for a Table 1 wall, else mechanism I's; a "
+                         "pulse: mechanism I's static multiplier × g); it only sets where "
+                         "the bracket search (steps of ×1.5) starts"),
+        "max_blocks": Key(int, 5000, "", 1, 10 ** 6,
+                          doc="largest assembly allowed ((H/a)(L/2c + 1) blocks; B1's 480 "
+                              "blocks take ~60 µs per time step, 75–80 s of CPU per "
+                              "threshold)"),
+        "frame_interval": Key(float, 0.05, "s", 1e-4, 10.0,
+                              doc="time between the frames of the ParaView series of the "
+                                  "lowest collapsing trial (dem.pvd) and of the animation"),
+        "animation": Key(bool, True,
+                         doc="with [output] png, write dem_animation.gif: the lowest "
+                             "collapsing trial beside the highest standing one (one more "
+                             "trial of up to t_max, and the rendering)"),
+    },
+    "pulse": {
+        "kinds": Key(list, ["rectangular", "one-sine"], item=str, choices=tuple(PULSE_KINDS),
+                     doc="pulse shapes of the overturning spectra (`homlimit pulse`): "
+                         "rectangular (duration = period), one-sine, one-cosine, ricker, mp "
+                         "(Mavroeidis–Papageorgiou)"),
+        "periods": Key(list, [0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0], "s", 1e-3, 100.0,
+                       item=float, doc="pulse periods T_p (rectangular: durations)"),
+        "polarities": Key(list, [1, -1], item=int, choices=(1, -1),
+                          doc="pulse polarities: +1 pushes the ground towards +x first (the "
+                              "façade's inertia outwards)"),
+        "mechanisms": Key(list, ["I", "II"], item=str, choices=registry.PULSE_CHOICES,
+                          doc="mechanisms whose spectra are computed (FE runs the FE path "
+                              "first: its critical body, rigid or one-DOF)"),
+        "gravity_I": Key(str, "linearised", choices=("linearised", "exact"),
+                         doc="mechanism I's gravity: as eq. 10 (linearised) or exact"),
+        "restitution": Key.of(RigidRocker, "restitution",
+                              doc="coefficient of restitution at re-seating (0: the body "
+                                  "stays seated)"),
+        "rtol": Key(float, 1e-6, "", 1e-13, 1e-2, lo_open=False,
+                    doc="relative tolerance of the threshold amplitude (brentq)"),
+        "scan_ratio": Key(float, 1.05, "", 1.0, 10.0, lo_open=True,
+                          doc="amplitude step of the search from lift-off to overturning"),
+        "gamma": Key.of(MavroeidisPapageorgiouPulse, "gamma",
+                        doc="Mavroeidis–Papageorgiou oscillation parameter γ (kind mp)"),
+        "nu": Key.of(MavroeidisPapageorgiouPulse, "nu",
+                     doc="Mavroeidis–Papageorgiou phase ν (kind mp)"),
+        "record": Key(str, "", doc="a ground-acceleration record, two-column CSV t [s], "
+                                   "a_g [m/s²] (relative to the case file): its critical "
+                                   "scale per mechanism"),
+    },
+    "output": {
+        "dir": Key(str, "", doc="output folder (empty: homlimit-out/<name>/; --out overrides)"),
+        "json": Key(bool, True, doc="write summary.json (every input, result, version)"),
+        "png": Key(bool, True, doc="write the PNG pictures"),
+        "vtu": Key(bool, True, doc="write the mesh and mechanism as .vtu (ParaView)"),
+    },
+}
+#: arrays of tables ([[tie]], [[floor]]): name -> key -> Key, each entry validated like a
+#: section; a sweep or --set addresses an entry's key as tie.0.yield_force
+ARRAYS: dict[str, dict[str, Key]] = {
+    "tie": {
+        "z": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
+                 doc="height of the tie above the ground (0 < z <= H)"),
+        "yield_force": Key(float, unit="N/m", lo=0.0, hi=1e9,
+                           doc="yield force per metre of façade (a bay of length l carries "
+                               "yield_force·l)"),
+        "stiffness": Key(float, default_of(Tie, "stiffness"), "N/m²", 0.0, 1e15,
+                         doc="axial stiffness per metre of façade (force per metre per metre "
+                             "of elongation); 0: rigid-plastic"),
+        "ductility": Key(float, default_of(Tie, "ductility"), "m", 0.0, 1e3,
+                         doc="elongation at which the tie breaks; 0: none (it yields without "
+                             "limit)"),
+    },
+    "floor": {
+        "z": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
+                 doc="height of the floor's bearing on the façade (0 < z <= H)"),
+        "load": Key(float, unit="N/m", lo=0.0, hi=1e9,
+                    doc="vertical dead load per metre of façade (only the load bears on the "
+                        "façade: the floor's mass moves with the building)"),
+        "eccentricity": Key(float, unit="m", lo=0.0, hi=1e3,
+                            doc="where the load acts, from the façade's outer face "
+                                "(0 <= eccentricity <= b)"),
+        "restrains": Key(bool, default_of(Floor, "restrains"),
+                         doc="the floor holds the façade horizontally at z: a failing body "
+                             "lies above it"),
+    },
+}
+MAX_ARRAY = 100                   # entries of a [[tie]] or [[floor]] array
+REQUIRED_SECTIONS = ("wall", "masonry")
+TOP_LEVEL = {"name": Key(str, "", doc="case name, used in titles and the output folder "
+                                      "(empty: the file's stem; at most 100 characters, no "
+                                      "control characters; the folder name keeps letters, "
+                                      "digits and -_.+ only)")}
