@@ -269,14 +269,15 @@ def test_the_triangle_budget_stops_before_meshing(sandbox, no_meshing):
 
 def test_the_budget_can_be_raised(sandbox):
     """A case just over a lowered budget passes once [mesh] max_triangles allows it."""
-    res = invoke("mesh", "--set", "mesh.size=1.0", "--set", "mesh.max_triangles=200")
+    res = invoke("mesh", "--set", "mesh.size=0.5", "--set", "mesh.max_triangles=200")
     assert res.exit_code == 2 and "max_triangles = 200" in res.stderr
-    res = invoke("mesh", "--json", "--set", "mesh.size=1.0", "--set", "mesh.max_triangles=20000")
+    res = invoke("mesh", "--json", "--set", "mesh.size=0.5", "--set", "mesh.max_triangles=20000")
     assert res.exit_code == 0, res.output
     n = json.loads(res.stdout)["n_triangles"]
     from homlimit.app.budget import estimate_triangles
+    from homlimit.params import MESHER_DEFAULT
 
-    assert n <= estimate_triangles(9.0, 0.5, 6.0, 1.0) <= 1.5 * n
+    assert n <= estimate_triangles(9.0, 0.5, 6.0, 0.5, MESHER_DEFAULT) <= 1.5 * n
 
 
 # ----------------------------------------------------------------------------- silent nonsense

@@ -1,5 +1,6 @@
-"""[mesh] mesher: every FE path meshes with the chosen mesher, the default ("crossed") is
-unchanged, a bad value is refused before any work (exit 2, the key named)."""
+"""[mesh] mesher: every FE path meshes with the chosen mesher, the default ("gmsh-strip") is
+what a run without the key uses, a bad value is refused before any work (exit 2, the key
+named)."""
 
 from __future__ import annotations
 
@@ -23,7 +24,7 @@ def _fe(mesher: str | None) -> dict:
 
 
 @pytest.mark.slow
-def test_gmsh_run_records_its_mesher_and_crossed_is_the_default(monkeypatch):
+def test_gmsh_run_records_its_mesher_and_gmsh_strip_is_the_default(monkeypatch):
     from homlimit.mechanism import analysis
 
     used = []                                 # the mesher of every part of the scan
@@ -41,11 +42,14 @@ def test_gmsh_run_records_its_mesher_and_crossed_is_the_default(monkeypatch):
     n_gmsh = t_section(Case(), facade="bedjoints", h=1.0, mesher="gmsh").n_triangles
     n_crossed = t_section(Case(), facade="bedjoints", h=1.0).n_triangles
     assert g["fe"]["n_triangles"] == n_gmsh != n_crossed
-    d, c = _fe(None), _fe("crossed")
-    assert d["inputs"]["mesh"]["mesher"] == "crossed" == d["fe"]["mesher"]
-    assert d["fe"]["n_triangles"] == n_crossed
+    c = _fe("crossed")
+    assert c["fe"]["n_triangles"] == n_crossed and c["fe"]["mesher"] == "crossed"
+    d, s = _fe(None), _fe("gmsh-strip")
+    assert d["inputs"]["mesh"]["mesher"] == "gmsh-strip" == d["fe"]["mesher"]
+    n_strip = t_section(Case(), facade="bedjoints", h=1.0, mesher="gmsh-strip").n_triangles
+    assert d["fe"]["n_triangles"] == n_strip != n_crossed
     keep = ("multiplier", "n_triangles", "hinge", "tanpsi", "vg", "lam", "critical_at")
-    assert {k: c["fe"][k] for k in keep} == {k: d["fe"][k] for k in keep}
+    assert {k: s["fe"][k] for k in keep} == {k: d["fe"][k] for k in keep}
 
 
 def test_bad_mesher_exits_2_naming_the_key(tmp_path):

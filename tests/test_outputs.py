@@ -12,6 +12,7 @@ import pytest
 TINY = {"name": "tiny", "wall": {"H": 9.0, "L": 6.0, "s": 0.5, "b": 0.5, "l": 6.0},
         "masonry": {"a": 0.3, "c": 0.2, "f": 0.6},
         "mesh": {"size": 1.0, "part_divisions": 4, "outer_ratio": 0.0},   # one mesh: vtu stress
+        "adapt": {"max_cycles": 1},                                      # (not adaptive)
         "analysis": {"heights": 2, "facade": "homogenised", "hinge_check": False},
         "output": {"png": False}}
 TINY_TOML = """name = "tiny"

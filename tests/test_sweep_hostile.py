@@ -228,7 +228,7 @@ def test_extreme_part_divisions_is_named_with_its_range(sandbox, value, message)
 def test_part_divisions_over_the_budget_is_named(sandbox):
     """The whole wall fits the triangle budget; the scan's shortest part at a/1000 does not:
     the message names part_divisions, not the mesh size."""
-    msg = doc("[mesh] part_divisions = 1000 gives about 3.81e+05 triangles in the shortest "
+    msg = doc("[mesh] part_divisions = 1000 gives about 3.96e+06 triangles in the shortest "
               "part of the FE impulse scan")
     refused("run", "--set", "mesh.part_divisions=1000", message=msg)
     refused("sweep", "--grid", "mesh.part_divisions=1000", "--workers", "1", message=msg)

@@ -123,7 +123,8 @@ def _fe_lines(fe, case) -> str:
         how = ("same mesh" if ns == full.n_triangles else
                f"static on its own mesh, {ns} triangles, façade columns graded to the "
                f"outer face") if fe.adapt is None else (
-            f"adaptive gmsh mesh, {len(fe.adapt.cycles)} cycles, "
+            f"adaptive {full.problem.meta.get('mesher', 'gmsh')} mesh, "
+            f"{len(fe.adapt.cycles)} cycle{'s' if len(fe.adapt.cycles) != 1 else ''}, "
             + ("target reached" if fe.adapt.converged else f"stopped: {fe.adapt.stop}"))
         lines.append(f"  bracket: static {_num(fe.lower_bound, '.4g')} <= multiplier <= "
                      f"kinematic {_num(full.multiplier, '.4g')} (gap "

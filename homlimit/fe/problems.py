@@ -22,7 +22,7 @@ from skfem import MeshTri
 
 from ..errors import ParameterError, check_choice, check_range
 from ..geometry import REGIONS, TSection
-from ..params import FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case
+from ..params import FACADE_MODELS, MESHERS, Case
 from . import strength
 from .mesh import element_areas
 from .operators import COMPONENTS
@@ -358,7 +358,7 @@ OUTER_GROWTH = 1.5  # the façade columns' growth from the outer face (``t_secti
 
 def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
               h: float = 0.25, n_b: int = 4, growth: float = 1.15,
-              h_far: float | None = None, mesher: str = MESHER_DEFAULT,
+              h_far: float | None = None, mesher: str = "crossed",
               h_outer: float | None = None) -> Problem:
     """The façade strip + transversal wall of the paper in the section plane x–z.
 
@@ -371,7 +371,9 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     thickness shows bed joints only). Boundaries: "base", "outer" (x = 0), "top", "end"
     (x = b + L). Mesh: n_b columns across the façade, spacing h in z, and in the wall a spacing
     growing from b/n_b at the junction to h (or ``h_far``) at rate ``growth``.
-    ``mesher="gmsh"``: an unstructured gmsh mesh instead (``geometry.tsection`` with size h,
+    ``mesher``: "crossed" (this builder's default: the structured grid, meshed without gmsh;
+    a run's default is ``params.MESHER_DEFAULT``). ``mesher="gmsh"``: an unstructured gmsh
+    mesh instead (``geometry.tsection`` with size h,
     refined to b/n_b along the junction; adds the interior boundary "junction").
     ``mesher="gmsh-strip"``: gmsh with the façade strip structured and x-aligned like the
     crossed grid (n_b columns, rows of h, crossed cells) and the wall unstructured at
