@@ -195,8 +195,9 @@ def test_demo_embedded_case_console_script(tmp_path, ref_B1, dem):
     assert "Clarabel" in r.stderr                      # the solver log, on stderr
     assert s["fe"]["multiplier"] > 0 and len(s["fe"]["scan"]) >= 2
     assert s["inputs"]["analysis"]["facade"] == "bedjoints"          # the default façade
-    assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == [
-        ".homlimit-set.json", "fe_scan.csv", "fe_scan.csv.json", "summary.json"]
+    assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == [    # adaptive bracket
+        ".homlimit-set.json", "fe_adapt.csv", "fe_adapt.csv.json", "fe_scan.csv",
+        "fe_scan.csv.json", "summary.json"]
     # `table1 --fe` for B1 with the same mesh and scan gives the same FE columns
     res = CliRunner().invoke(app, ["table1", "--fe", "-t", "B1", "--mesh-size", "0.8",
                                    "--heights", "2", "--json", "--out", str(tmp_path / "t")])
@@ -411,7 +412,7 @@ def test_mesh_command_writes_vtu_and_png(tmp_path):
     assert r.returncode == 0, r.stderr
     info = json.loads(r.stdout)
     assert info["regions"]["facade"] + info["regions"]["wall"] == info["n_triangles"] > 0
-    assert info["mesh"] == {"size": 0.8, "mesher": "crossed"}
+    assert info["mesh"] == {"size": 0.8, "mesher": "gmsh-strip"}      # the default
     import meshio
 
     from homlimit.fe.mesh import read
@@ -447,6 +448,8 @@ f = 0.6
 size = 0.6
 part_divisions = 10
 outer_ratio = 0     # the static bound on the mechanism's mesh (test_outer_face: graded)
+[adapt]
+max_cycles = 1      # one mesh, not the adaptive chain (test_adapt)
 [analysis]
 heights = 2
 facade = "homogenised"

@@ -77,6 +77,7 @@ def test_run_brackets_on_the_graded_static_mesh(tmp_path):
     from homlimit.app import pipeline
 
     over = {"mesh.size": 0.6, "mesh.part_divisions": 10, "analysis.heights": 2,
+            "mesh.mesher": "crossed",
             "analysis.facade": "homogenised", "analysis.hinge_check": False}
     exact = optimise_fan(Case()).lam
     graded = pipeline.run(None, out=tmp_path / "g", overrides=over).to_dict()["fe"]

@@ -416,7 +416,8 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
         from .geometry import tsection
         from .mesh import to_skfem
 
-        m = to_skfem(tsection(H, b, geo.L, size=max(h, b / n_b), size_junction=min(h, b / n_b),
+        m = to_skfem(tsection(H, b, geo.L, size=min(max(h, b / n_b), geo.span),
+                              size_junction=min(h, b / n_b),
                               z0=z0, strip="structured", n_b=n_b, rows=h, h_outer=h_outer,
                               growth=OUTER_GROWTH))
     else:
