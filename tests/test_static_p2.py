@@ -139,3 +139,23 @@ def test_quadratic_stresses_refuse_rigid_bodies_and_joints():
     with pytest.raises(ParameterError, match="stress_degree"):
         SolverOptions(stress_degree=3)
     assert dataclasses.replace(P2, stress_degree=1).stress_degree == 1
+
+
+def test_run_takes_the_stress_degree_from_the_case(tmp_path):
+    """`[analysis] stress_degree = 2`: the run's static bound is the quadratic field's, on the
+    same mesh at least the linear one's (a superset of stress fields) and still below the
+    kinematic bound; 3 is refused before any work, naming the key and its range."""
+    from homlimit.app import pipeline
+    from homlimit.app.config import ConfigError
+
+    over = {"mesh.size": 1.0, "mesh.part_divisions": 3, "analysis.heights": 2,
+            "analysis.facade": "homogenised", "analysis.hinge_check": False,
+            "adapt.max_cycles": 1, "mesh.outer_ratio": 0.0}
+    fe = {d: pipeline.run(None, write=False, overrides=over | {"analysis.stress_degree": d})
+          .to_dict()["fe"] for d in (1, 2)}
+    assert fe[1]["static_triangles"] == fe[2]["static_triangles"] == fe[1]["n_triangles"]
+    assert fe[1]["lower_bound"] <= fe[2]["lower_bound"] * (1 + 1e-6)
+    assert fe[2]["lower_bound"] <= fe[2]["multiplier"]
+    with pytest.raises(ConfigError, match=r"\[analysis\] stress_degree = 3 is out of range: "
+                                          r"allowed 1 <= stress_degree <= 2"):
+        pipeline.run(None, write=False, overrides=over | {"analysis.stress_degree": 3})

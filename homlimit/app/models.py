@@ -92,7 +92,8 @@ def adaptive_bracket_of(config: CaseConfig, timings: dict):
     with stage(timings, "adaptive bracket", f"target gap {100 * ad.target_gap:g} %, at most "
                 f"{ad.max_cycles} meshes"):
         res = adaptive_bracket(config.case, config.analysis.facade, config.mesh.size, opts,
-                               solver_options(config.analysis.tol), progress,
+                               solver_options(config.analysis.tol,
+                                              config.analysis.stress_degree), progress,
                                mesher=config.mesh.mesher, h_outer=outer_width(config))
     if not res.converged:
         log.warning("warning: the adaptive bracket stopped (%s) at a gap of %.2f %%, above "
@@ -158,7 +159,7 @@ def _fe_code_digest() -> str:
 def fe_cache_inputs(config: CaseConfig) -> dict:
     """Every input the FE path of ``config`` depends on: the case's wall, masonry, mesh and
     analysis sections, the solver settings, the package version and its FE source code."""
-    opts = dataclasses.asdict(solver_options(config.analysis.tol))
+    opts = dataclasses.asdict(solver_options(config.analysis.tol, config.analysis.stress_degree))
     opts.pop("verbose")                       # the solver log changes no number
     d = config.as_dict()
     return {"format": FE_CACHE_FORMAT, **{k: d[k] for k in ("wall", "masonry", "mesh",
@@ -239,7 +240,8 @@ def fe_rocker(config: CaseConfig) -> FERocker:
         return cached
     case, an = config.case, config.analysis
     with stage({}, "FE path for the FE rocker"):
-        fe = fe_result(case, config.mesh.size, an.facade, solver_options(an.tol),
+        fe = fe_result(case, config.mesh.size, an.facade,
+                       solver_options(an.tol, an.stress_degree),
                        heights=an.heights, divisions=config.mesh.part_divisions,
                        mesher=config.mesh.mesher)
     if fe.critical is None:
@@ -263,7 +265,8 @@ def run_fe(config, result) -> None:
                f"scan from one course to H, whole wall {whole.n_triangles} triangles"
                f"{', static bound' if an.static else ''}"):
         result.fe = fe_result(config.case, config.mesh.size, an.facade,
-                              solver_options(an.tol), whole=whole, static=an.static,
+                              solver_options(an.tol, an.stress_degree), whole=whole,
+                              static=an.static,
                               heights=an.heights, divisions=config.mesh.part_divisions,
                               mesher=config.mesh.mesher, adapted=adapted,
                               static_problem=None if adapted else static_problem(config))

@@ -180,6 +180,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
                           "λ⁻ <= λ <= λ⁺; on its own graded mesh with [mesh] outer_ratio), "
                           "its stress field in stress.png, and in mechanism.vtu when both "
                           "bounds share a mesh (needs fe)"),
+        "stress_degree": Key(int, 1, "", lo=1, hi=2,
+                             doc="degree of the static bound's stresses: 1 (linear) or 2 "
+                                 "(quadratic, Bernstein form: a higher λ⁻ on the same mesh for "
+                                 "about twice its seconds; docs/static.md)"),
         "tol": Key(float, 0.0, "", lo=0.0, hi=1e-2,
                    doc="Clarabel gap and feasibility tolerance (0: the solver default of "
                        "homlimit.fe.solver.SolverOptions)"),

@@ -63,6 +63,7 @@ class AnalysisConfig:
     facade: str
     heights: int
     static: bool
+    stress_degree: int
     tol: float
     blocks: bool
     dem: bool

@@ -27,9 +27,11 @@ def stage(timings: dict[str, float], name: str, detail: str = ""):
     log.info("%s done in %.2f s", name, dt)
 
 
-def solver_options(tol: float | None = None):
-    """Solver settings of a run: the measured defaults, the solver log when debugging."""
-    return SolverOptions(tol=tol or None, verbose=log.isEnabledFor(logging.DEBUG))
+def solver_options(tol: float | None = None, stress_degree: int = 1):
+    """Solver settings of a run: the measured defaults, the solver log when debugging, the
+    static bound's stress degree (``[analysis] stress_degree``)."""
+    return SolverOptions(tol=tol or None, verbose=log.isEnabledFor(logging.DEBUG),
+                         stress_degree=stress_degree)
 
 
 def finite(x) -> bool:
