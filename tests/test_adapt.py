@@ -164,3 +164,16 @@ def test_verify_refuses_bad_input_before_any_work(tmp_path):
         assert res.exit_code == 2, res.output
         assert message in res.stderr and "Traceback" not in res.stderr
         assert not (tmp_path / "v").exists()
+
+
+def test_strip_rows_halve_only_when_the_gap_marks_the_facade():
+    """gmsh-strip's adaptive remesher: a transfinite strip takes no size field, so its rows
+    halve when Dörfler's marking asks any façade triangle (centroid x < b) to shrink."""
+    from homlimit.mechanism.adaptive import strip_rows
+
+    p = np.array([[0.0, 0.5, 0.5, 1.0, 1.0], [0.0, 0.0, 1.0, 0.0, 1.0]])
+    t = np.array([[0, 1, 1], [1, 3, 4], [2, 4, 2]])      # one façade triangle, two wall ones
+    h = np.sqrt(4 * np.array([0.25, 0.25, 0.25]) / np.sqrt(3))
+    assert strip_rows((p, t, h), 0.5, 0.4) == 0.4                      # nothing marked
+    assert strip_rows((p, t, h * [1, 0.5, 1]), 0.5, 0.4) == 0.4        # the wall only
+    assert strip_rows((p, t, h * [0.5, 1, 1]), 0.5, 0.4) == 0.2        # the façade

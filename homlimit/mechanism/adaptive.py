@@ -22,6 +22,8 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..errors import check_choice
 from ..fe import adapt as fe_adapt
 from ..fe import geometry
@@ -34,7 +36,8 @@ from .crack import fan_edges
 from .fe_impulse import p2_nodes
 from .rigidfit import measure_mechanism
 
-__all__ = ["HingeFan", "adaptive_bracket", "hinge_fan", "hinge_refinement", "tsection_remesher"]
+__all__ = ["HingeFan", "adaptive_bracket", "hinge_fan", "hinge_refinement", "strip_rows",
+           "tsection_remesher"]
 
 
 @dataclass(frozen=True)
@@ -90,8 +93,11 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
     bound's lever arm: docs/static.md, "The outer face"). ``strip``: the façade strip a
     structured x-aligned grid of rows ``size`` (``geometry.tsection(strip="structured")``: the
     bed-joint façade does not lock there), its columns graded from ``h_outer`` at the outer
-    face; the size map then refines the wall only (a transfinite strip takes no size field)."""
+    face; a transfinite strip takes no size field, so the size map refines the wall, and the
+    strip's rows halve when the last cycle marked any of its triangles (``strip_rows``), its
+    outermost column with them (the aspect ratio rows/h_outer of the first mesh is kept)."""
     w = case.wall
+    rows = [size]                       # the strip's row height, halved as the gap asks
     fans = [(0.0, z0, 0, 90), (0.0, w.H, -90, 0), (w.b, w.H, -180, 0)] if corners else []
     base = [r for x, z, a0, a1 in fans for r in fe_adapt.fan_rays((x, z), a0, a1, 6, w.b)]
 
@@ -106,13 +112,28 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
                 if T is not None and math.isfinite(T) and T > 0:
                     rays.append(((hf.x, hf.z), (hf.x + T * (w.H - hf.z), w.H)))
         segs = [] if outer is None else [((0.0, z0), (0.0, w.H), outer, 2.5 * outer)]
-        grid = (dict(strip="structured", n_b=n_b, h_outer=h_outer, growth=OUTER_GROWTH)
-                if strip else {})
+        if strip and size_map is not None:
+            rows[0] = strip_rows(size_map, w.b, rows[0])
+        h_o = None if h_outer is None else min(h_outer, h_outer * rows[0] / size)
+        grid = (dict(strip="structured", n_b=n_b, rows=rows[0], h_outer=h_o,
+                     growth=OUTER_GROWTH) if strip else {})
         return to_skfem(geometry.tsection(w.H, w.b, w.L, size=size, z0=z0,
                                           size_junction=min(size, w.b / n_b),
                                           embed_lines=rays, refine_points=points,
                                           refine_segments=segs, size_map=size_map, **grid))
     return remesh
+
+
+def strip_rows(size_map, b: float, rows: float) -> float:
+    """The strip's next row height: ``rows`` halved if the size map (points, triangles, new
+    sizes) asks any façade triangle (centroid x < b) to shrink, else ``rows``."""
+    p, t, new = (np.asarray(a) for a in size_map)
+    x = p[:, t]
+    area = 0.5 * np.abs((x[0, 1] - x[0, 0]) * (x[1, 2] - x[1, 0])
+                        - (x[0, 2] - x[0, 0]) * (x[1, 1] - x[1, 0]))
+    old = np.sqrt(4.0 * area / math.sqrt(3.0))           # fe.adapt.element_sizes
+    marked = (new < 0.99 * old) & (x[0].mean(axis=0) < b)
+    return 0.5 * rows if marked.any() else rows
 
 
 def adaptive_bracket(case: Case, facade: str, size: float, options: fe_adapt.AdaptOptions,
