@@ -136,11 +136,13 @@ SCHEMA: dict[str, dict[str, Key]] = {
                       doc="the mesh of the whole wall and of every part of the FE scan: "
                           "\"crossed\" (structured grid, every cell cut by its diagonals), "
                           "\"gmsh\" (unstructured, refined to b/4 along the junction) or "
-                          "\"gmsh-strip\" (gmsh with the façade strip a crossed grid of 4 "
-                          "columns, the wall unstructured; docs/kinematic.md)"),
+                          "\"gmsh-strip\" (the default: gmsh with the façade strip a crossed "
+                          "grid of 4 columns or more, x-aligned so the bed-joint façade does "
+                          "not lock, the wall unstructured; docs/kinematic.md)"),
         "outer_ratio": Key(float, 25.0, "", 0.0, 1000.0,
-                           doc="the static bound's own mesh (crossed mesher only; 0: the "
-                               "kinematic bound's mesh): the façade's columns graded to a "
+                           doc="the static bound's mesh (crossed: its own copy; gmsh-strip: "
+                               "the one mesh of both bounds; 0: equal columns): the façade's "
+                               "columns graded to a "
                                "width of size/outer_ratio at the outer face, where an "
                                "overturning façade bears (docs/static.md, \"The outer "
                                "face\"; measured on B1: 25 keeps the columns' aspect "
