@@ -181,7 +181,7 @@ def test_demo_embedded_case_console_script(tmp_path, ref_B1, dem):
     """`homlimit demo` (the embedded B1) through the real console script, FE included on a
     coarse mesh via --set; -v solver logs go to stderr, stdout stays pure JSON."""
     r = _sh("demo", "--json", "-v", "--set", "mesh.size=0.8", "--set", "analysis.heights=2",
-            "--set", "output.png=false", "--set", "output.vtu=false",
+            "--set", "adapt.max_cycles=1", "--set", "output.png=false", "--set", "output.vtu=false",
             "--out", tmp_path / "demo", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout)
@@ -189,15 +189,15 @@ def test_demo_embedded_case_console_script(tmp_path, ref_B1, dem):
     assert s["case"].startswith("B1-") and len(s["case"]) == len("B1-") + 8
     assert s["modified"]["from"] == "B1" and s["source"] == "<default: B1>"
     assert s["modified"]["changes"]["mesh.size"] == {"case": 0.25, "used": 0.8}
+    assert s["modified"]["changes"]["adapt.max_cycles"] == {"case": 3, "used": 1}
     assert s["inputs"]["mesh"]["size"] == 0.8 and s["inputs"]["analysis"]["heights"] == 2
     assert_closed_form(s, ref_B1)
     assert (s["dem_table1"]["lambda_v"], s["dem_table1"]["vg_norm"]) == dem["B1"]
     assert "Clarabel" in r.stderr                      # the solver log, on stderr
     assert s["fe"]["multiplier"] > 0 and len(s["fe"]["scan"]) >= 2
     assert s["inputs"]["analysis"]["facade"] == "bedjoints"          # the default façade
-    assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == [    # adaptive bracket
-        ".homlimit-set.json", "fe_adapt.csv", "fe_adapt.csv.json", "fe_scan.csv",
-        "fe_scan.csv.json", "summary.json"]
+    assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == [    # one bracket
+        ".homlimit-set.json", "fe_scan.csv", "fe_scan.csv.json", "summary.json"]
     # `table1 --fe` for B1 with the same mesh and scan gives the same FE columns
     res = CliRunner().invoke(app, ["table1", "--fe", "-t", "B1", "--mesh-size", "0.8",
                                    "--heights", "2", "--json", "--out", str(tmp_path / "t")])
