@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from ..fe.geometry import graded_columns
+from ..fe.geometry import OUTER_GROWTH, graded_columns
 from ..params import MESHERS, PART_DIVISIONS
 
 __all__ = ["DEFAULT_MAX_TRIANGLES", "KIB_PER_TRIANGLE", "MEMORY_BUDGET_GIB", "MESHERS",
@@ -20,7 +20,6 @@ __all__ = ["DEFAULT_MAX_TRIANGLES", "KIB_PER_TRIANGLE", "MEMORY_BUDGET_GIB", "ME
 
 N_B = 4          # columns across the façade (t_section's n_b)
 GROWTH = 1.15    # growth of the crossed mesh's column widths away from the junction
-OUTER_GROWTH = 1.5  # growth of the static mesh's façade columns from the outer face
 # gmsh: triangles per unit area at size h is GMSH_AREA/h² (equilateral: 4/√3 = 2.31), and a
 # band of width b on either side of the junction is refined to min(h, b/N_B), with a linear
 # transition over a further b; coefficients fitted to 46 gmsh meshes (1e2 .. 4e4 triangles):
@@ -73,7 +72,7 @@ def estimate_triangles(H: float, b: float, L: float, h: float, mesher: str = "cr
             if mesher == "gmsh-strip":
                 cols = N_B
                 if h_outer is not None and h_outer < b / N_B:
-                    cols = graded_columns(b, h_outer, N_B, OUTER_GROWTH)[0]
+                    cols = graded_columns(b, h_outer, N_B)[0]
                 return 4.0 * cols * max(2, math.ceil(H / h)) + wall
             return GMSH_AREA * H * b / h_j ** 2 + wall
         h_far = max(h, b / N_B)

@@ -140,9 +140,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
                           "grid of 4 columns or more, x-aligned so the bed-joint façade does "
                           "not lock, the wall unstructured; docs/kinematic.md)"),
         "outer_ratio": Key(float, 25.0, "", 0.0, 1000.0,
-                           doc="the static bound's mesh (crossed: its own copy; gmsh-strip: "
-                               "the one mesh of both bounds; 0: equal columns): the façade's "
-                               "columns graded to a "
+                           doc="the static bound's mesh (gmsh-strip: the adaptive chain's "
+                               "one mesh of both bounds, or with [adapt] max_cycles = 1 a "
+                               "graded copy, as on the crossed grid; 0: equal columns): the "
+                               "façade's columns graded to a "
                                "width of size/outer_ratio at the outer face, where an "
                                "overturning façade bears (docs/static.md, \"The outer "
                                "face\"; measured on B1: 25 keeps the columns' aspect "

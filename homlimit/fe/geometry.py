@@ -31,8 +31,8 @@ import numpy as np
 from ..errors import MeshError, ParameterError, check_choice, check_range
 from ..geometry import BOUNDARIES, REGIONS, TSection
 
-__all__ = ["graded_columns", "gmsh_session", "polygon_mesh", "tsection", "TSECTION_REGIONS",
-           "TSECTION_BOUNDARIES", "STRIPS"]
+__all__ = ["OUTER_GROWTH", "graded_columns", "gmsh_session", "polygon_mesh", "tsection",
+           "TSECTION_REGIONS", "TSECTION_BOUNDARIES", "STRIPS"]
 
 Point = tuple[float, float]
 Segment = tuple[Point, Point]
@@ -413,7 +413,12 @@ def _to_meshio(gmsh, tol) -> meshio.Mesh:
 
 # ---------------------------------------------------------------------------------- T-section
 
-def graded_columns(b: float, h_outer: float, n_b: int = 4, growth: float = 1.5
+#: the façade columns' growth from the outer face (``graded_columns``, ``problems.t_section``'s
+#: h_outer): measured on B1, docs/static.md "The outer face"
+OUTER_GROWTH = 1.5
+
+
+def graded_columns(b: float, h_outer: float, n_b: int = 4, growth: float = OUTER_GROWTH
                    ) -> tuple[int, float]:
     """(n, r): n columns across the width b growing geometrically by r from ``h_outer``
     (h_outer·(rⁿ − 1)/(r − 1) = b), the fewest with r <= ``growth`` and n >= n_b."""
@@ -437,7 +442,7 @@ def tsection(H: float, b: float, L: float, size: float, *,
              z0: float = 0.0, embed_lines: Sequence[Segment] = (),
              refine_points: Sequence = (), refine_segments: Sequence = (),
              strip: str = "free", n_b: int = 4, rows: float | None = None,
-             h_outer: float | None = None, growth: float = 1.5, size_map=None,
+             h_outer: float | None = None, growth: float = OUTER_GROWTH, size_map=None,
              verbosity: int = 0) -> meshio.Mesh:
     """Mesh of the x–z section: façade 0 <= x <= b, transversal wall b <= x <= b + L,
     z0 <= z <= H (the failing part of height h = H − z0 when z0 > 0).

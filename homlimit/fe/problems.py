@@ -24,7 +24,8 @@ from ..errors import ParameterError, check_choice, check_range
 from ..geometry import REGIONS, TSection
 from ..params import FACADE_MODELS, MESHERS, Case
 from . import strength
-from .mesh import element_areas
+from .geometry import OUTER_GROWTH, tsection
+from .mesh import element_areas, to_skfem
 from .operators import COMPONENTS
 
 __all__ = [
@@ -353,7 +354,6 @@ def free_block(b: float = 0.5, h: float = 3.0, f: float = 0.6, gamma: float = 20
 # the masonry T-section
 # ---------------------------------------------------------------------------------------------
 
-OUTER_GROWTH = 1.5  # the façade columns' growth from the outer face (``t_section(h_outer=)``)
 
 
 def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
@@ -408,18 +408,11 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
             raise ParameterError(f"h_outer = {h_outer} with mesher = {mesher!r} is out of "
                                  f"range: allowed only with mesher = 'crossed' or 'gmsh-strip'")
     if mesher == "gmsh":
-        from .geometry import tsection
-        from .mesh import to_skfem
-
         m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0))
     elif mesher == "gmsh-strip":
-        from .geometry import tsection
-        from .mesh import to_skfem
-
         m = to_skfem(tsection(H, b, geo.L, size=min(max(h, b / n_b), geo.span),
                               size_junction=min(h, b / n_b),
-                              z0=z0, strip="structured", n_b=n_b, rows=h, h_outer=h_outer,
-                              growth=OUTER_GROWTH))
+                              z0=z0, strip="structured", n_b=n_b, rows=h, h_outer=h_outer))
     else:
         xf = (np.linspace(0.0, b, n_b + 1) if h_outer is None else
               graded(0.0, b, h_outer, b / n_b, foci=(0.0,), growth=OUTER_GROWTH))

@@ -21,6 +21,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -28,7 +29,7 @@ from ..errors import check_choice
 from ..fe import adapt as fe_adapt
 from ..fe import geometry
 from ..fe.mesh import to_skfem
-from ..fe.problems import OUTER_GROWTH, t_section
+from ..fe.problems import t_section
 from ..fe.solver import SolverOptions
 from ..params import Case
 from .analysis import densities
@@ -114,9 +115,8 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
         segs = [] if outer is None else [((0.0, z0), (0.0, w.H), outer, 2.5 * outer)]
         if strip and size_map is not None:
             rows[0] = strip_rows(size_map, w.b, rows[0])
-        h_o = None if h_outer is None else min(h_outer, h_outer * rows[0] / size)
-        grid = (dict(strip="structured", n_b=n_b, rows=rows[0], h_outer=h_o,
-                     growth=OUTER_GROWTH) if strip else {})
+        h_o = None if h_outer is None else h_outer * rows[0] / size
+        grid = dict(strip="structured", n_b=n_b, rows=rows[0], h_outer=h_o) if strip else {}
         return to_skfem(geometry.tsection(w.H, w.b, w.L, size=size, z0=z0,
                                           size_junction=min(size, w.b / n_b),
                                           embed_lines=rays, refine_points=points,
@@ -128,11 +128,8 @@ def strip_rows(size_map, b: float, rows: float) -> float:
     """The strip's next row height: ``rows`` halved if the size map (points, triangles, new
     sizes) asks any façade triangle (centroid x < b) to shrink, else ``rows``."""
     p, t, new = (np.asarray(a) for a in size_map)
-    x = p[:, t]
-    area = 0.5 * np.abs((x[0, 1] - x[0, 0]) * (x[1, 2] - x[1, 0])
-                        - (x[0, 2] - x[0, 0]) * (x[1, 1] - x[1, 0]))
-    old = np.sqrt(4.0 * area / math.sqrt(3.0))           # fe.adapt.element_sizes
-    marked = (new < 0.99 * old) & (x[0].mean(axis=0) < b)
+    old = fe_adapt.element_sizes(SimpleNamespace(p=p, t=t))
+    marked = (new < 0.99 * old) & (p[0, t].mean(axis=0) < b)
     return 0.5 * rows if marked.any() else rows
 
 
