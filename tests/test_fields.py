@@ -17,8 +17,7 @@ from homlimit.errors import ParameterError
 from homlimit.fields import Range, check_fields, range_of, ranged
 from homlimit.params import Masonry, Tie, Wall
 
-B1 = {"wall": {"H": 9.0, "L": 6.0, "s": 0.5, "b": 0.5, "l": 6.0},
-      "masonry": {"a": 0.3, "c": 0.2, "f": 0.6}}
+from cases import B1
 
 
 @dataclasses.dataclass(frozen=True)
