@@ -40,6 +40,6 @@ if __name__ == "__main__":
         for opts in SETTINGS.values():
             s = solve_static(pr, SolverOptions(settings=opts, retries=False))
             n = s.sizes["variables"]
-            cells.append(f"{s.multiplier:.7f} {s.iterations:>3d} it {s.timings['solve']:>6.1f} s")
+            cells.append(f"{s.multiplier:.7f} {s.iterations:>3d} it {s.times['solve']:>6.1f} s")
         print(f"{name:<30s} {pr.n_triangles:>6d} {n:>9d}  " + "  ".join(f"{c:>26s}" for c in cells),
               flush=True)

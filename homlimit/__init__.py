@@ -15,8 +15,9 @@ the parameters and the errors (pure Python); the closed forms (numpy), ``run`` (
 scikit-fem, gmsh, meshio, scipy, matplotlib, dask and pyarrow, through ``app.pipeline``) and
 ``__version__`` are imported on first use by the module ``__getattr__`` below (PEP 562). The
 command line defers the same way: ``homlimit --version`` answers in ``__main__`` before typer is
-imported, and each command of ``app.cli`` imports the pipeline when it runs. Every other module
-imports at its top.
+imported, and each command of ``app.cli`` imports the pipeline when it runs. ``homlimit.dem``
+defers its numba-backed model the same way (its parameters load without numba, for the case
+file's [dem] defaults). Every other module imports at its top.
 """
 
 from typing import TYPE_CHECKING

@@ -3,10 +3,11 @@
 ``ranged(lo, hi, unit=...)`` is a dataclass field whose metadata holds its ``Range``;
 ``check_fields(self)`` in ``__post_init__`` checks every such field and stores the checked
 float (``errors.check_range``: the message names the parameter, its value and the allowed
-range, ``b = -0.5 m is out of range: allowed 0 < b``). The case-file schema's ``Key``
-(``app.schema``) holds the same ``Range``, and can take a field's range and default from
-the dataclass it fills (``range_of``, ``default_of``), so that a range or a default shared
-by a case-file key and a parameter object is written once.
+range, ``b = -0.5 m is out of range: allowed 0 < b``) with ``set_fields``, the one way a
+``__post_init__`` of a frozen dataclass stores a checked or converted value. The case-file
+schema's ``Key`` (``app.schema``) holds the same ``Range``, and can take a field's range and
+default from the dataclass it fills (``range_of``, ``default_of``), so that a range or a
+default shared by a case-file key and a parameter object is written once.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from dataclasses import dataclass
 
 from .errors import check_range
 
-__all__ = ["RANGE", "Range", "check_fields", "default_of", "range_of", "ranged"]
+__all__ = ["RANGE", "Range", "check_fields", "default_of", "range_of", "ranged", "set_fields"]
 
 RANGE = "homlimit.range"   # the metadata key of a ranged field
 
@@ -65,13 +66,20 @@ def ranged(lo: float | Range | None = None, hi: float | None = None, *, lo_open:
     return dataclasses.field(metadata={RANGE: spec}, **field_kw)
 
 
+def set_fields(obj, **values) -> None:
+    """Store ``values`` (name → value, in order) on the dataclass instance ``obj``, frozen or
+    not: for its ``__post_init__``, which converts or checks what it was given."""
+    for name, value in values.items():
+        object.__setattr__(obj, name, value)
+
+
 def check_fields(obj, prefix: str = "") -> None:
     """Check every ranged field of the dataclass instance ``obj`` in field order, storing the
     checked float; the first bad one raises ParameterError named ``prefix + name``."""
     for f in dataclasses.fields(obj):
         spec = f.metadata.get(RANGE)
         if spec is not None:
-            object.__setattr__(obj, f.name, spec.check(prefix + f.name, getattr(obj, f.name)))
+            set_fields(obj, **{f.name: spec.check(prefix + f.name, getattr(obj, f.name))})
 
 
 def _field(cls, name: str) -> dataclasses.Field:

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ParameterError, check_range
-from .fields import check_fields, ranged
+from .fields import check_fields, ranged, set_fields
 from .params import Case
 
 __all__ = ["TSection", "REGIONS", "BOUNDARIES"]
@@ -47,8 +47,7 @@ class TSection:
     def __post_init__(self):
         check_fields(self)
         # the upper bound is a field's: checked here
-        object.__setattr__(self, "z0", check_range("z0", self.z0, 0.0, self.H, hi_open=True,
-                                                   unit="m"))
+        set_fields(self, z0=check_range("z0", self.z0, 0.0, self.H, hi_open=True, unit="m"))
 
     @classmethod
     def from_case(cls, case: Case, z0: float = 0.0) -> TSection:

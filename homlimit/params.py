@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass, fields
 
 from .errors import ParameterError, check_range
-from .fields import check_fields, ranged
+from .fields import check_fields, ranged, set_fields
 
 __all__ = ["Wall", "Masonry", "Case", "Tie", "Floor", "G_STANDARD", "FACADE_DEFAULT",
            "FACADE_MODELS", "MESHERS", "MESHER_DEFAULT", "PART_DIVISIONS"]
@@ -134,7 +134,7 @@ class Floor:
 
     def __post_init__(self):
         check_fields(self, prefix="floor ")
-        object.__setattr__(self, "restrains", bool(self.restrains))
+        set_fields(self, restrains=bool(self.restrains))
 
 
 @dataclass(frozen=True)
@@ -150,8 +150,7 @@ class Case:
 
     def __post_init__(self):
         w, m = self.wall, self.masonry
-        object.__setattr__(self, "ties", tuple(self.ties))
-        object.__setattr__(self, "floors", tuple(self.floors))
+        set_fields(self, ties=tuple(self.ties), floors=tuple(self.floors))
         for k, t in enumerate(self.ties):
             check_range(f"tie {k} z", t.z, 0.0, w.H, lo_open=True, unit="m")
         for k, fl in enumerate(self.floors):

@@ -216,3 +216,14 @@ def test_result_files_have_one_writer():
            if name not in ("homlimit._io", "homlimit.app.writers")
            for line in _calls(path.read_text(encoding="utf-8"), "write_output")]
     assert not bad, "write_output called outside app.writers:\n  " + "\n  ".join(bad)
+
+
+def test_frozen_fields_are_set_through_one_helper():
+    """A ``__post_init__`` stores what it checked or converted through ``fields.set_fields``
+    (issue 28: one idiom), the one caller of ``object.__setattr__``."""
+    bad = [f"{name}:{node.lineno}" for name, path in sorted(_modules().items())
+           if name != "homlimit.fields"
+           for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+           if isinstance(node, ast.Attribute) and node.attr == "__setattr__"
+           and getattr(node.value, "id", None) == "object"]
+    assert not bad, "object.__setattr__ outside fields.set_fields:\n  " + "\n  ".join(bad)

@@ -12,6 +12,8 @@ from homlimit.blocks import block_impulse, equilibrium_residual, solve_blocks, s
 from homlimit.blocks.real import RealActions
 from homlimit.errors import ParameterError
 
+from cases import b1, run_cli
+
 RHO, B, G, H, N_BLK = 1000.0, 0.5, 9.81, 9.0, 10     # kg/m² per slab of depth 1 m, m, m/s², m
 Z_J = np.arange(N_BLK) * H / N_BLK                   # the joints (the base first)
 
@@ -199,42 +201,16 @@ def test_non_associative_refused_with_real_actions():
         solve_blocks(A, friction="non-associative")
 
 
-CASE = """[wall]
-H = 9.0
-L = 6.0
-s = 0.5
-b = 0.5
-l = 6.0
-[masonry]
-a = 0.3
-c = 0.2
-f = 0.6
-fc = 2e6
-[analysis]
-fe = false
-hinge_check = false
-closed_form = false
-overturning = true
-blocks = true
-[blocks]
-step = 10
-[[tie]]
-z = 9.0
-yield_force = 2000.0
-"""
+CASE = b1(masonry={"fc": 2e6},
+          analysis={"fe": False, "hinge_check": False, "closed_form": False,
+                    "overturning": True, "blocks": True},
+          blocks={"step": 10}, tie=[{"z": 9.0, "yield_force": 2000.0}])
 
 
 def test_cli_blocks_take_ties_and_fc(tmp_path):
     import json
-    import os
-    import subprocess
-    import sys
-    from pathlib import Path
 
-    (tmp_path / "case.toml").write_text(CASE, encoding="utf-8")
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
-    r = subprocess.run([sys.executable, "-m", "homlimit", "run", "case.toml", "--out", "out",
-                        "-q"], capture_output=True, text=True, env=env, cwd=tmp_path)
+    r = run_cli(tmp_path, CASE, "run", "-q")
     assert r.returncode == 0, r.stderr
     assert "no unit registered" not in r.stderr
     s = json.loads((tmp_path / "out" / "summary.json").read_text())
@@ -244,10 +220,8 @@ def test_cli_blocks_take_ties_and_fc(tmp_path):
     assert blk["W_ties"] > 0 and blk["W_crushing"] > 0
     real = s["blocks"]["settings"]["real"]
     assert real["fc"] == 2e6 and real["ties"][0]["yield_force_N"] == 12000.0
-    (tmp_path / "bad.toml").write_text(CASE.replace("fc = 2e6", "fc = 2e6\ncohesion = 1e4"),
-                                       encoding="utf-8")
-    r = subprocess.run([sys.executable, "-m", "homlimit", "run", "bad.toml", "--out", "bad"],
-                       capture_output=True, text=True, env=env, cwd=tmp_path)
+    r = run_cli(tmp_path, {**CASE, "masonry": {**CASE["masonry"], "cohesion": 1e4}}, "run",
+                out="bad")
     assert r.returncode == 2 and "the rigid blocks do not take [masonry] cohesion" in r.stderr
     assert not (tmp_path / "bad").exists() and "Traceback" not in r.stderr
 

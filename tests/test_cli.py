@@ -30,6 +30,8 @@ from homlimit.app import models_rigid
 from homlimit.app.cli import app
 from homlimit.errors import SolverError
 
+from cases import b1, toml
+
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 HOMLIMIT = Path(sys.executable).parent / "homlimit"   # the venv's console script
@@ -433,27 +435,11 @@ def test_mesh_command_writes_vtu_and_png(tmp_path):
 
 
 # ----------------------------------------------------------------------------- the FE pipeline
-FE_CASE = """name = "coarse-B1"
-[wall]
-H = 9.0
-L = 6.0
-s = 0.5
-b = 0.5
-l = 6.0
-[masonry]
-a = 0.3
-c = 0.2
-f = 0.6
-[mesh]
-size = 0.6
-part_divisions = 10
-outer_ratio = 0     # the static bound on the mechanism's mesh (test_outer_face: graded)
-[adapt]
-max_cycles = 1      # one mesh, not the adaptive chain (test_adapt)
-[analysis]
-heights = 2
-facade = "homogenised"
-"""
+FE_CASE = b1("coarse-B1",
+             # outer_ratio 0: the static bound on the mechanism's mesh (test_outer_face: graded)
+             mesh={"size": 0.6, "part_divisions": 10, "outer_ratio": 0},
+             adapt={"max_cycles": 1},   # one mesh, not the adaptive chain (test_adapt)
+             analysis={"heights": 2, "facade": "homogenised"})
 
 
 def _rigid_vg_from_vtu(mesh, hinge, g):
@@ -484,7 +470,7 @@ def test_run_with_finite_elements(tmp_path, ref_B1):
     from homlimit.params import Case
 
     case = tmp_path / "coarse.toml"
-    case.write_text(FE_CASE)
+    case.write_text(toml(FE_CASE))
     res = CliRunner().invoke(app, ["run", str(case), "--json", "--out", str(tmp_path / "o")])
     assert res.exit_code == 0, res.output
     s = json.loads(res.stdout)
@@ -556,7 +542,7 @@ def test_run_without_the_static_bound(tmp_path):
     import meshio
 
     case = tmp_path / "coarse.toml"
-    case.write_text(FE_CASE.replace("heights = 2", "heights = 2\nstatic = false"))
+    case.write_text(toml(FE_CASE | {"analysis": {**FE_CASE["analysis"], "static": False}}))
     res = CliRunner().invoke(app, ["run", str(case), "--json", "--out", str(tmp_path / "o")])
     assert res.exit_code == 0, res.output
     s = json.loads(res.stdout)

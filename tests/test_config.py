@@ -18,10 +18,9 @@ from homlimit.app.config import (
 )
 from homlimit.errors import ParameterError
 
-ROOT = Path(__file__).resolve().parents[1]
+from cases import B1
 
-B1 = {"wall": {"H": 9.0, "L": 6.0, "s": 0.5, "b": 0.5, "l": 6.0},
-      "masonry": {"a": 0.3, "c": 0.2, "f": 0.6}}
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def _write(tmp_path, text, name="case.toml"):

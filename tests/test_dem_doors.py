@@ -22,8 +22,7 @@ from homlimit.app.config import SCHEMA, ConfigError, DemConfig, load_case
 from homlimit.app.dem_stage import dem_params
 from homlimit.dem import DEMParams
 
-B1 = {"wall": {"H": 9.0, "L": 6.0, "s": 0.5, "b": 0.5, "l": 6.0},
-      "masonry": {"a": 0.3, "c": 0.2, "f": 0.6}}
+from cases import B1
 
 
 # ----------------------------------------------------------------------------- [dem] section

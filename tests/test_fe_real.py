@@ -22,6 +22,8 @@ from homlimit.fe.problems import Problem, _ties_and_floors, crossed_mesh, t_sect
 from homlimit.fe.static import solve_static
 from homlimit.params import Case, Floor, Masonry, Tie, Wall
 
+from cases import b1, run_cli
+
 A_, C_, F_ = 0.3, 0.2, 0.6
 TOL = 1e-7  # the interior-point solver's relative accuracy on these small programs
 
@@ -231,9 +233,7 @@ def test_case_file_fe_takes_fc_and_refuses_the_rest():
     (exit 2 through the CLI: tests/test_real_walls.py), naming the key and the model."""
     from homlimit.app.config import ConfigError, load_case
 
-    base = {"wall": {"H": 9.0, "L": 6.0, "s": 0.5, "b": 0.5, "l": 6.0},
-            "masonry": {"a": 0.3, "c": 0.2, "f": 0.6, "fc": 2e6},
-            "analysis": {"fe": True, "hinge_check": False}}
+    base = b1(masonry={"fc": 2e6}, analysis={"fe": True, "hinge_check": False})
     assert load_case(base).case.masonry.fc == 2e6
     for extra, key in (({"floor": [{"z": 4.5, "load": 1e4, "eccentricity": 0.1}]},
                         "[[floor]] (1 entries)"),
@@ -247,20 +247,8 @@ def test_case_file_fe_takes_fc_and_refuses_the_rest():
 
 
 def test_cli_fe_with_a_tie_exits_2_and_writes_nothing(tmp_path):
-    import os
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    case = tmp_path / "case.toml"
-    case.write_text("[wall]\nH = 9.0\nL = 6.0\ns = 0.5\nb = 0.5\nl = 6.0\n"
-                    "[masonry]\na = 0.3\nc = 0.2\nf = 0.6\nfc = 2e6\n"
-                    "[analysis]\nfe = true\nhinge_check = false\n"
-                    "[[tie]]\nz = 9.0\nyield_force = 5000.0\n", encoding="utf-8")
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
-    r = subprocess.run([sys.executable, "-m", "homlimit", "run", str(case), "--out",
-                        str(tmp_path / "out")], capture_output=True, text=True, env=env,
-                       cwd=tmp_path)
+    r = run_cli(tmp_path, b1(masonry={"fc": 2e6}, analysis={"fe": True, "hinge_check": False},
+                             tie=[{"z": 9.0, "yield_force": 5000.0}]), "run")
     assert r.returncode == 2, r.stderr
     assert "[analysis] fe = true" in r.stderr and "problems in" not in r.stderr, r.stderr
     assert "does not take [[tie]] (1 entries)" in r.stderr

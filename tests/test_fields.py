@@ -17,8 +17,7 @@ from homlimit.errors import ParameterError
 from homlimit.fields import Range, check_fields, range_of, ranged
 from homlimit.params import Masonry, Tie, Wall
 
-B1 = {"wall": {"H": 9.0, "L": 6.0, "s": 0.5, "b": 0.5, "l": 6.0},
-      "masonry": {"a": 0.3, "c": 0.2, "f": 0.6}}
+from cases import B1
 
 
 @dataclasses.dataclass(frozen=True)
@@ -86,16 +85,3 @@ def test_the_section_dataclasses_take_the_schema_defaults():
         assert got == want, sec
     assert SCHEMA["wall"]["gamma"].default == Wall().gamma == 2000.0
     assert SCHEMA["wall"]["g"].default == Wall().g == 9.81
-
-
-def test_the_dem_section_defaults_are_the_dem_parameters():
-    """[dem] cannot import ``homlimit.dem`` (numba, at start-up) for its defaults: the keys
-    the two share must agree (facade_stiffness: 0 in the case file means "rho")."""
-    from homlimit.dem import DEMParams
-
-    p = DEMParams()
-    shared = [f.name for f in dataclasses.fields(p)
-              if f.name in SCHEMA["dem"] and f.name != "facade_stiffness"]
-    assert len(shared) == 11
-    assert {k: SCHEMA["dem"][k].default for k in shared} == {k: getattr(p, k) for k in shared}
-    assert p.facade_stiffness == "rho" and SCHEMA["dem"]["facade_stiffness"].default == 0.0

@@ -8,34 +8,13 @@ import json
 import numpy as np
 import pytest
 
-# a demo-like wall (Table 1's B1 proportions) on a coarse mesh: a few seconds
-TINY = {"name": "tiny", "wall": {"H": 9.0, "L": 6.0, "s": 0.5, "b": 0.5, "l": 6.0},
-        "masonry": {"a": 0.3, "c": 0.2, "f": 0.6},
-        "mesh": {"size": 1.0, "part_divisions": 4, "outer_ratio": 0.0},   # one mesh: vtu stress
-        "adapt": {"max_cycles": 1},                                      # (not adaptive)
-        "analysis": {"heights": 2, "facade": "homogenised", "hinge_check": False},
-        "output": {"png": False}}
-TINY_TOML = """name = "tiny"
-[wall]
-H = 9.0
-L = 6.0
-s = 0.5
-b = 0.5
-l = 6.0
-[masonry]
-a = 0.3
-c = 0.2
-f = 0.6
-[mesh]
-size = 1.0
-part_divisions = 4
-[output]
-png = false
-[analysis]
-heights = 2
-facade = "homogenised"
-hinge_check = false
-"""
+from cases import b1, toml
+
+# a demo-like wall (Table 1's B1) on a coarse mesh: a few seconds
+TINY = b1("tiny", mesh={"size": 1.0, "part_divisions": 4, "outer_ratio": 0.0},  # one mesh:
+          adapt={"max_cycles": 1},                          # vtu stress (not adaptive)
+          analysis={"heights": 2, "facade": "homogenised", "hinge_check": False},
+          output={"png": False})
 
 
 @pytest.fixture
@@ -143,10 +122,14 @@ def test_pulse_reads_the_fe_result_run_cached_and_never_trusts_a_corrupt_entry(t
     from homlimit.app.config import load_case
     from homlimit.app.pipeline import fe_cache_path, pulse_records, read_fe_cache
 
-    toml = tmp_path / "tiny.toml"
-    toml.write_text(TINY_TOML + "static = false\n[pulse]\nmechanisms = ['FE']\n"
-                    "kinds = ['rectangular']\nperiods = [0.5]\npolarities = [1]\n")
-    cfg = load_case(toml)
+    case_file = tmp_path / "tiny.toml"
+    # TINY's mesh size and outputs, on the default mesher settings and adaptive chain
+    case = b1("tiny", mesh={"size": 1.0, "part_divisions": 4}, output={"png": False},
+              analysis={**TINY["analysis"], "static": False},
+              pulse={"mechanisms": ["FE"], "kinds": ["rectangular"], "periods": [0.5],
+                     "polarities": [1]})
+    case_file.write_text(toml(case))
+    cfg = load_case(case_file)
     path = fe_cache_path(cfg)
     assert path.parent == cache and not path.exists()
     homlimit.run(cfg, out=tmp_path / "o")
@@ -163,6 +146,6 @@ def test_pulse_reads_the_fe_result_run_cached_and_never_trusts_a_corrupt_entry(t
     assert fresh.impulse == fe.impulse and (fresh.h, fresh.vg) == (fe.h, fe.vg)
     assert [p.as_dict() for p in again] == [p.as_dict() for p in pts]   # identical numbers
     assert read_fe_cache(cfg) == dataclasses.replace(fresh, from_cache=True)
-    res = CliRunner().invoke(app, ["pulse", str(toml), "--out", str(tmp_path / "p")])
+    res = CliRunner().invoke(app, ["pulse", str(case_file), "--out", str(tmp_path / "p")])
     assert res.exit_code == 0, res.output
     assert f"FE result read from cache {path}" in res.stdout

@@ -38,6 +38,13 @@ def test_import_loads_no_heavy_package():
     assert json.loads(out[-1]) == []
 
 
+def test_case_schema_takes_dem_defaults_without_numba():
+    """[dem]'s defaults are ``dem.params.DEMParams``'s: reading them loads no numba (the
+    DEM's model is deferred by ``homlimit.dem.__getattr__``)."""
+    code = "import homlimit.app.schema; " + SHOW.format(mods=["numba", "homlimit.dem.model"])
+    assert json.loads(_python("-c", code)[-1]) == []
+
+
 def test_version_answers_before_typer():
     """`python -m homlimit --version` (and the console script, the same `__main__.main`)
     prints the version without loading typer, rich, numpy or any computing package."""

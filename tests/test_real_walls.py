@@ -8,10 +8,6 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,9 +18,10 @@ from homlimit.closed_form import mechanisms as M
 from homlimit.closed_form import real
 from homlimit.params import Case, Floor, Masonry, Tie, Wall
 
+from cases import b1, run_cli
+
 WALL, MAS = R.B1
 B1 = Case(Wall(**WALL), Masonry(**MAS), name="B1")
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def rel(a, b):
@@ -205,43 +202,19 @@ def test_sweep_keys_address_array_entries():
     assert parse_grid(["tie.0.yield_force=1000,2000"]) == {"tie.0.yield_force": [1000, 2000]}
 
 
-def _cli(tmp_path, text, *args):
-    case = tmp_path / "case.toml"
-    case.write_text(text, encoding="utf-8")
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    return subprocess.run([sys.executable, "-m", "homlimit", *args, str(case), "--out",
-                           str(tmp_path / "out")], capture_output=True, text=True, env=env,
-                          cwd=tmp_path)
-
-
-TOML = """[wall]
-H = 9.0
-L = 6.0
-s = 0.5
-b = 0.5
-l = 6.0
-[masonry]
-a = 0.3
-c = 0.2
-f = 0.6
-fc = 2e6
-[analysis]
-fe = false
-hinge_check = false
-overturning = true
-[[tie]]
-z = {z}
-yield_force = 5000.0
-"""
+def _tied(z: float) -> dict:
+    return b1(masonry={"fc": 2e6}, analysis={"fe": False, "hinge_check": False,
+                                             "overturning": True},
+              tie=[{"z": z, "yield_force": 5000.0}])
 
 
 def test_cli_exit_2_writes_nothing_and_a_good_case_runs(tmp_path):
-    r = _cli(tmp_path, TOML.format(z=12.0), "run")
+    r = run_cli(tmp_path, _tied(12.0), "run")
     assert r.returncode == 2 and "[[tie]] 0 z = 12.0 m is out of range" in r.stderr
     assert "Traceback" not in r.stderr and not (tmp_path / "out").exists()
-    r = _cli(tmp_path, TOML.format(z=9.0), "pulse")     # the rockers do not take ties yet
+    r = run_cli(tmp_path, _tied(9.0), "pulse")     # the rockers do not take ties yet
     assert r.returncode == 2 and "[[tie]] 0" in r.stderr and not (tmp_path / "out").exists()
-    r = _cli(tmp_path, TOML.format(z=9.0), "run")
+    r = run_cli(tmp_path, _tied(9.0), "run")
     assert r.returncode == 0, r.stderr
     s = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert set(s["mechanisms"]) == {"I", "II", "overturning"}

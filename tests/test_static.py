@@ -299,6 +299,12 @@ def test_cvxpy_backend_reproduces_the_direct_program():
     b = solve_static(prob, SolverOptions(backend="cvxpy"))
     assert b.multiplier == pytest.approx(a.multiplier, rel=1e-7)
     assert np.allclose(b.stress, a.stress, atol=1e-4 * np.abs(a.stress).max())
+    # one unpacking (fe.solver.Solved.report): Clarabel's objectives and Clarabel's status
+    # names on both paths, the objectives of max λ as λ itself
+    for s in (a, b):
+        assert (s.status, s.solver) == ("Solved", "CLARABEL")
+        assert s.primal_objective == pytest.approx(a.multiplier, rel=1e-7)
+        assert s.dual_objective == pytest.approx(a.multiplier, rel=1e-6)
 
 
 @pytest.mark.slow

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ..dem.params import DEMParams
 from ..errors import ParameterError, check_choice
 from .config import CaseConfig, DemConfig
 
@@ -42,10 +43,8 @@ log = logging.getLogger(__name__)
 DEM_PAIRS = ("B4/B1", "B5/B2", "B6/B3", "C4/C1", "C5/C2", "C6/C3")
 
 
-def dem_params(dem: DemConfig):
+def dem_params(dem: DemConfig) -> DEMParams:
     """The ``dem.DEMParams`` of a [dem] section (facade_stiffness 0: "rho")."""
-    from ..dem import DEMParams
-
     names = {f.name for f in dataclasses.fields(DEMParams)}
     kw = {k: v for k, v in dataclasses.asdict(dem).items() if k in names}
     kw["facade_stiffness"] = "rho" if dem.facade_stiffness == 0 else dem.facade_stiffness

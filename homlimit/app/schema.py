@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..blocks.geometry import FACADE_BONDS
+from ..dem.params import BASE_JOINTS, DEMParams
 from ..dynamics.pulses import PULSE_KINDS, MavroeidisPapageorgiouPulse
 from ..dynamics.rocking import RigidRocker
 from ..fields import Range, default_of, range_of
@@ -31,6 +32,8 @@ from . import budget, registry
 __all__ = ["ARRAYS", "MAX_ARRAY", "REQUIRED", "REQUIRED_SECTIONS", "SCHEMA", "TOP_LEVEL", "Key"]
 
 REQUIRED = object()
+# [dem]'s defaults are the model's (facade_stiffness: the case file's 0 is its "rho")
+_DEM = DEMParams()
 
 
 @dataclass(frozen=True)
@@ -223,45 +226,45 @@ SCHEMA: dict[str, dict[str, Key]] = {
                               "blocks solve in about 90 s of CPU)"),
     },
     "dem": {
-        "kn": Key(float, 1.0e9, "Pa/m", 1e5, 1e13,
+        "kn": Key(float, _DEM.kn, "Pa/m", 1e5, 1e13,
                   doc="joint normal stiffness per unit joint area (a contact point gets kn × "
                       "tributary length × s); not in the paper: the order of UDEC joint "
                       "stiffnesses for masonry, 10⁹–10¹⁰ Pa/m (Lemos 2007), the lower end "
                       "for a longer time step"),
-        "ks_over_kn": Key(float, 0.5, "", 0.0, 10.0, lo_open=True,
+        "ks_over_kn": Key(float, _DEM.ks_over_kn, "", 0.0, 10.0, lo_open=True,
                           doc="shear over normal joint stiffness; not in the paper: a common "
                               "UDEC choice (an elastic interface: 1/(2(1 + ν)) ≈ 0.4)"),
         "facade_stiffness": Key(float, 0.0, "", 0.0, 1e3,
                                 doc="factor on the façade's contact stiffness (0: ρ = l/s, "
                                     "the paper's uniform lowering: contacts stiffened like "
                                     "the façade's density)"),
-        "dt_fraction": Key(float, 0.1, "", 0.0, 0.5, lo_open=True,
+        "dt_fraction": Key(float, _DEM.dt_fraction, "", 0.0, 0.5, lo_open=True,
                            doc="dt = dt_fraction × √(m_min/k_max) (package choice: a block "
                                "held by ~40 such springs stays below the central-difference "
                                "limit)"),
-        "settle_damping": Key(float, 0.8, "", 0.0, 1.0, hi_open=True,
+        "settle_damping": Key(float, _DEM.settle_damping, "", 0.0, 1.0, hi_open=True,
                               doc="Cundall's local damping while settling under gravity "
                                   "(UDEC's default for static solutions); none after"),
-        "settle_time": Key(float, 2.0, "s", 0.0, 600.0,
+        "settle_time": Key(float, _DEM.settle_time, "s", 0.0, 600.0,
                            doc="longest settling run (package choice)"),
-        "settle_velocity": Key(float, 1e-5, "m/s", 0.0, 1.0, lo_open=True,
+        "settle_velocity": Key(float, _DEM.settle_velocity, "m/s", 0.0, 1.0, lo_open=True,
                                doc="settling stops once every block is slower (package "
                                    "choice)"),
-        "base_joint": Key(str, "frictional", choices=("frictional", "tied"),
+        "base_joint": Key(str, _DEM.base_joint, choices=BASE_JOINTS,
                           doc="joint with the ground: frictional like the others (the "
                               "paper's UDEC base is not described) or tied (the contacts "
                               "present at the start neither open nor slide)"),
-        "ground_margin": Key(float, 2.0, "m", 0.0, 100.0,
+        "ground_margin": Key(float, _DEM.ground_margin, "m", 0.0, 100.0,
                              doc="the ground is widened by this on both sides (the "
                                  "assembly's ends flush with the façade's toe; package "
                                  "choice)"),
-        "verlet_margin": Key(float, 0.005, "m", 0.0, 0.1, lo_open=True,
+        "verlet_margin": Key(float, _DEM.verlet_margin, "m", 0.0, 0.1, lo_open=True,
                              doc="contact candidates: vertex–edge pairs closer than this; "
                                  "rebuilt after a move of half of it (package choice)"),
-        "cone_tolerance": Key(float, 0.05, "rad", 0.0, 0.5,
+        "cone_tolerance": Key(float, _DEM.cone_tolerance, "rad", 0.0, 0.5,
                               doc="widening of a vertex's normal cone in the contact test "
                                   "(package choice)"),
-        "trib_floor": Key(float, 0.05, "", 0.0, 0.5, lo_open=True,
+        "trib_floor": Key(float, _DEM.trib_floor, "", 0.0, 0.5, lo_open=True,
                           doc="least tributary length, as a fraction of the shorter edge "
                               "(package choice)"),
         "loading": Key(str, "impulse", choices=("impulse", "rectangular", "one-sine",

@@ -51,7 +51,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ParameterError, check_range
-from ..fe.solver import SolverOptions, solve_cvxpy
+from ..fe.solver import SolveRecord, SolverOptions, solve_cvxpy
 from ..mechanism.rigidfit import RigidFit
 from .geometry import FACADE, TOOTHING, Assembly, block_speed, vertex_velocity
 from .real import anchor_blocks, real_of
@@ -111,7 +111,7 @@ def loads(assembly: Assembly):
 
 
 @dataclass(frozen=True)
-class BlockLimitResult:
+class BlockLimitResult(SolveRecord):
     """The collapse multiplier and mechanism of a rigid-block assembly, with its static dual.
 
     multiplier      λ (horizontal acceleration / g at collapse)
@@ -133,7 +133,8 @@ class BlockLimitResult:
                     ``mechanism.rigidfit.RigidFit``); rigid: the failing set moves as one body
                     (the fit's rms misfit below 1e-3 × the blocks' rms speed)
     friction        "associative" or "non-associative"; f the friction coefficient
-    primal_objective, dual_objective, status, iterations, times [s], sizes
+    status, solver, primal_objective, dual_objective (the last LP's), iterations (summed over
+                    the LPs), times [s], sizes: the solve's (``fe.solver.SolveRecord``)
     history         non-associative loop: λ per iteration (associative start first)
     actions         a real wall's ties, floors and crushing (``_RealTerms.record``; empty for
                     the paper's wall): per tie its block, force [N] and elongation rate
@@ -156,12 +157,6 @@ class BlockLimitResult:
     rigid: bool
     friction: str
     f: float
-    primal_objective: float
-    dual_objective: float
-    status: str
-    iterations: int
-    times: dict = field(default_factory=dict)
-    sizes: dict = field(default_factory=dict)
     history: tuple = ()
     converged: bool = True
     actions: dict = field(default_factory=dict)
@@ -245,7 +240,7 @@ def _full(x, free, n):
     return xs
 
 
-def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, raw, iters, times, friction, f,
+def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, run, iters, times, friction, f,
             tol_motion, history=(), converged=True, sizes=None, actions=None
             ) -> BlockLimitResult:
     """The result record: block velocities from the scaled unknowns, relative velocities at
@@ -277,10 +272,8 @@ def _finish(assembly, free, x, ell, Dn, Dt, N, T, lam, raw, iters, times, fricti
         multiplier=lam, velocity=q, opening=dn, slip=dt, normal=N, shear=T, state=state,
         active=active, moving=moving, h=z_top - z_base, z_base=z_base, fit=fit,
         rigid=bool(fit.rms < 1e-3 * rms_speed), friction=friction, f=f,
-        primal_objective=float(getattr(raw, "obj_val", lam)),
-        dual_objective=float(getattr(raw, "obj_val_dual", lam)), status="optimal",
-        iterations=iters, times=times, sizes=sizes or {}, history=tuple(history),
-        converged=converged, actions=actions or {})
+        **run.report() | {"iterations": iters}, times=times, sizes=sizes or {},
+        history=tuple(history), converged=converged, actions=actions or {})
 
 
 def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "associative",
@@ -354,7 +347,7 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
         cone, norm = extra.cone, l_vec @ x == 1.0
         prob = cp.Problem(cp.Minimize(extra.objective), [norm, cone, *extra.constraints])
     run, times = _solve(prob, options, free.size)
-    raw, iters = run.raw, run.iterations
+    iters = run.iterations
     times["assembly"] = t_asm
     lam = float(prob.value)
     P = rows.size
@@ -374,7 +367,7 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
     history = [lam]
     converged = True
     if friction == "non-associative":
-        xv, lam, Np, Tp, history, converged, raw, iters2, t_na, viol = _non_associative(
+        xv, lam, Np, Tp, history, converged, run, iters2, t_na, viol = _non_associative(
             Dnf, Dtf, rows, c_obj, l_vec, kappa, f, Np, options, free.size, max_iter, relax,
             tol, history, jt.count)
         iters += iters2
@@ -383,7 +376,7 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
         sizes["non_associative_iterations"] = len(viol)
     times["total"] = sum(v for k, v in times.items() if k != "total")
     return _finish(assembly, free, xv, ell, Dn, Dt, Np.reshape(-1, 2), Tp.reshape(-1, 2), lam,
-                   raw, iters, times, friction, f, tol_motion, history, converged, sizes,
+                   run, iters, times, friction, f, tol_motion, history, converged, sizes,
                    actions)
 
 
@@ -537,13 +530,11 @@ def _non_associative(Dnf, Dtf, rows, c_obj, l_vec, kappa, f, N0, options, n_free
     N_prev = N0[rows].copy()
     converged = False
     iters = 0
-    raw = None
     violation = []
     Np, Tp = np.zeros(2 * K), np.zeros(2 * K)
     for _ in range(max_iter):
         cap.value = f * N_prev / kappa
         run, _ = _solve(prob, options, n_free)
-        raw = run.raw
         iters += run.iterations
         lam = float(prob.value)
         N = kappa * np.asarray(c_open.dual_value, float).ravel()
@@ -559,7 +550,7 @@ def _non_associative(Dnf, Dtf, rows, c_obj, l_vec, kappa, f, N0, options, n_free
             converged = True
             break
     Np[rows], Tp[rows] = N, T
-    return (np.asarray(x.value, float), lam, Np, Tp, history, converged, raw, iters,
+    return (np.asarray(x.value, float), lam, Np, Tp, history, converged, run, iters,
             time.perf_counter() - t0, violation)
 
 

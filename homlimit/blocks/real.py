@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ParameterError, check_range
+from ..fields import set_fields
 
 __all__ = ["RealActions", "from_case", "real_of", "anchor_blocks"]
 
@@ -52,16 +53,16 @@ class RealActions:
     floors: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
 
     def __post_init__(self):
-        object.__setattr__(self, "fc", check_range("fc", self.fc, 0.0, unit="Pa"))
+        set_fields(self, fc=check_range("fc", self.fc, 0.0, unit="Pa"))
         for name in ("depth_facade", "depth_wall"):
-            object.__setattr__(self, name, check_range(name, getattr(self, name), 0.0,
-                                                       lo_open=True, unit="m"))
+            set_fields(self, **{name: check_range(name, getattr(self, name), 0.0, lo_open=True,
+                                                  unit="m")})
         for name in ("ties", "floors"):
             arr = np.asarray(getattr(self, name), float).reshape(-1, 4)
             if not np.all(np.isfinite(arr[:, :3])) or np.any(arr[:, :3] < 0):
                 raise ParameterError(f"{name} = {arr.tolist()!r} is out of range: allowed "
                                      "finite values >= 0 (z, force, stiffness or e)")
-            object.__setattr__(self, name, arr)
+            set_fields(self, **{name: arr})
 
     @property
     def active(self) -> bool:

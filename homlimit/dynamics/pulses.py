@@ -42,7 +42,7 @@ from scipy.integrate import cumulative_trapezoid
 from scipy.optimize import minimize_scalar
 
 from ..errors import ParameterError, check_range
-from ..fields import Range, check_fields, ranged
+from ..fields import Range, check_fields, ranged, set_fields
 
 __all__ = ["Pulse", "RectangularPulse", "OneSinePulse", "OneCosinePulse", "RickerPulse",
            "MavroeidisPapageorgiouPulse", "RecordPulse", "PULSE_KINDS", "make_pulse",
@@ -148,7 +148,7 @@ class RectangularPulse(Pulse):
 
     def __post_init__(self):
         check_fields(self)
-        object.__setattr__(self, "polarity", _polarity(self.polarity))
+        set_fields(self, polarity=_polarity(self.polarity))
 
     @property
     def t_end(self):
@@ -195,7 +195,7 @@ class _CyclePulse(Pulse):
 
     def __post_init__(self):
         check_fields(self)
-        object.__setattr__(self, "polarity", _polarity(self.polarity))
+        set_fields(self, polarity=_polarity(self.polarity))
 
     @property
     def t_end(self):
@@ -276,7 +276,7 @@ class RickerPulse(Pulse):
 
     def __post_init__(self):
         check_fields(self)
-        object.__setattr__(self, "polarity", _polarity(self.polarity))
+        set_fields(self, polarity=_polarity(self.polarity))
 
     @property
     def t0(self):
@@ -345,7 +345,7 @@ class MavroeidisPapageorgiouPulse(Pulse):
 
     def __post_init__(self):
         check_fields(self)
-        object.__setattr__(self, "polarity", _polarity(self.polarity))
+        set_fields(self, polarity=_polarity(self.polarity))
 
     @property
     def t_end(self):
@@ -421,11 +421,10 @@ class RecordPulse(Pulse):
         if not np.any(a != 0):
             raise ParameterError(f"record {self.name!r} is all zero: allowed a record with "
                                  "some a_g != 0")
-        object.__setattr__(self, "t", t)
-        object.__setattr__(self, "a_g", a)
+        set_fields(self, t=t, a_g=a)
         check_fields(self)       # scale
-        object.__setattr__(self, "polarity", _polarity(self.polarity))
-        object.__setattr__(self, "_v", cumulative_trapezoid(a, t, initial=0.0))
+        set_fields(self, polarity=_polarity(self.polarity),
+                   _v=cumulative_trapezoid(a, t, initial=0.0))
 
     @property
     def warnings(self) -> list[str]:

@@ -45,7 +45,7 @@ from scipy.optimize import brentq
 
 from ..closed_form.mechanisms import mechanism_I, work_I
 from ..errors import ParameterError, check_range
-from ..fields import Range, check_fields, ranged
+from ..fields import Range, check_fields, ranged, set_fields
 from ..impulse import RigidBody, peak_work
 from ..params import G_STANDARD, Case
 
@@ -164,8 +164,7 @@ class RigidRocker(Rocker):
             raise ParameterError(f"x_G = {self.body.x_G!r} m is out of range: a rocking body "
                                  "needs a restoring lever, allowed 0 < x_G")
         check_fields(self)
-        object.__setattr__(self, "geometry", _geometry(self.geometry))
-        object.__setattr__(self, "two_sided", bool(self.two_sided))
+        set_fields(self, geometry=_geometry(self.geometry), two_sided=bool(self.two_sided))
 
     @property
     def inertia(self):
@@ -309,13 +308,12 @@ class MechanismIRocker(Rocker):
     def __post_init__(self):
         if not isinstance(self.case, Case):
             raise ParameterError(f"case = {self.case!r} is not a homlimit.params.Case")
-        object.__setattr__(self, "gravity", _geometry(self.gravity))
-        object.__setattr__(self, "restitution", _restitution(self.restitution))
+        set_fields(self, gravity=_geometry(self.gravity),
+                   restitution=_restitution(self.restitution))
         res = mechanism_I(self.case, self.lam)
-        object.__setattr__(self, "_res", res)
-        object.__setattr__(self, "lam", res.lam)
-        object.__setattr__(self, "_theta_m", res.theta_m if self.gravity == "linearised"
-                           else self._exact_theta_m())
+        set_fields(self, _res=res, lam=res.lam)
+        set_fields(self, _theta_m=res.theta_m if self.gravity == "linearised"
+                   else self._exact_theta_m())          # reads _res and lam
 
     # -- parameters
     @property
@@ -441,8 +439,7 @@ class GeneralisedRocker(Rocker):
         if self.block.x_G <= 0:
             raise ParameterError(f"x_G = {self.block.x_G!r} m is out of range: the block needs "
                                  "a restoring lever, allowed 0 < x_G")
-        object.__setattr__(self, "M", check_range("M", self.M, self.block.I_O * (1 - 1e-9),
-                                                  unit="kg m^2"))
+        set_fields(self, M=check_range("M", self.M, self.block.I_O * (1 - 1e-9), unit="kg m^2"))
         check_fields(self)       # Pi, lift_rest, g, restitution
 
     @classmethod

@@ -183,7 +183,7 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
     times["build"] = time.perf_counter() - t0 - run.times["solve"] - run.times["wrap"]
     times["solve"] = run.times["solve"]
     times["wrap"] = run.times["wrap"]                  # cvxpy's hand-over
-    raw, stats, data, attempts = run.raw, prob.solver_stats, run.data, run.attempts
+    stats, data, attempts = prob.solver_stats, run.data, run.attempts
 
     t0 = time.perf_counter()
     u = np.zeros(disc.basis.N)
@@ -211,9 +211,8 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
             val = dj @ blk.cx + (yv @ blk.cy if yv is not None else 0.0)
             idis[name] = (w_true * val).reshape(-1, 3).sum(axis=1)
     intensity = np.sqrt(d[..., 0] ** 2 + d[..., 1] ** 2 + 0.5 * d[..., 2] ** 2).mean(axis=1)
-    primal = float(prob.value)
-    if hasattr(raw, "obj_val_dual"):                 # Clarabel reports both objectives
-        primal, dual_obj = float(raw.obj_val), float(raw.obj_val_dual)
+    solve = run.report(dual=dual_obj)          # Clarabel's own objectives where it has them
+    primal, dual_obj = solve["primal_objective"], solve["dual_objective"]
     times["unpack"] = time.perf_counter() - t0
     times["total"] = sum(times[k] for k in ("mesh", "assembly", "build", "solve", "unpack"))
     sizes = {"triangles": int(nel), "dofs": int(disc.basis.N), "free": int(free.size),
@@ -226,7 +225,6 @@ def solve_kinematic(problem: Problem, options: SolverOptions = SolverOptions()
         dissipation=dissip_pt.reshape(nel, 3).sum(axis=1), interface_dissipation=idis,
         strain_rate=d, intensity=intensity, stress=stress,
         live_power=float(disc.F_live @ u), dead_power=float(disc.F_dead @ u),
-        primal_objective=primal, dual_objective=dual_obj, gap=primal - dual_obj,
-        status=prob.status, solver=options.solver, times=times, sizes=sizes, mesh=mesh,
+        gap=primal - dual_obj, **solve, times=times, sizes=sizes, mesh=mesh,
         regions={k: np.asarray(v) for k, v in (mesh.subdomains or {}).items()})
 

@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .solver import SolveRecord
+
 __all__ = ["KinematicSolution", "stress_tensor"]
 
 
@@ -21,7 +23,7 @@ def stress_tensor(sigma: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class KinematicSolution:
+class KinematicSolution(SolveRecord):
     """Collapse multiplier and mechanism of ``solve_kinematic`` (per unit thickness, SI).
 
     multiplier      λ⁺ = D(u) − P_dead(u) at the optimum, with P_live(u) = 1 (an upper bound)
@@ -35,10 +37,10 @@ class KinematicSolution:
     stress          stress estimate (σ_x, σ_z, τ_xz) at the 3 vertices of each triangle from the
                     duals of the cone constraints, (nel, 3, 3) [Pa]; None if not available
     live_power, dead_power   P_live(u) (= 1) and P_dead(u) [W/m]
-    primal_objective, dual_objective, gap   as reported by the conic solver
-    status, solver  solver status string and name
-    times           seconds per stage: mesh, assembly, build, solve, total
-    sizes           triangles, dofs, free unknowns, variables, constraint rows, nonzeros
+    gap             primal_objective − dual_objective
+    status, solver, primal_objective, dual_objective, iterations: the solve's
+    (``solver.SolveRecord``); times: seconds per stage (mesh, assembly, build, solve, total);
+    sizes: triangles, dofs, free unknowns, variables, constraint rows, nonzeros, attempts
     """
 
     multiplier: float
@@ -51,13 +53,7 @@ class KinematicSolution:
     stress: np.ndarray | None
     live_power: float
     dead_power: float
-    primal_objective: float
-    dual_objective: float
     gap: float
-    status: str
-    solver: str
-    times: dict = field(default_factory=dict)
-    sizes: dict = field(default_factory=dict)
     mesh: object = None
     regions: dict = field(default_factory=dict)
 

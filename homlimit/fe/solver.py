@@ -6,9 +6,12 @@ by Clarabel or HiGHS (``solve_cvxpy``), and the FE static (lower-bound) program,
 Clarabel directly (``solve_clarabel``) or through cvxpy. One ``SolverOptions`` configures all
 three; ``SolverOptions.ladder`` lists the settings tried in turn, ``run_ladder`` tries them
 until a solve does not stall, and ``check_status`` turns a final status into a ``SolverError``
-naming its likely cause from one table (``_CAUSES``). Statuses keep their solver's names:
-cvxpy's ("optimal", "optimal_inaccurate", ...) through cvxpy, Clarabel's ("Solved",
-"AlmostSolved", ...) for the direct static solve.
+naming its likely cause from one table (``_CAUSES``); ``Solved.report`` unpacks what the solver
+says (status, objectives, iterations) into the fields of ``SolveRecord``, which the three
+programs' results (``KinematicSolution``, ``StaticSolution``, ``blocks.BlockLimitResult``) share.
+Statuses keep their solver's names: cvxpy's ("optimal", "optimal_inaccurate", ...) through
+cvxpy, Clarabel's ("Solved", "AlmostSolved", ...) for the direct static solve (the static
+program reports Clarabel's names through cvxpy too, ``CLARABEL_NAMES``).
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ import numpy as np
 from ..errors import ParameterError, SolverError, check_choice, check_range
 from .problems import Problem
 
-__all__ = ["SolverOptions", "Solved", "solve_cvxpy", "solve_clarabel", "run_ladder",
+__all__ = ["SolverOptions", "Solved", "SolveRecord", "solve_cvxpy", "solve_clarabel", "run_ladder",
            "check_status", "check_inputs", "solver_failed", "PROGRAMS", "FAER_ABOVE",
            "REFINE_ABOVE", "STATIC_RETRIES"]
 
@@ -69,6 +72,8 @@ STATIC_RETRIES = ({"static_regularization_constant": 1e-7},
 # MaxIterations as "user_limit"): tried again down the ladder
 STALLED = ("optimal_inaccurate", "AlmostSolved", "NumericalError", "InsufficientProgress",
            "MaxIterations", "user_limit")
+# cvxpy's statuses that pass ``check_status`` in Clarabel's names (``Solved.report``)
+CLARABEL_NAMES = {"optimal": "Solved", "optimal_inaccurate": "AlmostSolved"}
 
 
 @dataclass(frozen=True)
@@ -213,6 +218,30 @@ def run_ladder(attempt: Callable[[dict], tuple[str, int]], ladder) -> tuple[str,
     return status, attempts
 
 
+@dataclass(frozen=True, kw_only=True)
+class SolveRecord:
+    """What the result of every program of ``PROGRAMS`` keeps of its solve (the kinematic,
+    static and rigid-block results derive from it; ``Solved.report`` fills the first five).
+
+    status               the last attempt's status, in its solver's names (``Solved.report``)
+    solver               "CLARABEL" or "HIGHS"
+    primal_objective, dual_objective   the objectives at the optimum as the solver reports them
+                         (``Solved.report``: Clarabel's own pair, else cvxpy's value and the
+                         program's own dual objective or NaN)
+    iterations           interior-point iterations
+    times                [s] per stage of the program
+    sizes                the program's sizes and the ladder's attempts
+    """
+
+    status: str
+    solver: str
+    primal_objective: float
+    dual_objective: float
+    iterations: int
+    times: dict = field(default_factory=dict)
+    sizes: dict = field(default_factory=dict)
+
+
 @dataclass
 class Solved:
     """The end of a solve down the ladder (its status checked: optimal).
@@ -226,6 +255,8 @@ class Solved:
     times        [s] "compile" (cvxpy's problem data), "solve" (the solver's own time, summed
                  over the attempts), "wrap" (the rest: hand-over and unpacking)
     data         cvxpy's problem data (None for direct Clarabel)
+    value        cvxpy's optimal value of the problem (None for direct Clarabel)
+    solver       the solver's name ("CLARABEL", "HIGHS")
     """
 
     status: str
@@ -235,6 +266,39 @@ class Solved:
     iterations: int
     times: dict = field(default_factory=dict)
     data: dict | None = None
+    value: float | None = None
+    solver: str = "CLARABEL"
+
+    def report(self, *, dual: float = float("nan"), negate: bool = False,
+               clarabel_names: bool = False) -> dict:
+        """The solve's fields of a ``SolveRecord`` (status, solver, primal_objective,
+        dual_objective, iterations), to pass to a result as keywords. The objectives are
+        Clarabel's own pair where it reports one (through cvxpy or directly), else cvxpy's
+        value and ``dual`` (the program's own dual objective, or NaN); ``negate``: the
+        program is a maximum posed as the minimum of its negative (the static one), so both
+        change sign; ``clarabel_names``: the status in Clarabel's names (``CLARABEL_NAMES``)."""
+        if hasattr(self.raw, "obj_val_dual"):             # Clarabel reports both objectives
+            primal, dual = float(self.raw.obj_val), float(self.raw.obj_val_dual)
+        else:
+            primal = float(self.value)
+        sign = -1.0 if negate else 1.0
+        status = CLARABEL_NAMES.get(self.status, self.status) if clarabel_names else self.status
+        return {"status": status, "solver": self.solver, "primal_objective": sign * primal,
+                "dual_objective": sign * dual, "iterations": self.iterations}
+
+
+def _down_ladder(attempt, raws: list, times: dict, options: SolverOptions, program: str,
+                 n_unknowns: int, conic: bool, **extra) -> Solved:
+    """``run_ladder`` over ``options.ladder(...)``, ``check_status`` of the last attempt, and
+    its ``Solved`` (``raws``: the raw solution of every attempt, appended by ``attempt``)."""
+    t0 = time.perf_counter()
+    ladder = options.ladder(program, n_unknowns, conic)
+    status, attempts = run_ladder(attempt, ladder)
+    times["wrap"] = time.perf_counter() - t0 - times["solve"]
+    check_status(program, status, options.solver, attempts)
+    return Solved(status=status, attempts=attempts, settings=ladder[len(attempts) - 1][1],
+                  raw=raws[-1], iterations=attempts[-1][2], times=times,
+                  solver=options.solver, **extra)
 
 
 def solve_cvxpy(prob, options: SolverOptions, program: str, n_unknowns: int,
@@ -266,14 +330,9 @@ def solve_cvxpy(prob, options: SolverOptions, program: str, n_unknowns: int,
         raws.append(raw)
         return prob.status, prob.solver_stats.num_iters or 0
 
-    t0 = time.perf_counter()
-    ladder = options.ladder(program, n_unknowns, conic)
-    status, attempts = run_ladder(attempt, ladder)
-    times["wrap"] = time.perf_counter() - t0 - times["solve"]
-    check_status(program, status, options.solver, attempts)
-    return Solved(status=status, attempts=attempts, settings=ladder[len(attempts) - 1][1],
-                  raw=raws[-1], iterations=int(prob.solver_stats.num_iters or 0),
-                  times=times, data=data)
+    run = _down_ladder(attempt, raws, times, options, program, n_unknowns, conic, data=data)
+    run.value = prob.value
+    return run
 
 
 def solve_clarabel(q: np.ndarray, A, b: np.ndarray, cones: list, options: SolverOptions,
@@ -297,13 +356,7 @@ def solve_clarabel(q: np.ndarray, A, b: np.ndarray, cones: list, options: Solver
         sols.append(sol)
         return str(sol.status).split(".")[-1], sol.iterations
 
-    t0 = time.perf_counter()
-    ladder = options.ladder(program, q.size, conic)
-    status, attempts = run_ladder(attempt, ladder)
-    times["wrap"] = time.perf_counter() - t0 - times["solve"]
-    check_status(program, status, options.solver, attempts)
-    return Solved(status=status, attempts=attempts, settings=ladder[len(attempts) - 1][1],
-                  raw=sols[-1], iterations=int(sols[-1].iterations), times=times)
+    return _down_ladder(attempt, sols, times, options, program, q.size, conic)
 
 
 _NO_MECHANISM = ("no admissible mechanism has unit live-load power, so λ is unbounded: the "

@@ -25,6 +25,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..errors import check_range
+from ..fields import set_fields
 
 __all__ = ["ConicBlock", "StrengthDomain", "dissipation_free", "jump_strain"]
 
@@ -51,12 +52,10 @@ class ConicBlock:
         A = np.atleast_2d(np.asarray(self.A, float))
         m = A.shape[0]
         D = np.asarray(self.D, float).reshape(m, -1) if np.size(self.D) else np.zeros((m, 0))
-        object.__setattr__(self, "A", A)
-        object.__setattr__(self, "D", D)
-        object.__setattr__(self, "e", np.asarray(self.e, float).reshape(m))
-        object.__setattr__(self, "cx", np.asarray(self.cx, float).reshape(3))
+        e = np.asarray(self.e, float).reshape(m)
+        cx = np.asarray(self.cx, float).reshape(3)
         cy = np.zeros(D.shape[1]) if self.cy is None else np.asarray(self.cy, float)
-        object.__setattr__(self, "cy", cy.reshape(D.shape[1]))
+        set_fields(self, A=A, D=D, e=e, cx=cx, cy=cy.reshape(D.shape[1]))
         if A.shape[1] != 3:
             raise ValueError(f"ConicBlock.A must have 3 columns, got {A.shape}")
         if self.n_eq + self.n_lin + sum(self.soc) != m:

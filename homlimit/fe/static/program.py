@@ -23,7 +23,7 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
 
     options : the ``solver.SolverOptions`` of both bounds. Static-only fields: ``backend``
         ("direct": Clarabel on the assembled matrices, the default; "cvxpy": the same matrices
-        as a cvxpy problem, the kinematic bound's path, ``dual_objective`` NaN there) and
+        as a cvxpy problem, the kinematic bound's path) and
         ``stress_scale`` (reference stress [Pa], default from the data). A stalled solve is
         retried down ``options.ladder("static", ...)``; the attempts are in ``sizes``.
     active_tol : post-processing, not a solver setting (hence a keyword): a facet is active at
@@ -33,7 +33,7 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
     check_range("active_tol", active_tol, 0.0, lo_open=True)
     doms = (*problem.domains.values(), *problem.interfaces.values())
     options.check_program(any(dom.static_cone().soc for dom in doms))
-    timings = {}
+    times = {}
     t0 = time.perf_counter()
     prog = StaticProgram(problem, options.stress_scale, options.stress_degree)
     prog.equilibrium()     # 1. div σ + λ b + b⁰ = 0 in every triangle
@@ -51,18 +51,17 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
     rb = np.flatnonzero(prog.rigid)
     live[prog.sig(rb[:, None, None], np.arange(prog.nloc)[:, None], np.arange(3)).ravel()] = False
     M = M_full[:, live]
-    timings["assembly"] = time.perf_counter() - t0
+    times["assembly"] = time.perf_counter() - t0
 
     t1 = time.perf_counter()
     q = np.zeros(prog.n_var)
     q[prog.lam] = -1.0
     direct = options.backend == "direct" and options.solver == "CLARABEL"
     # the one solve chain (fe.solver): the ladder, then a SolverError naming the cause
-    res, status, attempts = (_solve_direct if direct else _solve_cvxpy)(M, e, q[live], layout,
-                                                                         options)
-    timings["solve"] = time.perf_counter() - t1
+    x_live, run = (_solve_direct if direct else _solve_cvxpy)(M, e, q[live], layout, options)
+    times["solve"] = time.perf_counter() - t1
     x = np.zeros(prog.n_var)
-    x[live] = res["x"]
+    x[live] = x_live
     # the dropped rows must hold too (they do unless prescribed tractions contradict at a node)
     resid = np.abs(M_eq @ x + e_eq).max(initial=0.0)
     resid /= max(1.0, np.abs(x[:prog.n_sig]).max(initial=0.0))
@@ -74,14 +73,14 @@ def solve_static(problem, options: SolverOptions = SolverOptions(), *,
     control[prog.rigid] = np.nan  # a rigid body's inner stresses are not determined
     stress = control[:, :3].copy()  # the vertex values (a Bernstein vertex coefficient is one)
     active = _active_facets(prog, where, M_full @ x + e, active_tol)
-    timings["post"] = time.perf_counter() - t1 - timings["solve"]
+    times["post"] = time.perf_counter() - t1 - times["solve"]
     sizes = {"triangles": prog.nt, "variables": int(live.sum()), "rows": M.shape[0],
              "nnz": M.nnz, "equilibrium_rows": prog.n_equilibrium, "soc_cones": len(layout[2]),
-             "rigid_bodies": prog.n_body, "attempts": attempts}
+             "rigid_bodies": prog.n_body, "attempts": run.attempts}
+    # the program is min −λ: its objectives change sign; statuses in Clarabel's names
     return StaticSolution(multiplier=float(x[prog.lam]), stress=stress, active=active,
-                          mesh=problem.mesh, status=status, primal_objective=-res["obj"],
-                          dual_objective=-res["obj_dual"], iterations=res["iterations"],
-                          sizes=sizes, timings=timings, rigid=prog.rigid,
+                          mesh=problem.mesh, **run.report(negate=True, clarabel_names=True),
+                          sizes=sizes, times=times, rigid=prog.rigid,
                           control=control if prog.degree == 2 else None)
 
 
@@ -108,21 +107,15 @@ def _active_facets(prog: StaticProgram, where: list, slack: np.ndarray, active_t
 
 
 def _solve_direct(M, e, q, layout, options: SolverOptions):
-    """Clarabel on min qᵀx s.t. M x + e ∈ K, i.e. A x + s = b, s ∈ K with A = −M, b = e."""
+    """Clarabel on min qᵀx s.t. M x + e ∈ K, i.e. A x + s = b, s ∈ K with A = −M, b = e;
+    returns (x, the chain's ``Solved``)."""
     import clarabel
 
     n_zero, n_lin, socs = layout
     cones = ([clarabel.ZeroConeT(n_zero)] + ([clarabel.NonnegativeConeT(n_lin)] if n_lin else [])
              + [clarabel.SecondOrderConeT(d) for d in socs])
     run = solve_clarabel(q, -M, e, cones, options, "static", bool(socs))
-    sol = run.raw
-    res = {"x": np.asarray(sol.x), "obj": float(sol.obj_val), "obj_dual": float(sol.obj_val_dual),
-           "iterations": run.iterations}
-    return res, run.status, run.attempts
-
-
-# cvxpy's statuses in Clarabel's names (the static solution reports Clarabel's)
-_CVXPY_STATUS = {"optimal": "Solved", "optimal_inaccurate": "AlmostSolved"}
+    return np.asarray(run.raw.x), run
 
 
 def _solve_cvxpy(M, e, q, layout, options: SolverOptions):
@@ -145,6 +138,4 @@ def _solve_cvxpy(M, e, q, layout, options: SolverOptions):
         cons.append(cp.SOC(t, X, axis=0))
     prob = cp.Problem(cp.Minimize(q @ x), cons)
     run = solve_cvxpy(prob, options, "static", q.size, bool(socs))
-    res = {"x": x.value, "obj": float(prob.value), "obj_dual": np.nan,
-           "iterations": run.iterations}
-    return res, _CVXPY_STATUS.get(run.status, run.status), run.attempts
+    return x.value, run

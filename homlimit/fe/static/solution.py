@@ -2,18 +2,19 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from ...errors import ParameterError
 from ..mesh import element_areas
+from ..solver import SolveRecord
 
 __all__ = ["StaticSolution", "attach_cell_fields", "peak_compression"]
 
 
-@dataclass
-class StaticSolution:
+@dataclass(frozen=True)
+class StaticSolution(SolveRecord):
     """Result of the lower-bound program.
 
     ``multiplier`` is λ⁻; ``stress`` (nt, 3, 3) is σ at [element, local vertex, component] with
@@ -23,19 +24,15 @@ class StaticSolution:
     is active within ``active_tol``. ``control`` (nt, 6, 3), degree 2 only: the Bernstein
     coefficients (``stress`` holds their vertex values). ``rigid`` (nt,) marks elements of rigid
     regions (``strength.Rigid``): each connected one is a body in equilibrium as a whole, its
-    stress is NaN.
+    stress is NaN. The solve's fields (``solver.SolveRecord``): status in Clarabel's names,
+    primal_objective and dual_objective λ⁻ as Clarabel reports them (scaled units; the dual NaN
+    through cvxpy with HiGHS), iterations, times (assembly, solve, post), sizes.
     """
 
     multiplier: float
     stress: np.ndarray
     active: np.ndarray
     mesh: object
-    status: str
-    primal_objective: float
-    dual_objective: float
-    iterations: int
-    sizes: dict = field(default_factory=dict)
-    timings: dict = field(default_factory=dict)
     rigid: np.ndarray | None = None
     control: np.ndarray | None = None
 
