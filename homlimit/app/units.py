@@ -38,7 +38,7 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("pga a_uplift".split(), "m/s^2"),
     **dict.fromkeys("theta_m theta_m_eq14 theta_m_I theta_m_I_eq14".split(), "rad"),
     **dict.fromkeys("psi_fe_deg psi_alpha_deg psi_f_deg psi_c_over_a_deg".split(), "deg"),
-    "W_m": "J", "m": "kg", "I_O": "kg m^2", "omega": "1/s", "p": "rad/s", "period": "s",
+    "W_m": "J", "m": "kg", "I_O": "kg m^2", "J_z": "kg m^2", "omega": "1/s", "p": "rad/s", "period": "s",
     "solve_time": "s", "duration": "s",
     # the rigid-block model's files (blocks_scan.csv, blocks_contacts.csv, table1_blocks.csv)
     **dict.fromkeys("z0 z_base x_O z_O h_dem h_whole z0_crit h_blocks h_na x z".split(), "m"),
