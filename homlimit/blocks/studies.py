@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..check.ntc import StaticMechanism
 from ..errors import ParameterError, check_range
 from ..fe.solver import SolverOptions
 from ..impulse import hinge_impulse_ratio
@@ -152,6 +153,14 @@ class BlocksAnalysis:
     def hinge_ratio(self) -> float:
         """|P_x/P_z| of the ideal impulse at the critical body's hinge (``impulse``)."""
         return hinge_impulse_ratio(self.critical_impulse.body)
+
+    @property
+    def static_mechanism(self) -> StaticMechanism:
+        """The code check's α₀ and body: the critical height's multiplier and the body of
+        the blocks of participation >= 1/2, about its hinge."""
+        bi = self.critical_impulse
+        return StaticMechanism(self.critical_result.multiplier, bi.body, float(bi.O[1]),
+                               "multiplier of the critical height, its body of p >= 1/2")
 
     def as_dict(self) -> dict:
         return {"name": self.name, **self.critical, "hinge_ratio": self.hinge_ratio}

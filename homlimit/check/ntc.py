@@ -60,8 +60,9 @@ class LinearKinematic:
     alpha0 [-]; m [kg] (ΣP/g); M_star [kg]; e_star [-] (continuous integration, used);
     a0_star [m/s²]; e_star_lumped [-] (= 1, weights lumped at the body's G) and
     a0_star_lumped [m/s²]; Z [m] the mechanism's base above the ground; demand_ground =
-    a_g S/q, demand_height = S_e(T₁) ψ γ/q (None at Z = 0) with T1 [s], Se_T1 [m/s²], psi,
-    gamma; demand [m/s²] the larger; ratio = a0_star/demand (>= 1: the check is met) and
+    a_g S/q, demand_height = S_e(T₁) ψ γ/q (None at Z = 0) with first_period T₁ [s],
+    Se_T1 [m/s²], psi_Z = Z/H, gamma_N = 3N/(2N + 1); demand [m/s²] the larger; ratio =
+    a0_star/demand (>= 1: the check is met) and
     ratio_lumped = a0_star_lumped/demand.
     """
 
@@ -77,10 +78,10 @@ class LinearKinematic:
     Z: float
     demand_ground: float
     demand_height: float | None
-    T1: float
+    first_period: float
     Se_T1: float
-    psi: float
-    gamma: float
+    psi_Z: float
+    gamma_N: float
     demand: float
     ratio: float
     ratio_lumped: float

@@ -92,9 +92,9 @@ class Site:
     mechanism's base is at Z = z_base + its hinge's height in the wall).
     """
 
-    ag: float = ranged(0.0, 20.0, lo_open=True, unit="m/s^2", default=2.0)
-    F0: float = ranged(2.2, 5.0, default=2.5)
-    Tc_star: float = ranged(0.0, 2.0, lo_open=True, unit="s", default=0.3)
+    ag: float = ranged(0.0, 20.0, lo_open=True, unit="m/s^2")
+    F0: float = ranged(2.2, 5.0)
+    Tc_star: float = ranged(0.0, 2.0, lo_open=True, unit="s")
     soil: str = "A"
     topography: str = "T1"
     q: float = ranged(1.0, 4.0, default=2.0)
