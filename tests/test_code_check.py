@@ -14,10 +14,12 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from homlimit.app import registry
 from homlimit.app.cli import app
+from homlimit.app.code_check import code_check
 from homlimit.app.config import load_case
-from homlimit.app.pipeline import compute
-from homlimit.check import Site, linear_kinematic, participation, soil_factors
+from homlimit.app.pipeline import Result, compute
+from homlimit.check import Site, StaticMechanism, linear_kinematic, participation, soil_factors
 from homlimit.closed_form import real
 from homlimit.closed_form.mechanisms import mechanism_I, mechanism_II
 from homlimit.errors import ParameterError
@@ -267,3 +269,24 @@ def test_bad_site_exits_2_with_the_message(tmp_path, kind):
     assert message in res.stderr, res.stderr
     assert "Traceback" not in res.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_the_stage_takes_the_registry_entry_or_the_mechanism_or_skips(tmp_path):
+    """A registered mechanism's ``static_of`` wins (the FE path's whole wall); else the
+    object's ``static_mechanism``; a mechanism with neither is listed as not checked."""
+    cfg = load_case(tomllib.loads(B1_TEXT + SITE))
+    block = RigidBody(m=3.0, x_G=0.25, z_G=1.0, I_O=3 * (0.5 ** 2 + 2 ** 2) / 3,
+                      J_z=3 * 2 ** 2 / 3)               # a 0.5 × 2 block about its toe
+    sm = StaticMechanism(0.25, block, 1.0, "toy")
+
+    class Own:
+        static_mechanism = StaticMechanism(0.5, block, 0.0, "own")
+
+    with registry.registered(registry.Mechanism("toy", model="toy", static_of=lambda r: sm)):
+        res = Result(config=cfg, mechanisms={"toy": Own(), "other": Own(), "none": object()})
+        cc = code_check(res)
+    assert cc.checks["toy"].alpha0 == 0.25 and cc.checks["toy"].Z == 1.0
+    assert cc.checks["other"].alpha0 == 0.5 and cc.checks["other"].Z == 0.0
+    assert cc.checks["toy"].e_star == pytest.approx(0.75, rel=1e-14)
+    assert list(cc.skipped) == ["none"]
+    assert cc.governing.name == "toy"          # α₀ = 0.25 at Z = 1 m: the smaller ratio

@@ -1,6 +1,7 @@
 """Stage "code check": the linear kinematic analysis of NTC 2018 / Circolare 2019 §C8.7.1.2
 (``check.ntc``) of every mechanism a run found that offers ``static_mechanism`` (its static
-multiplier α₀ and the body it moves), against the case's [site]. A case without [site] gets
+multiplier α₀ and the body it moves; or its registry entry's ``static_of``: the FE path's
+whole wall), against the case's [site]. A case without [site] gets
 none, and the terminal says so (``report.summary_text``). docs/code-check.md: what is
 computed and the readings."""
 
@@ -9,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..check import LinearKinematic, Site, linear_kinematic
+from . import registry
 
 __all__ = ["READING", "CodeCheck", "code_check"]
 
@@ -67,7 +69,9 @@ def code_check(result) -> CodeCheck | None:
     H = result.case.wall.H
     checks, skipped = {}, {}
     for name, m in result.mechanisms.items():
-        sm = getattr(m, "static_mechanism", None)
+        entry = next((e for e in registry.mechanisms() if e.name == name), None)
+        sm = (entry.static_of(result) if entry is not None and entry.static_of is not None
+              else getattr(m, "static_mechanism", None))
         if sm is None:
             skipped[name] = "no static multiplier with a rigid body"
             continue

@@ -342,6 +342,7 @@ registry.register(
     Mechanism("II", rocker=rigid_rocker, alone=lambda config: mech.mechanism_II(config.case),
               colour="tab:orange", **CLOSED),
     Mechanism("FE", model="fe", rocker=rocker_fe, alone=fe_rocker, colour="tab:green",
-              marker="*", size=16, needs_mesh=True),
+              marker="*", size=16, needs_mesh=True,
+              static_of=lambda result: result.fe.whole.static_mechanism),  # first to activate
     Mechanism("blocks", model="blocks"))
 

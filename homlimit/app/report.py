@@ -171,6 +171,10 @@ def _code_check_lines(result) -> list[str]:
     out.append("  ratio = a0*/demand (used: e* by integration over the body); beside it "
                "e* = 1 (weights lumped at G); demand = max(ground, at height where Z > 0)")
     out += [f"  {k}: not checked ({why})" for k, why in cc.skipped.items()]
+    gov = cc.governing
+    if gov is not None:
+        out.append(f"  governing in the code check: {gov.name}, ratio {gov.ratio:.3f} "
+                   f"({'met' if gov.passes else 'NOT met'})")
     return out
 
 

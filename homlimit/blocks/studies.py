@@ -156,11 +156,16 @@ class BlocksAnalysis:
 
     @property
     def static_mechanism(self) -> StaticMechanism:
-        """The code check's α₀ and body: the critical height's multiplier and the body of
-        the blocks of participation >= 1/2, about its hinge."""
-        bi = self.critical_impulse
-        return StaticMechanism(self.critical_result.multiplier, bi.body, float(bi.O[1]),
-                               "multiplier of the critical height, its body of p >= 1/2")
+        """The code check's α₀ and body: the whole wall's multiplier (the mechanism that
+        activates first: it chooses its hinge) and the body of its blocks of participation
+        >= 1/2 about that hinge; the critical height's if the whole wall's mechanism has no
+        such body (``block_impulse`` refuses it)."""
+        try:
+            bi, r, what = block_impulse(self.assembly, self.whole), self.whole, "whole wall"
+        except ParameterError:
+            bi, r, what = self.critical_impulse, self.critical_result, "critical height"
+        return StaticMechanism(r.multiplier, bi.body, float(bi.O[1]),
+                               f"multiplier of the {what}, its body of p >= 1/2")
 
     def as_dict(self) -> dict:
         return {"name": self.name, **self.critical, "hinge_ratio": self.hinge_ratio}

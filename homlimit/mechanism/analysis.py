@@ -123,8 +123,9 @@ class FEMechanism:
         50 % participation line, about the fitted hinge (None without a body)."""
         if self.body is None or not math.isfinite(self.multiplier):
             return None
+        what = "whole wall" if self.z0 == 0 else f"part above z = {self.z0:.3g} m"
         return StaticMechanism(self.multiplier, self.body, float(self.measures.fit.O[1]),
-                               "λ⁺ of the critical part, its body inside the 50 % line")
+                               f"λ⁺ of the {what}, its body inside the 50 % line")
 
     @property
     def tanpsi(self) -> float:
