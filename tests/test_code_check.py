@@ -24,7 +24,7 @@ from homlimit.closed_form import real
 from homlimit.closed_form.mechanisms import mechanism_I, mechanism_II
 from homlimit.errors import ParameterError
 from homlimit.impulse import RigidBody
-from homlimit.params import Tie
+from homlimit.params import Floor, Tie
 
 G = 9.81
 B1_TEXT = """name = "B1-site"
@@ -290,3 +290,46 @@ def test_the_stage_takes_the_registry_entry_or_the_mechanism_or_skips(tmp_path):
     assert cc.checks["toy"].e_star == pytest.approx(0.75, rel=1e-14)
     assert list(cc.skipped) == ["none"]
     assert cc.governing.name == "toy"          # α₀ = 0.25 at Z = 1 m: the smaller ratio
+
+
+def test_B1_overturning_with_a_floor_and_a_tie_by_hand(b1):
+    """B1's simple overturning with a floor on the top (q = 20 kN/m at e = 0.1 m from the
+    outer face) and a rigid-plastic tie at the top (T_y = 2 kN/m), a bay of l = 6 m: about
+    the toe, a/g(h) = [m g b/2 + Q e + T_y l h]/(m g h/2), m = γ l b h, falls with h, so the
+    whole façade (h = H = 9 m) activates first:
+    α₀ = b/H + 2 Q e/(m g H) + 2 T_y l/(m g) = 0.055556 + 0.005034 + 0.045305 = 0.105895."""
+    case = dataclasses.replace(b1, ties=(Tie(z=9.0, yield_force=2000.0),),
+                               floors=(Floor(z=9.0, load=20000.0, eccentricity=0.1),))
+    m = 2000 * 6 * 0.5 * 9
+    alpha0 = 0.5 / 9 + 2 * 20000 * 6 * 0.1 / (m * G * 9) + 2 * 2000 * 6 / (m * G)
+    assert alpha0 == pytest.approx(0.105895, rel=1e-5)
+    sm = real.real_mechanism(case, "overturning").static_mechanism
+    assert sm.alpha0 == pytest.approx(alpha0, rel=1e-9)
+    assert sm.body.m == pytest.approx(m, rel=1e-9)       # the floor's mass is not the body's
+    site = Site(ag=0.15 * G, F0=2.5, Tc_star=0.3, FC=1.2, g=G)
+    c = linear_kinematic("overturning", sm, site, 9.0)
+    assert c.e_star == pytest.approx(0.75, rel=1e-9)
+    assert c.a0_star == pytest.approx(alpha0 * G / (0.75 * 1.2), rel=1e-9)
+    assert c.demand_height is None and c.demand == pytest.approx(0.15 * G / 2, rel=1e-14)
+    assert c.ratio == pytest.approx(alpha0 / (0.75 * 1.2) / 0.075, rel=1e-9)   # 1.56881
+
+
+def test_B1_mechanism_I_with_a_floor_by_hand(b1):
+    """B1's mechanism I with a floor at mid-height (q = 20 kN/m, e = 0.1 m): where the body
+    holds it (h > 4.5 m) a/g = 1/λ + α²λ/(3ρ) + Q e/(m g h/2); e* stays 3/4."""
+    case = dataclasses.replace(b1, floors=(Floor(z=4.5, load=20000.0, eccentricity=0.1),))
+    m = real.real_mechanism(case, "detachment")
+
+    def hand(lam):
+        h = 0.5 * lam
+        mass = 2000 * 6 * 0.5 * h
+        floor = 20000 * 6 * 0.1 / (mass * G * h / 2) if h > 4.5 else 0.0
+        return 1 / lam + 0.4 * lam / 36 + floor
+
+    lam = m.lam_multiplier
+    sm = m.static_mechanism
+    assert sm.alpha0 == pytest.approx(hand(lam), rel=1e-12)
+    assert hand(lam) <= min(hand(lam * 0.99), hand(min(lam * 1.01, 18.0))) * (1 + 1e-12)
+    c = linear_kinematic("I", sm, Site(ag=1.0, F0=2.5, Tc_star=0.3, g=G), 9.0)
+    assert c.e_star == pytest.approx(0.75, rel=1e-12)
+    assert c.a0_star == pytest.approx(hand(lam) * G / (0.75 * 1.35), rel=1e-12)
