@@ -223,7 +223,8 @@ def test_run_prints_the_code_check_and_writes_it(tmp_path):
     assert set(cc["mechanisms"]) == {"I", "II"}
     assert cc["mechanisms"]["I"]["ratio"] == pytest.approx(1.76098, rel=1e-5)
     assert d["inputs"]["site"]["ag"] == 1.962 and d["units"]["results"]["a0_star"] == "m/s^2"
-    assert cc["governing"] in ("I", "II")
+    assert cc["governing"] in ("I", "II") and cc["not_checked"] == []
+    assert None not in d["units"]["results"].values()
 
 
 def test_run_without_site_says_so(tmp_path):

@@ -46,8 +46,9 @@ UNITS: dict[str, str] = {
                     .split(), "m/s^2"),
     **dict.fromkeys("T_B T_C T_D first_period".split(), "s"),
     "M_star": "kg", "Z": "m", "H_building": "m",
-    **dict.fromkeys("what passes governing e_star_reading alpha0_reading demand_reading "
-                    "source_reading".split(), ""), "omega": "1/s", "p": "rad/s", "period": "s",
+    **dict.fromkeys("what passes governing not_checked e_star_reading alpha0_reading "
+                    "demand_reading source_reading".split(), ""),
+    "omega": "1/s", "p": "rad/s", "period": "s",
     "solve_time": "s", "duration": "s",
     # the rigid-block model's files (blocks_scan.csv, blocks_contacts.csv, table1_blocks.csv)
     **dict.fromkeys("z0 z_base x_O z_O h_dem h_whole z0_crit h_blocks h_na x z".split(), "m"),
