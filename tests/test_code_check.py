@@ -74,6 +74,25 @@ def test_elastic_spectrum_at_its_corners_by_hand():
     assert plateau == pytest.approx(8.193312, rel=1e-6)   # 2.4525 × 1.392 × 2.4
 
 
+def test_the_spectrum_has_eurocode_8s_shape_at_F0_2_5():
+    """A second form: EN 1998-1 §3.2.2.2 (eqs 3.2–3.5) writes the same spectrum as
+    a_g S [1 + T/T_B (2.5 η − 1)], a_g S 2.5 η, ... T_C/T, ... T_C T_D/T²; with F₀ = 2.5 the
+    two agree on every branch (soil C, a_g = 0.3 g: S = 1.25, its own T_B, T_C, T_D)."""
+    s = Site(ag=0.3 * G, F0=2.5, Tc_star=0.4, soil="C", g=G)
+    T_B, T_C, T_D = s.periods
+    ag, S = 0.3 * G, 1.70 - 0.60 * 2.5 * 0.3
+
+    def ec8(T):
+        if T < T_B:
+            return ag * S * (1 + T / T_B * (2.5 - 1))
+        if T < T_C:
+            return ag * S * 2.5
+        return ag * S * 2.5 * (T_C / T if T < T_D else T_C * T_D / T ** 2)
+
+    for T in np.linspace(0.0, 4.0, 81):
+        assert s.Se(T) == pytest.approx(ec8(T), rel=1e-13), T
+
+
 @pytest.mark.parametrize("soil, ag_g, F0, Tc, S_S, C_C", [
     ("A", 0.30, 2.5, 0.30, 1.0, 1.0),
     ("B", 0.05, 2.5, 0.30, 1.20, 1.10 * 0.30 ** -0.20),     # 1.35 clipped to 1.20
