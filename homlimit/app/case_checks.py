@@ -14,7 +14,7 @@ from typing import Any
 
 from ..params import MESHER_DEFAULT, PART_DIVISIONS, Case
 from . import budget, registry
-from .schema import ARRAYS, MAX_ARRAY, REQUIRED_SECTIONS, SCHEMA, TOP_LEVEL, Key
+from .schema import ARRAYS, MAX_ARRAY, OPTIONAL_SECTIONS, REQUIRED_SECTIONS, SCHEMA, TOP_LEVEL, Key
 
 __all__ = ["LAM_MIN_CLOSED", "MAX_NAME", "array_key", "check_key", "collect", "cross_checks",
            "range_problem", "shown", "warnings_of"]
@@ -116,6 +116,8 @@ def collect(data: dict, problems: list[str]) -> dict[str, dict[str, Any]]:
         given = data.get(sec, {})
         if not isinstance(given, dict):
             continue  # already reported above
+        if sec in OPTIONAL_SECTIONS and sec not in data:
+            continue        # absent: no [site], no code check
         vals = values.setdefault(sec, {})
         if sec in REQUIRED_SECTIONS and sec not in data:
             problems.append(f"[{sec}] section is missing: required keys "
@@ -250,6 +252,12 @@ def cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> li
     w, m, me, an = (v.get(k, {}) for k in ("wall", "masonry", "mesh", "analysis"))
     has = lambda d, *ks: all(k in d for k in ks)  # noqa: E731
     out = [] if mesh_only else real_wall_checks(v)
+    st = v.get("site", {})
+    if (not mesh_only and has(w, "H") and has(st, "building_height", "z_base")
+            and 0 < st["building_height"] < st["z_base"] + w["H"] * (1 - 1e-12)):
+        out.append(f"[site] building_height = {st['building_height']!r} m is out of range: "
+                   f"allowed 0 (the wall's top) or building_height >= z_base + H = "
+                   f"{st['z_base'] + w['H']:g} m (the wall within the building)")
     if not mesh_only and has(w, "H") and has(m, "a") and m["a"] > w["H"]:
         out.append(f"[masonry] a = {m['a']!r} m is out of range: a block must not be taller "
                    f"than the wall, allowed 0.001 <= a <= H = {w['H']:g} m")

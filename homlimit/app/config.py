@@ -34,6 +34,7 @@ from importlib import resources
 from pathlib import Path
 
 from .._io import json_bytes
+from ..check.site import Site
 from ..errors import ParameterError
 from ..params import Case, Floor, Masonry, Tie, Wall
 from .case_checks import array_key, collect, cross_checks, shown, warnings_of
@@ -100,9 +101,11 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
     case = Case(wall=Wall(**values["wall"]), masonry=Masonry(**values["masonry"]), name=name,
                 ties=tuple(Tie(**e) for e in values.get("tie", ())),
                 floors=tuple(Floor(**e) for e in values.get("floor", ())))
-    return CaseConfig(case=case, source=source, warnings=warnings_of(case, values), **{
-        sec: cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in values[sec].items()})
-        for sec, cls in SECTIONS.items()})
+    site = Site(**values["site"], g=case.wall.g) if "site" in values else None
+    return CaseConfig(case=case, source=source, warnings=warnings_of(case, values), site=site,
+                      **{sec: cls(**{k: tuple(v) if isinstance(v, list) else v
+                                     for k, v in values[sec].items()})
+                         for sec, cls in SECTIONS.items()})
 
 
 def check_mesh(config: CaseConfig):

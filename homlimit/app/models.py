@@ -329,7 +329,8 @@ def rocker_fe(case, mechanism, gravity_I="linearised", restitution=0.0):
 
 
 CLOSED = dict(model="closed_forms", checked=("lam", "h", "vg", "vnorm", "theta_m", "W_m"),
-              body_checked=("m", "x_G", "z_G", "I_O"), static=True, marker="o", size=8)
+              body_checked=("m", "x_G", "z_G", "I_O", "J_z"), static=True, marker="o",
+              size=8)
 registry.register(
     Model("closed_forms", lambda config: config.analysis.closed_form, run_closed_forms,
           batched=True, files=closed_form_files),
@@ -341,6 +342,7 @@ registry.register(
     Mechanism("II", rocker=rigid_rocker, alone=lambda config: mech.mechanism_II(config.case),
               colour="tab:orange", **CLOSED),
     Mechanism("FE", model="fe", rocker=rocker_fe, alone=fe_rocker, colour="tab:green",
-              marker="*", size=16, needs_mesh=True),
+              marker="*", size=16, needs_mesh=True,
+              static_of=lambda result: result.fe.whole.static_mechanism),  # first to activate
     Mechanism("blocks", model="blocks"))
 

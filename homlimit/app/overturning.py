@@ -28,5 +28,5 @@ registry.register(
     Mechanism("overturning", model="overturning",
               alone=lambda config: real_closed_forms(config, ("overturning",))[0]["overturning"],
               checked=("lam", "h", "vg", "vnorm", "theta_m", "W_m"),
-              body_checked=("m", "x_G", "z_G", "I_O"), static=True, colour="tab:brown",
+              body_checked=("m", "x_G", "z_G", "I_O", "J_z"), static=True, colour="tab:brown",
               marker="s", size=8))

@@ -32,6 +32,7 @@ from ..closed_form.paper import dem_row
 from . import registry
 from .case import announce, resolve_case
 from .checks import check_results, conclude, hinge_checks
+from .code_check import code_check
 from .config import CaseConfig
 from .models import FERocker, fe_cache_path, fe_rocker, read_fe_cache, write_fe_cache
 from .outputs import (
@@ -74,7 +75,9 @@ def compute(config: CaseConfig) -> Result:
     for model in registry.models():
         if model.enabled(config):
             model.run(config, result)
-    return conclude(result)
+    result = conclude(result)
+    result.code_check = code_check(result)
+    return result
 
 
 

@@ -9,7 +9,8 @@ check's |P_x/P_z| under the ideal impulse); where the package computes them,
 also ``body`` (an ``impulse.RigidBody``: mass m, centre of gravity x_G, z_G and inertia I_O
 about the hinge, i.e. ∫dm, ∫x dm = m x_G, ∫z dm = m z_G and ∫(x² + z²) dm = I_O), ``theta_m``
 and ``W_m`` (the peak of W(θ), eqs 4–7), or ``impulse`` (the FE body's one-DOF impulse), and
-``multiplier``/``lam_multiplier`` (the static check's smallest a/g).
+``multiplier``/``lam_multiplier`` (the static check's smallest a/g), and ``static_mechanism``
+(the code check's α₀ and body, ``check.StaticMechanism``).
 
 The pipeline, the pulse spectra, the sweeps, the tables, the plots and the reports iterate
 this registry; none of them compares mechanism names. A new model or mechanism is one new
@@ -46,7 +47,9 @@ class Mechanism:
     finite numbers in a result (``pipeline.check_results``);
     static: it reports a static check's smallest a/g (``multiplier`` at ``lam_multiplier``);
     colour, marker, size: its look in the pictures;
-    needs_mesh: ``alone`` runs the FE path (the case's mesh is checked when it is chosen).
+    needs_mesh: ``alone`` runs the FE path (the case's mesh is checked when it is chosen);
+    static_of(result): the code check's ``check.StaticMechanism`` (α₀ and its body) when it
+    is not the mechanism's own ``static_mechanism`` (None: that one; docs/code-check.md).
     """
 
     name: str
@@ -60,6 +63,7 @@ class Mechanism:
     marker: str = "^"
     size: float = 10.0
     needs_mesh: bool = False
+    static_of: Callable[[Any], Any] | None = None
 
 
 @dataclass(frozen=True)

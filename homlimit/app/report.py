@@ -99,6 +99,7 @@ def summary_text(result) -> str:
         out += ["", _fe_lines(result.fe, c)]
     if result.hinges:
         out += ["", _hinge_lines(result, c.masonry.f)]
+    out += [""] + _code_check_lines(result)
     crit = result.critical()
     if crit:
         out += ["", f"governing: {crit['mechanism']}, collapse ground velocity "
@@ -140,6 +141,41 @@ def _fe_lines(fe, case) -> str:
                   f"({fe.h_min:g} m, one course, to H) at h = {_num(crit.h, '.2f')} m: "
                   f"{fe.critical_at}", f"         ({crit.vg_method})"]
     return "\n".join(lines)
+
+
+def _code_check_lines(result) -> list[str]:
+    """The terminal's code-check block (or the line saying there is none)."""
+    cc = getattr(result, "code_check", None)
+    if cc is None:
+        return ["code check (NTC 2018 / Circolare 2019 §C8.7.1.2): none, the case has no "
+                "[site] section (docs/code-check.md)"]
+    s, H = cc.site, cc.wall_H
+    T_B, T_C, T_D = s.periods
+    T1 = s.first_period(H)
+    head = ["code check, linear kinematic analysis (NTC 2018 / Circolare 2019 §C8.7.1.2; "
+            "docs/code-check.md)",
+            f"  site: a_g = {s.ag:.4g} m/s² ({s.ag_over_g:.4g} g), F0 = {s.F0:g}, "
+            f"Tc* = {s.Tc_star:g} s, soil {s.soil} (S_S = {s.S_S:.4g}, C_C = {s.C_C:.4g}), "
+            f"{s.topography} (S_T = {s.S_T:g}): S = {s.S:.4g}; T_B, T_C, T_D = {T_B:.3f}, "
+            f"{T_C:.3f}, {T_D:.3f} s; q = {s.q:g}, FC = {s.FC:g}",
+            f"  building: H = {s.height(H):.4g} m, N = {s.storeys}, T1 = {T1:.3f} s"
+            f"{'' if s.T1 else ' (0.05 H^0.75)'}, S_e(T1) = {s.Se(T1):.4g} m/s², "
+            f"gamma = {3 * s.storeys / (2 * s.storeys + 1):.4g}; wall base at {s.z_base:g} m; "
+            f"ground demand a_g S/q = {s.demand_ground():.4g} m/s²"]
+    rows = [[c.name, c.alpha0, c.e_star, c.a0_star, c.Z, c.demand_height, c.demand, c.ratio,
+             c.a0_star_lumped, c.ratio_lumped, "yes" if c.passes else "NO"]
+            for c in cc.checks.values()]
+    out = head + [format_table(["mechanism", "alpha0", "e*", "a0* [m/s2]", "Z [m]",
+                                "height [m/s2]", "demand [m/s2]", "ratio", "a0*(e*=1)",
+                                "ratio(e*=1)", "met"], rows)]
+    out.append("  ratio = a0*/demand (used: e* by integration over the body); beside it "
+               "e* = 1 (weights lumped at G); demand = max(ground, at height where Z > 0)")
+    out += [f"  {k}: not checked ({why})" for k, why in cc.skipped.items()]
+    gov = cc.governing
+    if gov is not None:
+        out.append(f"  governing in the code check: {gov.name}, ratio {gov.ratio:.3f} "
+                   f"({'met' if gov.passes else 'NOT met'})")
+    return out
 
 
 def _hinge_lines(result, f: float) -> str:

@@ -40,6 +40,7 @@ class Result:
     hinges: dict[str, Any] = field(default_factory=dict)   # name → dynamics.HoldingPulse
     blocks: Any = None                   # blocks.BlocksAnalysis ([analysis] blocks)
     dem_run: Any = None                  # app.dem_stage.DemRun ([analysis] dem)
+    code_check: Any = None               # app.code_check.CodeCheck (with [site])
     files: dict[str, Path] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
 
@@ -83,6 +84,7 @@ class Result:
             "critical": self.critical(),
             "dem_table1": None if self.dem is None else self.dem.as_dict(),
             "dem": None if self.dem_run is None else self.dem_run.as_dict(),
+            "code_check": None if self.code_check is None else self.code_check.as_dict(),
             "files": {k: str(v) for k, v in self.files.items()},
             "timings_s": self.timings,
         }

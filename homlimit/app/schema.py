@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..blocks.geometry import FACADE_BONDS
+from ..check.site import SOILS, TOPOGRAPHIES, Site
 from ..dem.params import BASE_JOINTS, DEMParams
 from ..dynamics.pulses import PULSE_KINDS, MavroeidisPapageorgiouPulse
 from ..dynamics.rocking import RigidRocker
@@ -29,11 +30,11 @@ from ..params import (
 )
 from . import budget, registry
 
-__all__ = ["ARRAYS", "MAX_ARRAY", "REQUIRED", "REQUIRED_SECTIONS", "SCHEMA", "TOP_LEVEL", "Key"]
+__all__ = ["ARRAYS", "MAX_ARRAY", "OPTIONAL_SECTIONS", "REQUIRED", "REQUIRED_SECTIONS", "SCHEMA",
+           "TOP_LEVEL", "Key"]
 
 REQUIRED = object()
-# [dem]'s defaults are the model's (facade_stiffness: the case file's 0 is its "rho")
-_DEM = DEMParams()
+_DEM = DEMParams()   # [dem]'s defaults (facade_stiffness: the case file's 0 is its "rho")
 
 
 @dataclass(frozen=True)
@@ -53,13 +54,14 @@ class Key:
     typical: tuple[float, float] | None = None   # outside: a warning (valid but implausible)
 
     @classmethod
-    def of(cls, owner, name: str, kind: type = float, **kw) -> Key:
+    def of(cls, owner, name: str, kind: type = float, required: bool = False, **kw) -> Key:
         """The key of the ranged field ``name`` of the dataclass ``owner``
-        (``fields.ranged``): its default and range are the field's, written once there;
-        ``kw``: the rest (``doc``, ``typical``, ``unit`` as the docs spell it)."""
+        (``fields.ranged``): its default (``required``: none) and range are the field's,
+        written once there; ``kw``: the rest (``doc``, ``typical``, ``unit`` as the docs
+        spell it)."""
         r = range_of(owner, name)
-        return cls(kind, default_of(owner, name), kw.pop("unit", r.unit), r.lo, r.hi,
-                   r.lo_open, r.hi_open, **kw)
+        return cls(kind, REQUIRED if required else default_of(owner, name),
+                   kw.pop("unit", r.unit), r.lo, r.hi, r.lo_open, r.hi_open, **kw)
 
     @property
     def required(self) -> bool:
@@ -331,6 +333,27 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                    "a_g [m/s²] (relative to the case file): its critical "
                                    "scale per mechanism"),
     },
+    "site": {
+        "ag": Key.of(Site, "ag", required=True, unit="m/s²",
+                     doc="a_g on rigid soil of the limit state checked, in m/s² (a_g/g × g)"),
+        "F0": Key.of(Site, "F0", required=True,
+                     doc="largest spectral amplification F₀ of the same hazard"),
+        "Tc_star": Key.of(Site, "Tc_star", required=True,
+                          doc="T_C* of the same hazard (the constant-velocity branch's start)"),
+        "soil": Key(str, default_of(Site, "soil"), choices=tuple(SOILS),
+                    doc="soil category (NTC 2018 Tab. 3.2.IV)"),
+        "topography": Key(str, default_of(Site, "topography"), choices=tuple(TOPOGRAPHIES),
+                          doc="topographic category (S_T at the relief's top: Tab. 3.2.V)"),
+        "q": Key.of(Site, "q", doc="behaviour factor of the kinematic check (§C8.7.1.2: 2.0)"),
+        "FC": Key.of(Site, "FC", doc="confidence factor (knowledge levels LC1/2/3: 1.35/1.2/1)"),
+        "T1": Key.of(Site, "T1", doc="the building's first period T₁ (0: 0.05 H^(3/4), masonry)"),
+        "building_height": Key.of(Site, "building_height", doc="the building's height H (0: "
+                                  "the wall's top, z_base + [wall] H); ψ(Z) = Z/H"),
+        "storeys": Key(int, default_of(Site, "storeys"), "", 1, 200,
+                       doc="number of storeys N (γ = 3N/(2N + 1))"),
+        "z_base": Key.of(Site, "z_base", doc="the wall's base above the ground: a mechanism's "
+                                             "base is at Z = z_base + its hinge's height"),
+    },
     "output": {
         "dir": Key(str, "", doc="output folder (empty: homlimit-out/<name>/; --out overrides)"),
         "json": Key(bool, True, doc="write summary.json (every input, result, version)"),
@@ -351,8 +374,7 @@ ARRAYS: dict[str, dict[str, Key]] = {
                          doc="axial stiffness per metre of façade (force per metre per metre "
                              "of elongation); 0: rigid-plastic"),
         "ductility": Key(float, default_of(Tie, "ductility"), "m", 0.0, 1e3,
-                         doc="elongation at which the tie breaks; 0: none (it yields without "
-                             "limit)"),
+                         doc="elongation at which the tie breaks (0: it yields without limit)"),
     },
     "floor": {
         "z": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
@@ -370,6 +392,8 @@ ARRAYS: dict[str, dict[str, Key]] = {
 }
 MAX_ARRAY = 100                   # entries of a [[tie]] or [[floor]] array
 REQUIRED_SECTIONS = ("wall", "masonry")
+#: sections that exist only when the case file has them (the code check runs with [site])
+OPTIONAL_SECTIONS = ("site",)
 TOP_LEVEL = {"name": Key(str, "", doc="case name, used in titles and the output folder "
                                       "(empty: the file's stem; at most 100 characters, no "
                                       "control characters; the folder name keeps letters, "

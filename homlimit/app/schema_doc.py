@@ -10,7 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .._io import write_text
-from .schema import ARRAYS, REQUIRED_SECTIONS, SCHEMA, TOP_LEVEL
+from .schema import ARRAYS, OPTIONAL_SECTIONS, REQUIRED_SECTIONS, SCHEMA, TOP_LEVEL
 
 __all__ = ["schema_markdown", "toml_value", "update_case_file_doc"]
 
@@ -25,7 +25,10 @@ def schema_markdown() -> str:
     for sec, keys in ([("(top level)", TOP_LEVEL)] + [(f"[{s}]", k) for s, k in SCHEMA.items()]
                       + [(f"[[{a}]] (array of tables; a sweep's {a}.0.z)", k)
                          for a, k in ARRAYS.items()]):
-        req = " (required section)" if sec.strip("[]") in REQUIRED_SECTIONS else ""
+        req = (" (required section)" if sec.strip("[]") in REQUIRED_SECTIONS else
+               " (optional section: absent, no code check; its required keys are required "
+               "when it is given; docs/code-check.md)" if sec.strip("[]") in OPTIONAL_SECTIONS
+               else "")
         lines += [f"### {sec}{req}", "",
                   "| key | type | default | unit | allowed | typical | meaning |",
                   "|---|---|---|---|---|---|---|"]

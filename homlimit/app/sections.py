@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from ..check.site import Site
 from ..params import Case
 from .schema import SCHEMA
 from .schema_doc import toml_value
@@ -152,6 +153,7 @@ class CaseConfig:
     dem: DemConfig = field(default_factory=DemConfig)
     pulse: PulseConfig = field(default_factory=PulseConfig)
     output: OutputConfig = field(default_factory=OutputConfig)
+    site: Site | None = None           # [site] (the code check), only when the case has it
     source: str = "<dict>"
     warnings: tuple[str, ...] = ()     # valid but implausible values, one line each
     base_name: str = ""                # the case's own name when --set changed its inputs
@@ -183,5 +185,7 @@ class CaseConfig:
             obj = getattr(self, sec)
             out[sec] = {k: (list(v) if isinstance(v, tuple) else v)
                         for k in SCHEMA[sec] for v in [getattr(obj, k)]}
+        if self.site is not None:
+            out["site"] = {k: getattr(self.site, k) for k in SCHEMA["site"]}
         return out
 

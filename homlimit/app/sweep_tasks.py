@@ -12,6 +12,7 @@ import numpy as np
 
 from ..closed_form import mechanisms as mech
 from ..closed_form.paper import dem_row
+from .code_check import code_check
 from .config import CaseConfig
 from .engine import batch_json
 from .pipeline import Result, conclude, package_version, run
@@ -76,6 +77,7 @@ def batch_records(configs: list[CaseConfig]) -> list[dict]:
             res = Result(config=config, dem=dem_row(config.case),
                          mechanisms={m1.name: m1, m2.name: m2})
             conclude(res)          # as compute(): results checked, then the hinge check
+            res.code_check = code_check(res)                       # and the code check
             rec = {**res.to_dict(), "status": "ok"}
             rec.pop("files", None)
         except Exception as exc:  # recorded, as run_case records it

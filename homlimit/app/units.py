@@ -38,7 +38,17 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("pga a_uplift".split(), "m/s^2"),
     **dict.fromkeys("theta_m theta_m_eq14 theta_m_I theta_m_I_eq14".split(), "rad"),
     **dict.fromkeys("psi_fe_deg psi_alpha_deg psi_f_deg psi_c_over_a_deg".split(), "deg"),
-    "W_m": "J", "m": "kg", "I_O": "kg m^2", "omega": "1/s", "p": "rad/s", "period": "s",
+    "W_m": "J", "m": "kg", "I_O": "kg m^2", "J_z": "kg m^2",
+    # the code check (app.code_check, check.ntc, check.site)
+    **dict.fromkeys("alpha0 e_star e_star_lumped psi_Z gamma_N ratio_lumped S_S C_C S_T S"
+                    .split(), "-"),
+    **dict.fromkeys("a0_star a0_star_lumped demand demand_ground demand_height Se_T1"
+                    .split(), "m/s^2"),
+    **dict.fromkeys("T_B T_C T_D first_period".split(), "s"),
+    "M_star": "kg", "Z": "m", "H_building": "m",
+    **dict.fromkeys("what passes governing not_checked e_star_reading alpha0_reading "
+                    "demand_reading source_reading".split(), ""),
+    "omega": "1/s", "p": "rad/s", "period": "s",
     "solve_time": "s", "duration": "s",
     # the rigid-block model's files (blocks_scan.csv, blocks_contacts.csv, table1_blocks.csv)
     **dict.fromkeys("z0 z_base x_O z_O h_dem h_whole z0_crit h_blocks h_na x z".split(), "m"),
@@ -164,7 +174,8 @@ def units_table(summary: Mapping) -> dict:
     every result quantity the summary holds (by name; "-" dimensionless, "" text)."""
     inputs = {sec: dict(u) if isinstance(u, dict) else u for sec, u in input_units().items()}
     found: set[str] = set()
-    for k in ("derived", "mechanisms", "hinges", "fe", "critical", "dem_table1", "dem"):
+    for k in ("derived", "mechanisms", "hinges", "fe", "critical", "dem_table1", "dem",
+              "code_check"):
         found |= _leaf_keys(summary.get(k))
     unknown_units(found)
     return {"inputs": inputs, "results": {k: UNITS.get(k) for k in sorted(found)},

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..check.ntc import StaticMechanism
 from ..errors import ParameterError, check_range
 from ..fe.solver import SolverOptions
 from ..impulse import hinge_impulse_ratio
@@ -152,6 +153,19 @@ class BlocksAnalysis:
     def hinge_ratio(self) -> float:
         """|P_x/P_z| of the ideal impulse at the critical body's hinge (``impulse``)."""
         return hinge_impulse_ratio(self.critical_impulse.body)
+
+    @property
+    def static_mechanism(self) -> StaticMechanism:
+        """The code check's α₀ and body: the whole wall's multiplier (the mechanism that
+        activates first: it chooses its hinge) and the body of its blocks of participation
+        >= 1/2 about that hinge; the critical height's if the whole wall's mechanism has no
+        such body (``block_impulse`` refuses it)."""
+        try:
+            bi, r, what = block_impulse(self.assembly, self.whole), self.whole, "whole wall"
+        except ParameterError:
+            bi, r, what = self.critical_impulse, self.critical_result, "critical height"
+        return StaticMechanism(r.multiplier, bi.body, float(bi.O[1]),
+                               f"multiplier of the {what}, its body of p >= 1/2")
 
     def as_dict(self) -> dict:
         return {"name": self.name, **self.critical, "hinge_ratio": self.hinge_ratio}

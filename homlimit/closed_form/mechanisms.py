@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..check.ntc import StaticMechanism
 from ..errors import ParameterError, check_range
 from ..impulse import RigidBody, hinge_impulse_ratio
 from ..params import Case
@@ -328,6 +329,16 @@ class MechanismResult:
     lam_max: float = math.inf
     multiplier: float = math.nan       # smallest collapse acceleration a/g (static check)
     lam_multiplier: float = math.nan   # λ = h/b of that smallest a/g
+    static_body: RigidBody | None = None   # the body of that smallest a/g, about its hinge
+    static_z0: float = math.nan        # its hinge's height above the wall's base [m]
+
+    @property
+    def static_mechanism(self) -> StaticMechanism | None:
+        """The static check's body and multiplier (the code check's α₀ and M*)."""
+        if self.static_body is None:
+            return None
+        return StaticMechanism(self.multiplier, self.static_body, self.static_z0,
+                               "the body of the smallest a/g over h")
 
     @property
     def hinge_ratio(self) -> float:
@@ -345,7 +356,7 @@ class MechanismResult:
         d = {k: getattr(self, k) for k in ("name", "lam", "h", "vnorm", "vg", "theta_m", "W_m",
                                            "tanpsi", "theta_m_eq14", "lam_max", "multiplier",
                                            "lam_multiplier", "hinge_ratio")}
-        d["body"] = {k: getattr(self.body, k) for k in ("m", "x_G", "z_G", "I_O")}
+        d["body"] = {k: getattr(self.body, k) for k in ("m", "x_G", "z_G", "I_O", "J_z")}
         return d
 
 
@@ -380,12 +391,21 @@ def mechanisms_I(cases, lam, theta_m=None, walls=None) -> list[MechanismResult]:
     lam_a, a_g = static_critical_I(rho, alpha, lam_max)
     eq14 = theta_m_I_eq14(lam, rho, alpha, beta)
     vg = v * np.sqrt(w["g"] * b)
+    h_a = lam_a * b
+    m_a = w["gamma"] * h_a * b * w["l"]
     return [MechanismResult("I", *x[:3], x[3], x[4], x[5],
-                            RigidBody(m=x[6], x_G=x[7] / 2, z_G=x[1] / 2, I_O=x[8]),
+                            RigidBody(m=x[6], x_G=x[7] / 2, z_G=x[1] / 2, I_O=x[8],
+                                      J_z=x[6] * x[1] ** 2 / 3),
                             theta_m_eq14=x[9], lam_max=x[10], multiplier=x[11],
-                            lam_multiplier=x[12])
+                            lam_multiplier=x[12],
+                            static_body=_strip(x[13], x[7], x[14]), static_z0=x[15] - x[14])
             for x in zip(*(a.tolist() for a in (lam, h, v, vg, th, W_m, m, b, I_O, eq14,
-                                                 lam_max, a_g, lam_a)))]
+                                                 lam_max, a_g, lam_a, m_a, h_a, w["H"])))]
+
+
+def _strip(m: float, b: float, h: float) -> RigidBody:
+    """The façade strip b × h of mass m about its outer toe (uniform: J_z = m h²/3)."""
+    return RigidBody(m=m, x_G=b / 2, z_G=h / 2, I_O=m * (h * h + b * b) / 3, J_z=m * h * h / 3)
 
 
 def mechanism_I(case: Case, lam: float | None = None,
@@ -416,22 +436,38 @@ def mechanisms_II(cases, tanpsi, lam, static=None,
     m = w["gamma"] * (w["l"] * b * h + w["s"] * t * h ** 2 / 2)
     lam_a, a_g = static_critical_II(rho, t, lam_max) if static is None else static
     vg = v * np.sqrt(w["g"] * b)
+    Jz = wedge_Jz(w["gamma"], w["l"], w["s"], b, h, t)
+    lam_a = np.asarray(lam_a, float)
+    h_a = lam_a * b
+    xa, za, ia = geometry_II(lam_a, rho, t)
+    m_a = w["gamma"] * (w["l"] * b * h_a + w["s"] * t * h_a ** 2 / 2)
+    Jz_a = wedge_Jz(w["gamma"], w["l"], w["s"], b, h_a, t)
     out = []
-    for x in zip(*(np.asarray(a, float).tolist() for a in (
+    for x, y in zip(zip(*(np.asarray(a, float).tolist() for a in (
             lam, h, v, vg, m, xg * b, zg * b, m * i * b ** 2, t, lam_max, a_g, lam_a, xg, zg,
-            w["g"]))):
+            w["g"], Jz))), zip(*(np.broadcast_to(np.asarray(a, float), lam_a.shape).tolist()
+                                 for a in (m_a, xa * b, za * b, m_a * ia * b ** 2, Jz_a,
+                                           w["H"] - h_a)))):
         if not 0.0 < x[0] <= x[9] * (1 + 1e-12):
             out.append(ParameterError(
                 f"lam = {x[0]!r} is out of range: allowed 0 < lam <= {x[9]:g} (the part must "
                 "fit the wall and the wedge the transversal wall)"))
             continue
-        body = RigidBody(m=x[4], x_G=x[5], z_G=x[6], I_O=x[7])
+        body = RigidBody(m=x[4], x_G=x[5], z_G=x[6], I_O=x[7], J_z=x[15])
         W_m = x[4] * x[14] * (body.r_G - body.z_G)
         out.append(MechanismResult("II", x[0], x[1], x[2], x[3],
                                    math.atan2(x[12], x[13]),  # G over O (eq. 18)
                                    W_m, body, tanpsi=x[8], lam_max=x[9], multiplier=x[10],
-                                   lam_multiplier=x[11]))
+                                   lam_multiplier=x[11],
+                                   static_body=RigidBody(m=y[0], x_G=y[1], z_G=y[2], I_O=y[3],
+                                                         J_z=y[4]), static_z0=y[5]))
     return out
+
+
+def wedge_Jz(gamma, l, s, b, h, tanpsi):  # noqa: E741 (the paper's l)
+    """∫z² dm about the toe of façade strip + wedge (eqs 17, 20's body): the strip's
+    γ l b h³/3 and the wedge's γ s tan ψ h⁴/4 (its width at height z is z tan ψ)."""
+    return gamma * (l * b * h ** 3 / 3 + s * tanpsi * h ** 4 / 4)
 
 
 def mechanism_II(case: Case, tanpsi: float | None = None, lam: float | None = None,

@@ -36,7 +36,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..impulse import RigidBody
 from ..params import Case
-from .mechanisms import MechanismResult, geometry_II, lam_max_II, minimise
+from .mechanisms import MechanismResult, geometry_II, lam_max_II, minimise, wedge_Jz
 
 __all__ = ["KINDS", "RealMechanismResult", "real_mechanism", "vnorm_real", "multiplier_real",
            "tie_work",
@@ -55,16 +55,17 @@ def _tanpsi(case: Case, kind: str, tanpsi: float | None) -> float:
 
 
 def _body(case: Case, kind: str, lam, t_psi: float):
-    """Mass m [kg], x_G, z_G [m] from the outer toe, I_O [kg m²] of the failing body (arrays
-    over λ): the façade strip (I, overturning) or strip + wedge (II, eqs 17, 20)."""
+    """Mass m [kg], x_G, z_G [m] from the outer toe, I_O and J_z = ∫z² dm [kg m²] of the
+    failing body (arrays over λ): the façade strip (I, overturning) or strip + wedge (II,
+    eqs 17, 20)."""
     w = case.wall
     b, h = w.b, lam * w.b
     if kind == "crack":
         xg, zg, i = geometry_II(lam, w.rho, t_psi)
         m = w.gamma * (w.l * b * h + w.s * t_psi * h ** 2 / 2)
-        return m, xg * b, zg * b, m * i * b ** 2
+        return m, xg * b, zg * b, m * i * b ** 2, wedge_Jz(w.gamma, w.l, w.s, b, h, t_psi)
     m = w.gamma * w.l * b * h
-    return m, np.full_like(h, b / 2), h / 2, m * (h ** 2 + b ** 2) / 3
+    return m, np.full_like(h, b / 2), h / 2, m * (h ** 2 + b ** 2) / 3, m * h ** 2 / 3
 
 
 def _loads(case: Case, lam):
@@ -91,13 +92,13 @@ def _loads(case: Case, lam):
 def _state(case: Case, kind: str, lam, tanpsi=None):
     lam = np.atleast_1d(np.asarray(lam, float))
     t_psi = _tanpsi(case, kind, tanpsi)
-    m, xg, zg, I_O = _body(case, kind, lam, t_psi)
+    m, xg, zg, I_O, Jz = _body(case, kind, lam, t_psi)
     Q, e, zq, T, k, du, d = _loads(case, lam)
     g, fc, b, length = case.wall.g, case.masonry.fc, case.wall.b, case.wall.l
     N = m * g + Q.sum(axis=-1)
     t = N / (2 * fc * length) if fc > 0 else np.zeros_like(N)
     t = np.where(2 * t <= b, t, np.nan)        # the stress block must fit the thickness
-    return dict(lam=lam, m=m, xg=xg, zg=zg, I_O=I_O, Q=Q, e=e, zq=zq, T=T, k=k, du=du, d=d,
+    return dict(lam=lam, m=m, xg=xg, zg=zg, I_O=I_O, Jz=Jz, Q=Q, e=e, zq=zq, T=T, k=k, du=du, d=d,
                 N=N, t=t, g=g, t_psi=t_psi)
 
 
@@ -315,13 +316,20 @@ def real_mechanism(case: Case, kind: str, tanpsi: float | None = None,
                            .reshape(np.shape(x)), np.array([lam_max]))
     t = float(st["t"][0])
     m, zg, xg = float(st["m"][0]), float(st["zg"][0]), float(st["xg"][0])
-    body = RigidBody(m=m, x_G=xg - t, z_G=zg, I_O=I_h)
+    body = RigidBody(m=m, x_G=xg - t, z_G=zg, I_O=I_h, J_z=float(st["Jz"][0]))
+    lam_a = float(lam_a[0])
+    sa = _state(case, kind, [lam_a], tanpsi)
+    ma, xa, ta = float(sa["m"][0]), float(sa["xg"][0]), float(sa["t"][0])
+    static_body = None if not math.isfinite(ta) else RigidBody(   # NaN: it crushes
+        m=ma, x_G=xa - ta, z_G=float(sa["zg"][0]),
+        I_O=float(sa["I_O"][0]) + ma * (ta ** 2 - 2 * xa * ta), J_z=float(sa["Jz"][0]))
     d = st["d"][0]
     delta = d * th if kind == "detachment" else d * math.sin(th)
     return RealMechanismResult(
         NAMES[kind], lam, lam * w.b, v / math.sqrt(w.g * w.b), v, th, Wm, body,
         tanpsi=st["t_psi"] if kind == "crack" else None, lam_max=lam_max,
-        multiplier=float(a_g[0]), lam_multiplier=float(lam_a[0]), kind=kind,
+        multiplier=float(a_g[0]), lam_multiplier=lam_a, static_body=static_body,
+        static_z0=w.H - lam_a * w.b, kind=kind,
         hinge_retreat=t, normal_force=float(st["N"][0]),
         tie_elongation=tuple(float(x) for x in delta), fc=case.masonry.fc,
         choices=dict(CHOICES))

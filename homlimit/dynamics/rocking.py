@@ -258,7 +258,7 @@ def free_block(b: float, h: float, density: float = 2000.0, g: float = G_STANDAR
     h = check_range("h", h, 0.0, lo_open=True, unit="m")
     density = check_range("density", density, 0.0, lo_open=True, unit="kg/m^3")
     m = density * b * h
-    body = RigidBody(m=m, x_G=b / 2, z_G=h / 2, I_O=m * (b * b + h * h) / 3)
+    body = RigidBody(m=m, x_G=b / 2, z_G=h / 2, I_O=m * (b * b + h * h) / 3, J_z=m * h * h / 3)
     e = housner_restitution(body) if restitution is None else restitution
     return RigidRocker(body, g=g, geometry=geometry, restitution=e, two_sided=True,
                        name=f"free block {b:g} x {h:g} m")

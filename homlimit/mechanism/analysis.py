@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..check.ntc import StaticMechanism
 from ..errors import ParameterError, check_choice, check_range
 from ..fe.problems import Problem, t_section
 from ..impulse import RigidBody, collapse_velocity, hinge_impulse_ratio
@@ -115,6 +116,16 @@ class FEMechanism:
         """v̄_g/√(g b)."""
         w = self.case.wall
         return self.vg / math.sqrt(w.g * w.b)
+
+    @property
+    def static_mechanism(self) -> StaticMechanism | None:
+        """The code check's α₀ and body: λ⁺ of the analysed part and the body inside its
+        50 % participation line, about the fitted hinge (None without a body)."""
+        if self.body is None or not math.isfinite(self.multiplier):
+            return None
+        what = "whole wall" if self.z0 == 0 else f"part above z = {self.z0:.3g} m"
+        return StaticMechanism(self.multiplier, self.body, float(self.measures.fit.O[1]),
+                               f"λ⁺ of the {what}, its body inside the 50 % line")
 
     @property
     def tanpsi(self) -> float:

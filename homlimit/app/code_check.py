@@ -1,0 +1,79 @@
+"""Stage "code check": the linear kinematic analysis of NTC 2018 / Circolare 2019 §C8.7.1.2
+(``check.ntc``) of every mechanism a run found that offers ``static_mechanism`` (its static
+multiplier α₀ and the body it moves; or its registry entry's ``static_of``: the FE path's
+whole wall), against the case's [site]. A case without [site] gets
+none, and the terminal says so (``report.summary_text``). docs/code-check.md: what is
+computed and the readings."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..check import LinearKinematic, Site, linear_kinematic
+from . import registry
+
+__all__ = ["READING", "CodeCheck", "code_check"]
+
+#: the readings taken, as summary.json records them
+READING = {
+    "e_star_reading":
+        "continuous integration over the body, M* = (∫z dm)²/∫z² dm about the hinge "
+              "(the 2009 form; 0.75 for a uniform rectangular block): used for a0_star and "
+              "ratio; e_star_lumped = 1 (each body's weight lumped at its G) beside it",
+    "demand_reading":
+        "ground a_g S/q; where Z > 0 also S_e(T1) psi(Z) gamma/q at height, psi = Z/H, "
+              "gamma = 3N/(2N+1); the larger governs",
+    "alpha0_reading":
+        "the mechanism's static multiplier (ties, floors, fc as its model takes them); "
+              "the weights pushed horizontally are its body's (floor loads bear, their mass "
+              "moves with the building: docs/real-walls.md)",
+    "source_reading":
+        "NTC 2018 §3.2.3.2.1 and Circolare 2019 §C8.7.1.2 as known to the authors; "
+              "the texts were not on hand (docs/code-check.md)",
+}
+
+
+@dataclass(frozen=True)
+class CodeCheck:
+    """The code check of one run: the site, the checks per mechanism (name →
+    ``LinearKinematic``), the mechanisms without one (name → why)."""
+
+    site: Site
+    wall_H: float
+    checks: dict
+    skipped: dict
+
+    @property
+    def governing(self) -> LinearKinematic | None:
+        return min(self.checks.values(), key=lambda c: c.ratio, default=None)
+
+    def as_dict(self) -> dict:
+        s = self.site
+        gov = self.governing
+        return {"reading": dict(READING),
+                "site": {**s.as_dict(), "H_building": s.height(self.wall_H),
+                         "first_period": s.first_period(self.wall_H),
+                         "Se_T1": s.Se(s.first_period(self.wall_H))},
+                "mechanisms": {k: c.as_dict() for k, c in self.checks.items()},
+                "not_checked": [{"mechanism": k, "reason": why}
+                                for k, why in self.skipped.items()],
+                "governing": None if gov is None else gov.name,
+                "ratio": None if gov is None else gov.ratio}
+
+
+def code_check(result) -> CodeCheck | None:
+    """The code check of ``result``'s mechanisms against its case's [site] (None without)."""
+    site = result.config.site
+    if site is None:
+        return None
+    H = result.case.wall.H
+    checks, skipped = {}, {}
+    for name, m in result.mechanisms.items():
+        entry = next((e for e in registry.mechanisms() if e.name == name), None)
+        sm = (entry.static_of(result) if entry is not None and entry.static_of is not None
+              else getattr(m, "static_mechanism", None))
+        if sm is None:
+            skipped[name] = "no static multiplier with a rigid body"
+            continue
+        checks[name] = linear_kinematic(name, sm, site, H)
+    return CodeCheck(site, H, checks, skipped)

@@ -1,0 +1,118 @@
+"""The linear kinematic analysis of a local mechanism, NTC 2018 / Circolare 2019 §C8.7.1.2
+(the 2009 Circolare's §C8A.4.2 in the same form), for one rigid body turning about its hinge.
+
+- α₀: the collapse multiplier of the horizontal load α P by virtual work (the mechanism's
+  static multiplier, with the ties, floors and f_c its model takes: docs/real-walls.md);
+- the participating mass M* = (Σ P_i δx_i)² / (g Σ P_i δx_i²), δx_i the virtual horizontal
+  displacement of weight P_i. For a body turning by δθ about O, δx = δθ (z − z_O), so with
+  the body's participation integrals (``impulse.RigidBody``: ∫dm = m, ∫(z − z_O) dm = m z_G,
+  ∫(z − z_O)² dm = J_z) the sum becomes the integral M* = (m z_G)²/J_z;
+- e* = g M*/Σ P_i = M*/m, the participating fraction;
+- a₀* = α₀ Σ P_i/(M* FC) = α₀ g/(e* FC), the spectral acceleration that activates the
+  mechanism [m/s²].
+
+Readings (docs/code-check.md): the ratio uses e* of the continuous integration above (the
+2009 form, 3/4 for a uniform rectangular block about its toe); beside it the lumped reading,
+each block's weight at its centre of gravity, gives e* = 1 for a single rigid body (a₀*
+smaller by the factor e*: the conservative side). The demand is the larger of the ground
+check a_g S/q and, where the mechanism's base is above the ground (Z > 0), the check at
+height S_e(T₁) ψ(Z) γ/q (``site.Site``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..errors import ParameterError
+from ..impulse import RigidBody
+from .site import Site
+
+__all__ = ["LinearKinematic", "StaticMechanism", "linear_kinematic", "participation"]
+
+
+@dataclass(frozen=True)
+class StaticMechanism:
+    """What the code check needs of a mechanism: its static multiplier α₀ = a/g, the body it
+    moves (about its hinge, with J_z), the hinge's height above the wall's base [m], and a
+    word on which body it is."""
+
+    alpha0: float
+    body: RigidBody
+    z_hinge: float
+    what: str = ""
+
+
+def participation(body: RigidBody) -> tuple[float, float]:
+    """(M*, e*) of a rigid body turning about its hinge: M* = (∫z dm)²/∫z² dm = (m z_G)²/J_z
+    (the mass's unit: kg, or kg/m for a body per unit thickness), e* = M*/m <= 1."""
+    if not math.isfinite(body.J_z):
+        raise ParameterError(f"J_z = {body.J_z!r} is out of range: the code check needs the "
+                             "body's ∫z² dm about its hinge (a finite number)")
+    M = (body.m * body.z_G) ** 2 / body.J_z
+    return M, M / body.m
+
+
+@dataclass(frozen=True)
+class LinearKinematic:
+    """The linear kinematic check of one mechanism (``linear_kinematic``).
+
+    alpha0 [-]; m [kg] (ΣP/g); M_star [kg]; e_star [-] (continuous integration, used);
+    a0_star [m/s²]; e_star_lumped [-] (= 1, weights lumped at the body's G) and
+    a0_star_lumped [m/s²]; Z [m] the mechanism's base above the ground; demand_ground =
+    a_g S/q, demand_height = S_e(T₁) ψ γ/q (None at Z = 0) with first_period T₁ [s],
+    Se_T1 [m/s²], psi_Z = Z/H, gamma_N = 3N/(2N + 1); demand [m/s²] the larger; ratio =
+    a0_star/demand (>= 1: the check is met) and
+    ratio_lumped = a0_star_lumped/demand.
+    """
+
+    name: str
+    what: str
+    alpha0: float
+    m: float
+    M_star: float
+    e_star: float
+    a0_star: float
+    e_star_lumped: float
+    a0_star_lumped: float
+    Z: float
+    demand_ground: float
+    demand_height: float | None
+    first_period: float
+    Se_T1: float
+    psi_Z: float
+    gamma_N: float
+    demand: float
+    ratio: float
+    ratio_lumped: float
+
+    @property
+    def passes(self) -> bool:
+        return self.ratio >= 1.0
+
+    def as_dict(self) -> dict:
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        d["passes"] = self.passes
+        return d
+
+
+def linear_kinematic(name: str, sm: StaticMechanism, site: Site,
+                     wall_H: float) -> LinearKinematic:
+    """The §C8.7.1.2 check of mechanism ``name`` (its ``StaticMechanism``) at ``site``, on a
+    wall of height ``wall_H`` [m] whose base is ``site.z_base`` above the ground."""
+    if not (math.isfinite(sm.alpha0) and sm.alpha0 > 0):
+        raise ParameterError(f"alpha0 = {sm.alpha0!r} of mechanism {name} is out of range: "
+                             "allowed a finite 0 < alpha0")
+    M, e = participation(sm.body)
+    g = site.g
+    a0 = sm.alpha0 * g / (e * site.FC)
+    a0_lumped = sm.alpha0 * g / site.FC
+    Z = site.z_base + sm.z_hinge
+    ground = site.demand_ground()
+    T1 = site.first_period(wall_H)
+    height, Se, psi, gam = site.demand_height(Z, wall_H)
+    at_height = height if Z > 0 else None
+    demand = max(ground, height) if Z > 0 else ground
+    return LinearKinematic(name, sm.what, sm.alpha0, sm.body.m, M, e, a0, 1.0, a0_lumped, Z,
+                           ground, at_height, T1, Se, psi, gam, demand, a0 / demand,
+                           a0_lumped / demand)
