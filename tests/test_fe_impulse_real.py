@@ -157,3 +157,45 @@ def test_fe_block_with_a_top_tie_and_a_floor_by_hand():
                     floors=[(Q * wall.l, e, 1.0)], ties=[(T * wall.l, z_t)])
     assert gi.vg == pytest.approx(vg, rel=1e-6)
     assert gi.W_m == pytest.approx(W, rel=1e-6)
+
+
+def test_t_section_on_mesh_places_ties_and_floors_anew():
+    """An adaptive remesh of a T-section with a tie and a restraining floor: the problem on
+    the new mesh carries them as ``t_section`` built on that mesh does (same bands, loads,
+    support and placement), none of the old mesh's tags."""
+    from homlimit.fe.problems import t_section, t_section_on_mesh
+
+    case = Case(ties=(Tie(9.0, 5000.0),), floors=(Floor(4.5, 2e4, 0.1, restrains=True),))
+    coarse = t_section(case, h=1.0)
+    direct = t_section(case, h=0.5)
+    moved = t_section_on_mesh(coarse, case, t_section(Case(), h=0.5).mesh)
+    assert moved.ties == direct.ties
+    assert moved.supports == direct.supports
+    assert set(moved.dead_body) == set(direct.dead_body)
+    for k, v in direct.dead_body.items():
+        assert moved.dead_body[k] == pytest.approx(v)
+    for k in ("tie0", "floor0_held"):
+        assert np.array_equal(moved.mesh.boundaries[k], direct.mesh.boundaries[k])
+    assert moved.meta["real_wall"] == direct.meta["real_wall"]
+    assert moved.meta["real_wall"]["floors"][0]["z_used"] == pytest.approx(4.5)
+    bare = t_section(Case(), h=1.0)
+    assert t_section_on_mesh(bare, Case(), direct.mesh).mesh is direct.mesh
+
+
+def test_a_part_of_b1_with_a_top_tie():
+    """B1's top 2 m on a coarse crossed mesh, with and without a top tie of 5 kN/m: the FE
+    path's ``analyse`` puts the tie in both the multiplier and W(q_m) (W_ties > 0, reported
+    in the record), and v̄_g rises."""
+    from homlimit.fe.problems import t_section
+    from homlimit.mechanism.analysis import analyse
+
+    tied = Case(ties=(Tie(9.0, 5000.0),))
+    runs = [analyse(c, t_section(c, z0=7.0, facade="bedjoints", h=0.5))
+            for c in (Case(), tied)]
+    bare, tie = runs
+    assert math.isfinite(bare.vg) and math.isfinite(tie.vg)
+    assert tie.impulse.W_ties > 0 and bare.impulse.W_ties == 0
+    assert tie.vg > 1.2 * bare.vg and tie.multiplier > 1.2 * bare.multiplier
+    rec = tie.record()
+    assert rec["W_ties"] == tie.impulse.W_ties and rec["W_m"] == tie.impulse.W_m
+    assert "W_ties" not in bare.record()
