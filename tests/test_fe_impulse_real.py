@@ -199,3 +199,22 @@ def test_a_part_of_b1_with_a_top_tie():
     rec = tie.record()
     assert rec["W_ties"] == tie.impulse.W_ties and rec["W_m"] == tie.impulse.W_m
     assert "W_ties" not in bare.record()
+
+
+@pytest.mark.slow
+def test_adaptive_bracket_keeps_the_tie_on_every_mesh():
+    """The adaptive bracket of B1 with a top tie on gmsh-strip meshes: every cycle's problem
+    carries the tie (the remesh places it anew), and the best kinematic mesh's problem too."""
+    from homlimit.fe.adapt import AdaptOptions
+    from homlimit.fe.solver import SolverOptions
+    from homlimit.mechanism.adaptive import adaptive_bracket
+
+    tied = Case(ties=(Tie(9.0, 5000.0),))
+    res = adaptive_bracket(tied, "bedjoints", 1.0, AdaptOptions(target_gap=1e-6, max_cycles=2),
+                           SolverOptions(), mesher="gmsh-strip")
+    assert len(res.cycles) == 2
+    assert list(res.problem.ties) == ["tie0"]
+    assert res.problem.meta["real_wall"]["ties"][0]["yield_force"] == 5000.0
+    bare = adaptive_bracket(Case(), "bedjoints", 1.0, AdaptOptions(max_cycles=1),
+                            SolverOptions(), mesher="gmsh-strip")
+    assert res.cycles[0].upper > 1.2 * bare.cycles[0].upper      # the tie holds the wall
