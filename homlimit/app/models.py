@@ -327,7 +327,13 @@ def fe_files(result) -> dict:
 
 def rocker_fe(case, mechanism, gravity_I="linearised", restitution=0.0):
     """The FE body's one-DOF rocker: the body inside the 50 % line turning exactly, the rest
-    linearised (``mechanism`` an ``FEMechanism`` or an ``FERocker``: its ``impulse``)."""
+    linearised (``mechanism`` an ``FEMechanism`` or an ``FERocker``: its ``impulse``). It has
+    no tie or floor work: a case with ties or floors is refused (ParameterError)."""
+    if case.ties or case.floors:
+        keys = [k for k in case.real_inputs() if k.startswith("[[")]
+        raise ParameterError(f"{', '.join(keys)}: the FE body's rocker (pulse spectra, hinge "
+                             "check) does not take ties or floors yet; allowed a case without "
+                             "them (docs/real-walls.md)")
     return GeneralisedRocker.from_impulse(mechanism.impulse, g=case.wall.g,
                                           restitution=restitution, name=mechanism.name)
 
