@@ -238,3 +238,16 @@ def test_pulse_spectra_refuse_ties_and_floors_before_any_work(monkeypatch):
         pulse_records(config)
     with pytest.raises(ParameterError, match=r"\[\[tie\]\] 0: the FE body's rocker"):
         models.rocker_fe(config.case, None)
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(floors=((1.0, 0.1),)), "floors has shape"),
+    (dict(floors=((-1.0, 0.1, 2.0),)), "floors = "),
+    (dict(ties=((9.0, math.nan, 0.0, math.inf),)), "ties = "),
+    (dict(ties=((9.0, 1.0, 0.0, 0.0),)), "ties = "),
+    (dict(restraints=(math.inf,)), "restraints = "),
+    (dict(band=-0.1), "band = -0.1 m is out of range"),
+])
+def test_bad_body_loads_are_named(kw, message):
+    with pytest.raises(ParameterError, match=message):
+        BodyLoads(**kw)

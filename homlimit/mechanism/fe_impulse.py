@@ -35,9 +35,9 @@ them: a floor load Q at a point of the body turns with it exactly, Q ((x − x_O
 (0, z_T) of the body opens by max(0, (z_T − z_O) sin q) (the closed forms' rule), on the rest
 by max(0, −φ_x) q, and its work is the closed forms' tie law (``closed_form.real.tie_work``:
 rigid-plastic T_y δ, or elastic–plastic, up to the ductility limit). W is then maximised over
-0 <= q <= π/2 (a grid, then bounded Brent: the blocks' rule). A restraining floor is a support
-v_x = 0 of the FE problem; the body must not carry the restrained point away from its hinge
-(checked: a ParameterError otherwise).
+0 <= q <= π/2 (``impulse.peak_of``: a grid, then bounded Brent, as the blocks). A restraining
+floor is a support v_x = 0 of the FE problem; the body must not carry the restrained point
+away from its hinge (checked: a ParameterError otherwise).
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ from skfem import Basis, ElementTriP2
 
 from ..errors import ParameterError, check_range
 from ..geometry import TSection
-from ..impulse import RigidBody, peak_work
+from ..impulse import RigidBody, peak_of, peak_work
 from .crack import p2_subtriangles
 
 __all__ = ["p2_nodes", "ray_conforming_mesh", "BodyLoads", "GeneralisedImpulse",
@@ -118,8 +118,34 @@ class BodyLoads:
     restraints: tuple = ()
     band: float = 0.0
 
+    def __post_init__(self):
+        fl = _rows("floors", self.floors, 3)
+        ti = _rows("ties", self.ties, 4)
+        zr = np.asarray(self.restraints, float).ravel()
+        if not (np.all(np.isfinite(fl)) and np.all(fl[:, 0] >= 0)):
+            raise ParameterError(f"floors = {self.floors!r} is out of range: allowed finite "
+                                 "(Q >= 0, x, z)")
+        if not (np.all(np.isfinite(ti[:, :3])) and np.all(ti[:, 1:3] >= 0)
+                and np.all(ti[:, 3] > 0)):
+            raise ParameterError(f"ties = {self.ties!r} is out of range: allowed finite z, "
+                                 "T_y >= 0, k >= 0 and δ_u > 0 (inf: none)")
+        if not np.all(np.isfinite(zr)):
+            raise ParameterError(f"restraints = {self.restraints!r} is out of range: allowed "
+                                 "finite heights")
+        check_range("band", self.band, 0.0, unit="m")
+
     def __bool__(self) -> bool:
         return bool(self.floors or self.ties)
+
+
+def _rows(name: str, rows, width: int) -> np.ndarray:
+    """``rows`` as an (n, width) float array (n = 0 for none), or a ParameterError."""
+    a = np.asarray(rows, float)
+    if a.size == 0:
+        return np.zeros((0, width))
+    if a.ndim != 2 or a.shape[1] != width:
+        raise ParameterError(f"{name} has shape {a.shape}: allowed rows of {width} numbers")
+    return a
 
 
 def body_loads(case, problem) -> BodyLoads:
@@ -188,7 +214,7 @@ def generalised_impulse(X, V, elements, density, mm, g: float = 9.81,
     W_f = W_t = 0.0
     if loads:
         work = _load_work(loads, X, elements, phi, inside, mm.fit.O, body, lift, g)
-        q_m = _peak(lambda q: sum(work(q)))
+        q_m = peak_of(lambda q: sum(work(q)), N_THETA)
         W_b, W_r, W_f, W_t = (float(v) for v in work(q_m))
         W_m = W_b + W_r + W_f + W_t
         if not W_m > 0:
@@ -260,19 +286,6 @@ def _load_work(loads: BodyLoads, X, elements, phi, inside, O, body, lift, g):  #
         return W_body, lift * q, W_f, W_t
 
     return work
-
-
-def _peak(total) -> float:
-    """The q of the largest ``total(q)`` over 0 <= q <= π/2: a grid of N_THETA, then bounded
-    Brent between the best point's neighbours (the blocks' rule, ``blocks.impulse``)."""
-    from scipy.optimize import minimize_scalar
-
-    grid = np.linspace(0.0, math.pi / 2, N_THETA)
-    k = int(np.argmax(total(grid)))
-    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, N_THETA - 1)]
-    opt = minimize_scalar(lambda t: -float(total(np.asarray(t))), bounds=(lo, hi),
-                          method="bounded", options={"xatol": 1e-12})
-    return float(opt.x) if -opt.fun >= float(total(grid[k])) else float(grid[k])
 
 
 def _areas(pts):
