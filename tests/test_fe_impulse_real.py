@@ -251,3 +251,34 @@ def test_pulse_spectra_refuse_ties_and_floors_before_any_work(monkeypatch):
 def test_bad_body_loads_are_named(kw, message):
     with pytest.raises(ParameterError, match=message):
         BodyLoads(**kw)
+
+
+def test_a_run_with_a_tie_on_the_fe_path(tmp_path, monkeypatch):
+    """`homlimit run` on a coarse B1 with a top tie and a floor and [analysis] fe = true:
+    it runs (the refusal is lifted), fe_scan.csv and summary.json carry W_m, W_floors and
+    W_ties, the FE mechanism's row its multiplier, and no FE cache entry is written (the
+    pulse rocker has no tie work)."""
+    import csv
+    import json
+
+    import homlimit
+    from homlimit.app.config import load_case
+    from homlimit.app.models import fe_cache_path
+
+    monkeypatch.setenv("HOMLIMIT_MESH_CACHE", str(tmp_path / "cache"))
+    cfg = load_case(None, ["mesh.size=1.0", "mesh.part_divisions=4", "analysis.heights=2",
+                           "analysis.static=false", "analysis.hinge_check=false",
+                           "output.png=false", "output.vtu=false", "tie.0.z=9",
+                           "tie.0.yield_force=2000", "floor.0.z=4.5", "floor.0.load=20000",
+                           "floor.0.eccentricity=0.1"])
+    homlimit.run(cfg, out=tmp_path / "o")
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    fe = s["fe"]
+    assert 0 < fe["W_ties"] < fe["W_m"] and "loads_rule" in fe     # (11 of 21 kJ here)
+    assert s["units"]["results"]["W_ties"] == "J"
+    rows = list(csv.DictReader(open(tmp_path / "o" / "fe_scan.csv", encoding="utf-8")))
+    crit = min((r for r in rows if r["vg [m/s]"]), key=lambda r: float(r["vg [m/s]"]))
+    assert float(crit["W_ties [J]"]) == pytest.approx(fe["W_ties"], rel=1e-12)
+    assert float(crit["W_floors [J]"]) == pytest.approx(fe["W_floors"], rel=1e-12)
+    assert s["mechanisms"]["FE"]["vg"] == fe["vg"]
+    assert not fe_cache_path(cfg).exists()
