@@ -228,30 +228,33 @@ def test_fc_zero_builds_the_paper_domains():
 
 # ----------------------------------------------------------------------- the case file
 
-def test_case_file_fe_takes_fc_and_refuses_the_rest():
-    """[analysis] fe takes [masonry] fc; ties, floors, cohesion and tension are refused for it
-    (exit 2 through the CLI: tests/test_real_walls.py), naming the key and the model."""
+def test_case_file_fe_takes_fc_ties_floors_and_refuses_joint_strengths():
+    """[analysis] fe takes [masonry] fc, ties and floors; cohesion and tension are refused for
+    it (exit 2 through the CLI: below and tests/test_real_walls.py), naming the key and the
+    model, and not the keys it takes."""
     from homlimit.app.config import ConfigError, load_case
 
-    base = b1(masonry={"fc": 2e6}, analysis={"fe": True, "hinge_check": False})
-    assert load_case(base).case.masonry.fc == 2e6
-    for extra, key in (({"floor": [{"z": 4.5, "load": 1e4, "eccentricity": 0.1}]},
-                        "[[floor]] (1 entries)"),
-                       ({"masonry": {**base["masonry"], "cohesion": 1e5}},
-                        "[masonry] cohesion = 100000.0 Pa")):
+    base = b1(masonry={"fc": 2e6}, analysis={"fe": True, "hinge_check": False},
+              tie=[{"z": 9.0, "yield_force": 5e3}],
+              floor=[{"z": 4.5, "load": 1e4, "eccentricity": 0.1, "restrains": True}])
+    c = load_case(base).case
+    assert c.masonry.fc == 2e6 and c.ties[0].yield_force == 5e3 and c.floors[0].restrains
+    for k in ("cohesion", "tension"):
         with pytest.raises(ConfigError) as e:
-            load_case({**base, **extra})
+            load_case({**base, "masonry": {**base["masonry"], k: 1e5}})
         msg = str(e.value)
-        assert "[analysis] fe = true" in msg and key in msg and "fc = 2000000.0" not in \
-            msg.split("does not take")[1].split("yet")[0], msg
+        refused = msg.split("[analysis] fe = true")[1].split("(the FE bounds")[0]
+        assert f"[masonry] {k} = 100000.0 Pa" in refused, msg
+        assert "fc" not in refused and "[[tie]]" not in refused and "[[floor]]" not in refused
 
 
-def test_cli_fe_with_a_tie_exits_2_and_writes_nothing(tmp_path):
-    r = run_cli(tmp_path, b1(masonry={"fc": 2e6}, analysis={"fe": True, "hinge_check": False},
+def test_cli_fe_with_cohesion_exits_2_and_writes_nothing(tmp_path):
+    r = run_cli(tmp_path, b1(masonry={"cohesion": 1e4},
+                             analysis={"fe": True, "hinge_check": False, "closed_form": False},
                              tie=[{"z": 9.0, "yield_force": 5000.0}]), "run")
     assert r.returncode == 2, r.stderr
     assert "[analysis] fe = true" in r.stderr and "problems in" not in r.stderr, r.stderr
-    assert "does not take [[tie]] (1 entries)" in r.stderr
+    assert "does not take [masonry] cohesion = 10000.0 Pa (the FE bounds" in r.stderr
     assert "Traceback" not in r.stderr and not (tmp_path / "out").exists()
 
 

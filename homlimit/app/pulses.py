@@ -13,6 +13,7 @@ from ..errors import ParameterError
 from . import registry
 from .config import CaseConfig
 from .models import FERocker, stage
+from .models_rigid import no_real_wall
 from .result import Result
 
 __all__ = ["MAX_RECORD_BYTES", "pulse_records"]
@@ -31,6 +32,8 @@ def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
     rocker (None unless chosen), which says whether it came from the cache."""
     case, pc = config.case, config.pulse
     w = case.wall
+    if case.ties or case.floors:     # no rocker takes them: refused before the FE path runs
+        no_real_wall(case, "the pulse spectra's rockers")
     record = None
     if pc.record:
         base = Path(config.source).parent if Path(config.source).is_file() else Path.cwd()

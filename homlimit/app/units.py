@@ -63,6 +63,7 @@ UNITS: dict[str, str] = {
     # a real wall's blocks (blocks.studies.scan_record): the ties' total force at collapse,
     # the crushing dissipation rate of the mechanism, the parts of W(θ_m)
     "tie_force": "N", "crushing_rate": "W", "W_crushing": "J", "W_floors": "J", "W_ties": "J",
+    "loads_rule": "",                 # the FE path's summary: how ties and floors enter W
     "N": "N", "T": "N",              # contact forces per slab of thickness s (blocks.limit)
     "opening": "m/s", "slip": "m/s",  # velocity jumps of the normalised mechanism
     # homlimit verify and the adaptive bracket (verify.json, verify.csv, fe_adapt.csv)

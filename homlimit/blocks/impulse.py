@@ -46,7 +46,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ParameterError, check_range
-from ..impulse import RigidBody
+from ..impulse import RigidBody, peak_of
 from .geometry import Assembly
 from .limit import BlockLimitResult, check_result, fit_rotation
 from .real import real_of
@@ -218,8 +218,6 @@ def _real_peak(assembly, result, real, body, body_mask, rest, phi, O, omega, g):
     """θ_m and the parts of W(θ_m) of a real wall's mechanism (module docstring, "A real
     wall"): (θ_m, W_body, W_rest, {"W_crushing", "W_floors", "W_ties"}), W maximised over
     0 <= θ <= π/2 on a grid, then refined (bounded Brent)."""
-    from scipy.optimize import minimize_scalar
-
     from ..closed_form.real import tie_work
 
     act = result.actions
@@ -256,11 +254,6 @@ def _real_peak(assembly, result, real, body, body_mask, rest, phi, O, omega, g):
     def total(th):
         return sum(parts(th))
 
-    grid = np.linspace(0.0, math.pi / 2, N_THETA)
-    k = int(np.argmax(total(grid)))
-    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, N_THETA - 1)]
-    opt = minimize_scalar(lambda t: -float(total(t)), bounds=(lo, hi), method="bounded",
-                          options={"xatol": 1e-12})
-    th = float(opt.x) if -opt.fun >= total(grid[k]) else float(grid[k])
+    th = peak_of(total, N_THETA)
     W_body, W_rest, W_c, W_f, W_t = (float(v) for v in parts(th))
     return th, W_body, W_rest, {"W_crushing": W_c, "W_floors": W_f, "W_ties": W_t}

@@ -148,7 +148,7 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
           options: AdaptOptions = AdaptOptions(),
           solver: SolverOptions = SolverOptions(),
           progress: Callable[[Cycle], None] | None = None,
-          first_mesh=None) -> AdaptResult:
+          first_mesh=None, on_mesh: Callable[[object], object] | None = None) -> AdaptResult:
     """Bracket ``problem`` on a sequence of meshes refined where the gap is.
 
     remesh(size_map, last) returns a skfem mesh with the problem's region and boundary names;
@@ -156,7 +156,9 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
     mesh, and ``last`` the previous cycle's ``Bracket`` (None at first), from which a remesher
     may read the mechanism (e.g. a fan of rays at its hinge). ``first_mesh``: start from this
     mesh instead of ``remesh(None, None)``. ``progress`` is
-    called with every finished ``Cycle``.
+    called with every finished ``Cycle``. ``on_mesh(mesh)``: the problem on a new mesh
+    (default: ``problem`` with its mesh replaced; ``problems.t_section_on_mesh`` places a
+    T-section's ties and floors anew).
     """
     if not isinstance(options, AdaptOptions):
         raise ParameterError(f"options = {options!r} is not an AdaptOptions")
@@ -168,7 +170,8 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
     lo = up = None                    # (bracket, problem) of the best static / kinematic mesh
     for k in range(int(options.max_cycles)):
         t0 = time.perf_counter()
-        prob = dataclasses.replace(problem, mesh=mesh)
+        prob = (dataclasses.replace(problem, mesh=mesh) if on_mesh is None
+                else on_mesh(mesh))
         br = bracket(prob, options=solver)
         if lo is None or br.lower > lo[0].lower:
             lo = (br, prob)

@@ -12,6 +12,7 @@ graded geometrically towards singular points. Any skfem ``MeshTri`` with named
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Mapping
@@ -38,6 +39,7 @@ __all__ = [
     "mohr_coulomb_footing",
     "free_block",
     "t_section",
+    "t_section_on_mesh",
     "MESHERS",
     "PRANDTL",
     "VERTICAL_CUT_LB",
@@ -453,6 +455,25 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
         ties=real.get("ties", {}), meta=meta)
 
 
+def _real_tag(name: str) -> bool:
+    """Whether a region or boundary name is one ``_ties_and_floors`` adds."""
+    return name.startswith(("tie", "floor"))
+
+
+def t_section_on_mesh(problem: Problem, case: Case, mesh: MeshTri) -> Problem:
+    """The T-section ``problem`` of ``case`` carried to ``mesh`` (the same regions and
+    boundaries, e.g. a remesh of ``fe.adapt``): its ties and floors placed anew there
+    (``_ties_and_floors``: their bands and patch forces depend on the mesh)."""
+    if not (case.ties or case.floors):
+        return dataclasses.replace(problem, mesh=mesh)
+    keep = lambda d: {k: v for k, v in d.items() if not _real_tag(k)}  # noqa: E731
+    m, real, placed = _ties_and_floors(mesh, case, float(problem.meta.get("z0", 0.0)))
+    return dataclasses.replace(
+        problem, mesh=m, supports=keep(problem.supports) | real["supports"],
+        dead_body=keep(problem.dead_body) | real["dead_body"], ties=real["ties"],
+        meta={**problem.meta, "real_wall": placed})
+
+
 def _outer_band(m: MeshTri, z: float, half: float) -> np.ndarray:
     """The façade's outer-face facets (boundary "outer") whose midpoint lies within ``half``
     of z, or the one nearest to z if none does."""
@@ -476,8 +497,8 @@ def _ties_and_floors(m: MeshTri, case: Case, z0: float):
       centroid lies within a/2 of z (at least the row nearest z), split into those with
       centroid x <= e and > e with uniform forces whose resultant acts at x = e (clipped to the
       groups' mean x's: ``e_used``); a rigid motion of the patch takes the same power as a
-      point load Q at (e, z). ``restrains``: v_x = 0 on the outer-face facets of the band (a
-      support "x"; the static reaction there is free).
+      point load Q at (e, z) (``z_used``: the resultant's height). ``restrains``: v_x = 0 on
+      the outer-face facets of the band (a support "x"; the static reaction there is free).
 
     Ties and floors at or below the base z0 do not act on the part. Returns the mesh with the
     tags added, the Problem fields and what was placed (for ``meta``)."""
@@ -518,12 +539,15 @@ def _ties_and_floors(m: MeshTri, case: Case, z0: float):
         e_used = float(np.clip(fl.eccentricity, min(xg), max(xg)))
         share = ([1.0] if len(groups) == 1 else
                  [(xg[1] - e_used) / (xg[1] - xg[0]), (e_used - xg[0]) / (xg[1] - xg[0])])
+        # the resultant's height: each group's uniform force acts at its area centroid
+        z_used = float(sum(q * np.average(cen[1, sel][g], weights=A_c[g])
+                           for g, q in zip(groups, share)))
         for j, (g, q) in enumerate(zip(groups, share)):
             if q > 0:
                 sub[f"floor{k}_{j}"] = els[g]
                 out["dead_body"][f"floor{k}_{j}"] = (0.0, -rho * fl.load * q / A_c[g].sum())
         rec = {"index": k, "z": fl.z, "load": fl.load, "eccentricity": fl.eccentricity,
-               "e_used": e_used, "band": (float(m.p[1, m.t[:, els]].min()),
+               "e_used": e_used, "z_used": z_used, "band": (float(m.p[1, m.t[:, els]].min()),
                                           float(m.p[1, m.t[:, els]].max())),
                "restrains": fl.restrains}
         if fl.restrains:

@@ -14,12 +14,16 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..errors import ParameterError, check_range
 from ..params import G_STANDARD
 from .body import RigidBody
 
-__all__ = ["theta_dot0", "peak_work", "rigid_restoring_work", "collapse_velocity",
+__all__ = ["theta_dot0", "peak_work", "peak_of", "rigid_restoring_work", "collapse_velocity",
            "hinge_impulse_ratio"]
+
+N_PEAK = 2049           # the grid of ``peak_of``, then bounded Brent
 
 
 def theta_dot0(body: RigidBody, v_g: float) -> float:
@@ -51,6 +55,22 @@ def peak_work(body: RigidBody, lift: float = 0.0, g: float = G_STANDARD
         return 0.0, 0.0
     W = body.m * g * (body.x_G * math.sin(theta) + body.z_G * (math.cos(theta) - 1.0))
     return theta, W + lift * theta
+
+
+def peak_of(total, n: int = N_PEAK) -> float:
+    """The θ of the largest restoring work ``total(θ)`` (vectorised over θ) over 0 <= θ <= π/2:
+    the best of a grid of ``n`` points, refined by bounded Brent between its neighbours (for a
+    W with ties, floors or dissipation, which has no closed-form peak: the blocks' and the FE
+    impulse's real-wall rule)."""
+    from scipy.optimize import minimize_scalar
+
+    n = int(check_range("n", n, 3, 10 ** 7))
+    grid = np.linspace(0.0, math.pi / 2, n)
+    k = int(np.argmax(total(grid)))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, n - 1)]
+    opt = minimize_scalar(lambda t: -float(total(t)), bounds=(lo, hi), method="bounded",
+                          options={"xatol": 1e-12})
+    return float(opt.x) if -opt.fun >= total(grid[k]) else float(grid[k])
 
 
 def rigid_restoring_work(body: RigidBody, g: float = G_STANDARD) -> float:

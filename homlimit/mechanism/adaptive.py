@@ -18,7 +18,6 @@ rays constrain the refinement; both are off by default.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 from types import SimpleNamespace
@@ -29,7 +28,7 @@ from ..errors import check_choice
 from ..fe import adapt as fe_adapt
 from ..fe import geometry
 from ..fe.mesh import to_skfem
-from ..fe.problems import t_section
+from ..fe.problems import t_section, t_section_on_mesh
 from ..fe.solver import SolverOptions
 from ..params import Case
 from .analysis import densities
@@ -143,7 +142,8 @@ def adaptive_bracket(case: Case, facade: str, size: float, options: fe_adapt.Ada
     strip = mesher == "gmsh-strip"
     remesh = tsection_remesher(case, size=size, strip=strip, h_outer=h_outer if strip else None)
     first = remesh(None)
-    problem = dataclasses.replace(t_section(case, facade=facade, h=size, mesher=mesher,
-                                            h_outer=h_outer if strip else None), mesh=first)
+    problem = t_section(case, facade=facade, h=size, mesher=mesher,
+                        h_outer=h_outer if strip else None)
     return fe_adapt.adapt(problem, remesh, options, solver or SolverOptions(), progress,
-                          first_mesh=first)
+                          first_mesh=first,
+                          on_mesh=lambda m: t_section_on_mesh(problem, case, m))

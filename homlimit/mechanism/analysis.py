@@ -34,7 +34,13 @@ from ..fe.problems import Problem, t_section
 from ..impulse import RigidBody, collapse_velocity, hinge_impulse_ratio
 from ..params import FACADE_DEFAULT, FACADE_MODELS, MESHER_DEFAULT, MESHERS, PART_DIVISIONS, Case
 from .crack import FanEdges, fan_edges, mechanism_type
-from .fe_impulse import GeneralisedImpulse, contour_pieces, generalised_impulse, p2_nodes
+from .fe_impulse import (
+    GeneralisedImpulse,
+    body_loads,
+    contour_pieces,
+    generalised_impulse,
+    p2_nodes,
+)
 from .rigidfit import MechanismMeasures, measure_mechanism
 
 __all__ = ["FEMechanism", "FEResult", "analyse", "densities", "fe_result", "h_scan",
@@ -167,7 +173,17 @@ class FEMechanism:
                 "tanpsi": self.tanpsi, "hinge_ratio": self.hinge_ratio,
                 "status": self.solution.status,
                 "retries": len(self.solution.sizes.get("attempts", [0])) - 1,
-                "solver_tol": self.solution.sizes.get("tol"), "vg_method": self.vg_method}
+                "solver_tol": self.solution.sizes.get("tol"), "vg_method": self.vg_method
+                } | self._real_record()
+
+    def _real_record(self) -> dict:
+        """With ties or floors (issue 30): W(q_m) and its floors' and ties' parts [J] (NaN
+        without a body); nothing for the paper's wall."""
+        if not (self.case.ties or self.case.floors):
+            return {}
+        gi = self.impulse
+        return {k: math.nan if gi is None else getattr(gi, k)
+                for k in ("W_m", "W_floors", "W_ties")}
 
     def as_dict(self) -> dict:
         """The mechanism's row of summary.json (as the closed forms' ``as_dict``)."""
@@ -223,14 +239,16 @@ def analyse(case: Case, problem: Problem, options=None, solution=None) -> FEMech
     common = dict(case=case, problem=problem, solution=sol, measures=mm, edges=edges,
                   kind=kind, facade=meta.get("facade", ""), z0=float(meta.get("z0", 0.0)),
                   mesh_size=float(meta.get("h", math.nan)))
+    loads = body_loads(case, problem)
     try:
-        gi = generalised_impulse(X, V, el, rho, mm, g=w.g)
+        gi = generalised_impulse(X, V, el, rho, mm, g=w.g, loads=loads)
     except ParameterError as exc:
         return FEMechanism(**common, body=None, impulse=None, vg=math.nan,
                            vg_method=f"not available: {exc}")
     return FEMechanism(**common, body=gi.block, impulse=gi, vg=gi.vg, vg_method=(
         "one-DOF generalisation of eqs 4-7 (fe_impulse docstring): body inside the 50 % line "
-        "at finite rotation, the rest linearised, W at its peak"))
+        "at finite rotation, the rest linearised, W at its peak"
+        + (", with the ties' and floors' work" if loads else "")))
 
 
 def _analyse_height(case: Case, mesh_size: float, facade: str, options, divisions: int,
@@ -340,7 +358,21 @@ class FEResult:
             "critical_multiplier": None if crit is None else crit.multiplier,
             "vg_method": None if crit is None else crit.vg_method,
             "critical_at": self.critical_at, "h_min": self.h_min,
-            "scan": [m.record() for m in self.scan]} | self._fc_dict()
+            "scan": [m.record() for m in self.scan]} | self._fc_dict() | self._loads_dict()
+
+    def _loads_dict(self) -> dict:
+        """With ties or floors (issue 30): the critical mechanism's W(q_m) and its floors'
+        and ties' parts, and how they enter it; nothing for the paper's wall."""
+        case, crit = self.whole.case, self.critical
+        if not (case.ties or case.floors):
+            return {}
+        gi = None if crit is None else crit.impulse
+        return {k: None if gi is None else getattr(gi, k)
+                for k in ("W_m", "W_floors", "W_ties")} | {
+            "loads_rule": "per bay (value per metre x l), at the FE loads' resultants; on the "
+                          "body: floor Q ((x - x_O) sin q + (z - z_O)(cos q - 1)), tie "
+                          "tie_work((z_T - z_O) sin q); on the rest to first order; W "
+                          "maximised over 0 <= q <= pi/2 (mechanism.fe_impulse)"}
 
     def _fc_dict(self) -> dict:
         """With a finite fc (issue 30): fc, the cap's rule and the static field's peak

@@ -26,6 +26,18 @@ What this neglects: the fan's geometry change at finite rotation (its lift is li
 and its share of M and W is reported), any dissipation (none in the homogenised model), and
 a change of mechanism during the motion. For a rigid mechanism (no deforming zone) it is eq. 7
 with eq. 18 exactly.
+
+A real wall's ties and floors (issue 30, ``BodyLoads``, docs/real-walls.md "FE impulse"): W(q)
+gains, as separate terms, the floors' restoring work and the work done against the ties
+yielding, as the closed forms (``closed_form.real``) and the blocks (``blocks.impulse``) take
+them: a floor load Q at a point of the body turns with it exactly, Q ((x − x_O) sin q +
+(z − z_O)(cos q − 1)); at a point of the rest, to first order, Q φ_z q; a tie at the outer face
+(0, z_T) of the body opens by max(0, (z_T − z_O) sin q) (the closed forms' rule), on the rest
+by max(0, −φ_x) q, and its work is the closed forms' tie law (``closed_form.real.tie_work``:
+rigid-plastic T_y δ, or elastic–plastic, up to the ductility limit). W is then maximised over
+0 <= q <= π/2 (``impulse.peak_of``: a grid, then bounded Brent, as the blocks). A restraining
+floor is a support v_x = 0 of the FE problem; the body must not carry the restrained point
+away from its hinge (checked: a ParameterError otherwise).
 """
 
 from __future__ import annotations
@@ -38,11 +50,13 @@ from skfem import Basis, ElementTriP2
 
 from ..errors import ParameterError, check_range
 from ..geometry import TSection
-from ..impulse import RigidBody, peak_work
+from ..impulse import RigidBody, peak_of, peak_work
 from .crack import p2_subtriangles
 
-__all__ = ["p2_nodes", "ray_conforming_mesh", "GeneralisedImpulse", "generalised_impulse",
-           "contour_body", "contour_pieces"]
+__all__ = ["p2_nodes", "ray_conforming_mesh", "BodyLoads", "GeneralisedImpulse",
+           "body_loads", "generalised_impulse", "contour_body", "contour_pieces"]
+
+N_THETA = 2049          # the q grid of W's peak with ties or floors, then bounded Brent
 
 
 def p2_nodes(solution, densities: dict | None = None):
@@ -88,12 +102,78 @@ def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
 
 
 @dataclass(frozen=True)
+class BodyLoads:
+    """The ties, floors and restraints acting on a FE mechanism, in the impulse's units: per
+    bay of façade (a value per metre of façade × l), as the FE masses (``analysis.densities``).
+
+    floors      rows (Q [N], x [m], z [m]): a vertical dead load Q at (x, z)
+    ties        rows (z [m], T_y [N], k [N/m], δ_u [m]): a tie at the outer face (0, z), yield
+                force T_y, stiffness k (0: rigid-plastic), ductility limit δ_u (inf: none)
+    restraints  heights z [m] of the restraining floors (v_x = 0 at the outer face)
+    band        half-height [m] of a restraint's band (the FE support spans z ± band)
+    """
+
+    floors: tuple = ()
+    ties: tuple = ()
+    restraints: tuple = ()
+    band: float = 0.0
+
+    def __post_init__(self):
+        fl = _rows("floors", self.floors, 3)
+        ti = _rows("ties", self.ties, 4)
+        zr = np.asarray(self.restraints, float).ravel()
+        if not (np.all(np.isfinite(fl)) and np.all(fl[:, 0] >= 0)):
+            raise ParameterError(f"floors = {self.floors!r} is out of range: allowed finite "
+                                 "(Q >= 0, x, z)")
+        if not (np.all(np.isfinite(ti[:, :3])) and np.all(ti[:, 1:3] >= 0)
+                and np.all(ti[:, 3] > 0)):
+            raise ParameterError(f"ties = {self.ties!r} is out of range: allowed finite z, "
+                                 "T_y >= 0, k >= 0 and δ_u > 0 (inf: none)")
+        if not np.all(np.isfinite(zr)):
+            raise ParameterError(f"restraints = {self.restraints!r} is out of range: allowed "
+                                 "finite heights")
+        check_range("band", self.band, 0.0, unit="m")
+
+    def __bool__(self) -> bool:
+        return bool(self.floors or self.ties)
+
+
+def _rows(name: str, rows, width: int) -> np.ndarray:
+    """``rows`` as an (n, width) float array (n = 0 for none), or a ParameterError."""
+    a = np.asarray(rows, float)
+    if a.size == 0:
+        return np.zeros((0, width))
+    if a.ndim != 2 or a.shape[1] != width:
+        raise ParameterError(f"{name} has shape {a.shape}: allowed rows of {width} numbers")
+    return a
+
+
+def body_loads(case, problem) -> BodyLoads:
+    """The ``BodyLoads`` of a ``problems.t_section`` problem of ``case``: the ties and floors
+    it places on its part (``problem.meta["real_wall"]``, those above its base), each at the
+    resultant of its FE load (the tie's band centre ``z_used``, the floor's ``e_used``,
+    ``z_used``), times the bay's length l."""
+    placed = problem.meta.get("real_wall") or {}
+    length = case.wall.l
+    floors = tuple((case.floors[f["index"]].load * length, f["e_used"], f["z_used"])
+                   for f in placed.get("floors", ()))
+    ties = []
+    for t in placed.get("ties", ()):
+        tie = case.ties[t["index"]]
+        ties.append((t["z_used"], tie.yield_force * length, tie.stiffness * length,
+                     tie.ductility or math.inf))
+    held = tuple(f["z"] for f in placed.get("floors", ()) if f["restrains"])
+    return BodyLoads(floors, tuple(ties), held, case.masonry.a / 2)
+
+
+@dataclass(frozen=True)
 class GeneralisedImpulse:
     """The one-degree-of-freedom impulse criterion of a mechanism shape φ (module docstring).
 
     M [kg m²], Pi = ∫ρ(−φ_x) [kg m], W_m [J] restoring work at its peak q_m [rad], vg [m/s];
     block: the RigidBody inside the 50 % contour; lift_rest: L [N m], the rest's linearised
-    work per radian; M_rest_share, W_rest_share: the rest's shares of M and of W(q_m).
+    work per radian; M_rest_share, W_rest_share: the rest's shares of M and of W(q_m);
+    W_floors, W_ties [J]: the floors' and ties' parts of W(q_m) (``BodyLoads``; 0 without).
     """
 
     M: float
@@ -105,18 +185,22 @@ class GeneralisedImpulse:
     lift_rest: float
     M_rest_share: float
     W_rest_share: float
+    W_floors: float = 0.0
+    W_ties: float = 0.0
 
 
-def generalised_impulse(X, V, elements, density, mm, g: float = 9.81) -> GeneralisedImpulse:
+def generalised_impulse(X, V, elements, density, mm, g: float = 9.81,
+                        loads: BodyLoads | None = None) -> GeneralisedImpulse:
     """v̄_g of the P2 mechanism (X, V, elements, density) with its fit ``mm`` (eqs 4–7
     generalised; see the module docstring): the body bounded by the 50 % participation line
     (``contour_body``) at finite rotation, the material outside it carried linearly — its
-    share of M, Π and the lift L integrated over the clipped pieces (φ linear on each)."""
+    share of M, Π and the lift L integrated over the clipped pieces (φ linear on each).
+    ``loads``: the ties and floors on the mechanism (``body_loads``), their work in W(q)."""
     g = check_range("g", g, 0.0, lo_open=True, unit="m/s^2")
     phi = np.asarray(V, float) / mm.fit.omega
     inside, outside = _clip_level(X, elements, density, mm, 0.5)
     body = _pieces_body(inside, mm.fit.O)
-    if body.x_G <= 0:
+    if body.x_G <= 0 and not loads:
         raise ParameterError("block = body about O is out of range: the mechanism has no "
                              "rigid block with a restoring lever (x_G > 0)")
     pts, rho, bary, sub = outside
@@ -127,9 +211,81 @@ def generalised_impulse(X, V, elements, density, mm, g: float = 9.81) -> General
     Pi_out = float(area @ -f[:, :, 0].mean(axis=1))
     lift = max(g * float(area @ f[:, :, 1].mean(axis=1)), 0.0)
     M, Pi = body.I_O + M_out, body.m * body.z_G + Pi_out
-    q_m, W_m = peak_work(body, lift, g)
+    W_f = W_t = 0.0
+    if loads:
+        work = _load_work(loads, X, elements, phi, inside, mm.fit.O, body, lift, g)
+        q_m = peak_of(lambda q: sum(work(q)), N_THETA)
+        W_b, W_r, W_f, W_t = (float(v) for v in work(q_m))
+        W_m = W_b + W_r + W_f + W_t
+        if not W_m > 0:
+            raise ParameterError(f"W(q_m) = {W_m!r} J is out of range: the mechanism must be "
+                                 "restrained, allowed > 0 J")
+    else:
+        q_m, W_m = peak_work(body, lift, g)
     vg = math.sqrt(2.0 * W_m * M) / Pi
-    return GeneralisedImpulse(M, Pi, W_m, q_m, vg, body, lift, M_out / M, lift * q_m / W_m)
+    return GeneralisedImpulse(M, Pi, W_m, q_m, vg, body, lift, M_out / M, lift * q_m / W_m,
+                              W_f, W_t)
+
+
+def _locate(points, tri):
+    """Per point (n, 2), the first triangle of ``tri`` (k, 3, 2) holding it (−1: none) and its
+    barycentric coordinates there (n, 3); points on an edge belong to either side."""
+    P = np.asarray(points, float).reshape(-1, 2)
+    if not len(tri) or not len(P):
+        return np.full(len(P), -1), np.zeros((len(P), 3))
+    a, e1, e2 = tri[:, 0], tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    d = P[:, None, :] - a[None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = (d[..., 0] * e2[:, 1] - d[..., 1] * e2[:, 0]) / det
+        t = (e1[:, 0] * d[..., 1] - e1[:, 1] * d[..., 0]) / det
+    lam = np.stack([1 - s - t, s, t], axis=-1)                     # (n, k, 3)
+    ok = np.all(lam >= -1e-9, axis=-1) & (np.abs(det) > 0)
+    idx = np.where(ok.any(axis=1), np.argmax(ok, axis=1), -1)
+    return idx, lam[np.arange(len(P)), np.maximum(idx, 0)]
+
+
+def _load_work(loads: BodyLoads, X, elements, phi, inside, O, body, lift, g):  # noqa: E741
+    """W(q) of the mechanism with ``loads`` as its parts (W_body, W_rest, W_floors, W_ties),
+    vectorised over q (module docstring): each load point on the body (``inside``, the pieces
+    of the 50 % contour) turns with it exactly, elsewhere it moves with φ to first order."""
+    from ..closed_form.real import tie_work
+
+    X = np.asarray(X, float)
+    sub = p2_subtriangles(elements)
+    xO, zO = (float(v) for v in O)
+    fl = np.asarray(loads.floors, float).reshape(-1, 3)
+    ti = np.asarray(loads.ties, float).reshape(-1, 4)
+    pts = np.r_[fl[:, 1:3], np.c_[np.zeros(len(ti)), ti[:, 0]],
+                np.c_[np.zeros(len(loads.restraints)), loads.restraints]]
+    on_body = _locate(pts, inside[0])[0] >= 0
+    k, lam = _locate(pts, X[sub])
+    f_at = np.where((k >= 0)[:, None], np.einsum("nb,nbc->nc", lam, phi[sub[np.maximum(k, 0)]]),
+                    0.0)                                          # φ at the points (0 outside)
+    nf, nt = len(fl), len(ti)
+    fb, tb = on_body[:nf], on_body[nf:nf + nt]
+    for z_r in np.compress(on_body[nf + nt:], loads.restraints):
+        if abs(z_r - zO) > loads.band * (1 + 1e-9):
+            raise ParameterError(
+                f"[[floor]] restrains = true at z = {z_r:g} m lies inside the failing body, "
+                f"{abs(z_r - zO):.3g} m from its hinge (z_O = {zO:.4g} m): out of range: the "
+                "body's rotation would carry the restrained point away; allowed a body "
+                "bounded by the floor (its hinge within the floor's band)")
+    Q, dx, dz = fl[:, 0], fl[:, 1] - xO, fl[:, 2] - zO
+    phi_z = f_at[:nf, 1]
+    d_t = ti[:, 0] - zO
+    open_rest = np.maximum(-f_at[nf:nf + nt, 0], 0.0)
+
+    def work(q):
+        q = np.asarray(q, float)
+        s, c1 = np.sin(q)[..., None], np.cos(q)[..., None] - 1.0
+        W_body = body.m * g * (body.x_G * s[..., 0] + body.z_G * c1[..., 0])
+        W_f = np.sum(np.where(fb, Q * (dx * s + dz * c1), Q * phi_z * q[..., None]), axis=-1)
+        delta = np.where(tb, np.maximum(d_t * s, 0.0), open_rest * q[..., None])
+        W_t = np.sum(tie_work(delta, ti[:, 1], ti[:, 2], ti[:, 3]), axis=-1)
+        return W_body, lift * q, W_f, W_t
+
+    return work
 
 
 def _areas(pts):
