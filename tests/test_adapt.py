@@ -135,7 +135,8 @@ def test_run_with_gmsh_brackets_adaptively_around_the_exact_fan(tmp_path):
     over = {"mesh.size": 1.0, "mesh.mesher": "gmsh", "mesh.part_divisions": 3,
             "analysis.heights": 2, "analysis.facade": "homogenised",
             "analysis.hinge_check": False, "analysis.closed_form": False,
-            "adapt.max_cycles": 2, "adapt.target_gap": 0.001}
+            "adapt.max_cycles": 2, "adapt.target_gap": 0.001,
+            "adapt.conform": False}       # the gap-driven chain alone (test_conform: the search)
     res = pipeline.run(None, out=tmp_path / "o", overrides=over)
     fe = res.to_dict()["fe"]
     cycles = fe["adapt"]["cycles"]

@@ -215,6 +215,10 @@ def crack_study(as_json: JsonOpt = False, out: _out("homlimit-out/crack-study/")
                                              "for both) [default: both].")] = None,
                 max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES,
                 mesher: MesherOpt = MESHER_DEFAULT,
+                conform: Annotated[bool, typer.Option(
+                    "--conform/--no-conform", help="On the homogenised façade, also search "
+                    "λ⁺ over meshes conforming to a hinge + fan (docs/crack-angle.md): the "
+                    "crack's edges resolved.")] = True,
                 workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
                 resume: Annotated[bool, typer.Option(
                     "--resume/--no-resume", help="Keep the points recorded in OUT/records/ "

@@ -79,6 +79,7 @@ def adaptive_bracket_of(config: CaseConfig, timings: dict):
     """``mechanism.adaptive.adaptive_bracket`` of the whole wall, each cycle logged."""
     from ..fe.adapt import AdaptOptions
     from ..mechanism.adaptive import adaptive_bracket
+    from ..mechanism.conform import conform_hook
 
     ad = config.adapt
     opts = AdaptOptions(target_gap=ad.target_gap, max_cycles=ad.max_cycles,
@@ -89,12 +90,17 @@ def adaptive_bracket_of(config: CaseConfig, timings: dict):
                  "best %.5g .. %.5g (gap %.2f %%), %.1f s", c.cycle, c.triangles, c.lower,
                  c.upper, c.best_lower, c.best_upper, 100 * c.rel_gap, c.seconds)
 
+    solver = solver_options(config.analysis.tol, config.analysis.stress_degree)
+    # the bed-joint façade locks on the conforming meshes' unaligned triangles: no search
+    conform = ad.conform and config.analysis.facade == "homogenised"
     with stage(timings, "adaptive bracket", f"target gap {100 * ad.target_gap:g} %, at most "
-                f"{ad.max_cycles} meshes"):
+                f"{ad.max_cycles} meshes" + (", λ⁺ searched over fan-conforming meshes"
+                                             if conform else "")):
         res = adaptive_bracket(config.case, config.analysis.facade, config.mesh.size, opts,
-                               solver_options(config.analysis.tol,
-                                              config.analysis.stress_degree), progress,
-                               mesher=config.mesh.mesher, h_outer=outer_width(config))
+                               solver, progress, mesher=config.mesh.mesher,
+                               h_outer=outer_width(config),
+                               improve_upper=conform_hook(config.case, "homogenised", solver)
+                               if conform else None)
     if not res.converged:
         log.warning("warning: the adaptive bracket stopped (%s) at a gap of %.2f %%, above "
                     "its target %g %%", res.stop, 100 * res.cycles[-1].rel_gap,

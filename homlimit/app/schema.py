@@ -156,15 +156,14 @@ SCHEMA: dict[str, dict[str, Key]] = {
     },
     "adapt": {
         "target_gap": Key(float, 0.01, "", 0.0, 1.0, lo_open=True,
-                          doc="adaptive bracket of the whole wall (mesher \"gmsh\" only): stop "
-                              "when (λ⁺ − λ⁻)/mean <= target_gap (homlimit.fe.adapt)"),
-        "max_cycles": Key(int, 3, "", 1, 50,
-                          doc="at most this many meshes of the adaptive bracket (1: one bracket "
-                              "on the first mesh; 3: each cycle halves the gmsh-strip rows, "
-                              "so a coarse start stays within minutes: B1 from 0.4 m, "
-                              "2.06 -> 1.49 -> 1.31 % in 95 s; docs/adaptive.md)"),
+                          doc="adaptive bracket of the whole wall (gmsh meshers): stop when "
+                              "(λ⁺ − λ⁻)/mean <= target_gap (homlimit.fe.adapt)"),
+        "max_cycles": Key(int, 3, "", 1, 50, doc="at most this many meshes of the adaptive "
+                          "bracket (1: one; each gmsh-strip cycle halves the strip's rows)"),
         "min_size": Key(float, 0.005, "m", 0.0, 1e4, lo_open=True,
                         doc="no element of the adaptive bracket is asked to be smaller"),
+        "conform": Key(bool, True, doc="homogenised façade: each cycle also searches λ⁺ over "
+                       "meshes conforming to a hinge + fan, the crack resolved (docs/adaptive.md)"),
     },
     "analysis": {
         "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),

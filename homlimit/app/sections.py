@@ -50,6 +50,7 @@ class AdaptConfig:
     target_gap: float
     max_cycles: int
     min_size: float
+    conform: bool
 
 
 @section("analysis")

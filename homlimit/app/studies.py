@@ -3,7 +3,9 @@
 ``crack_angle_study``: the crack of the FE mechanism of the whole T-section (base fixed at
 z = 0) over a grid of block proportions c/a and joint frictions f, for both façade models and
 two mesh sizes, beside the closed forms: the hinge + fan optimum (``closed_form.fan``; edges
-min/max(f, c/a) where admissible) and mechanism II's rigid wedge at tan ψ = √(cf/a).
+min/max(f, c/a) where admissible) and mechanism II's rigid wedge at tan ψ = √(cf/a). With
+``conform``, the homogenised façade's points also search λ⁺ over meshes conforming to a
+hinge + fan started from the FE mechanism (``mechanism.conform``): the conform_* columns.
 The wall is Table 1's B2 (H = 9 m, L = 6 m, b = 0.5 m, ρ = 12) with a = 0.2 m and c = (c/a) a.
 """
 
@@ -21,7 +23,9 @@ from ..closed_form.fan import optimise_fan, optimise_wedge
 from ..errors import SolverError, check_choice, check_range
 from ..fe.problems import t_section
 from ..fe.solver import SolverOptions
+from ..mechanism.adaptive import hinge_fan
 from ..mechanism.analysis import analyse
+from ..mechanism.conform import conform_fan
 from ..params import FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case, Masonry, Wall
 
 __all__ = ["crack_angle_study", "crack_point", "C_OVER_A", "FRICTIONS", "STUDY_WALL",
@@ -40,8 +44,14 @@ CRACK_COLUMNS = [
     "tan_c_over_a", "psi_fe_deg", "psi_alpha_deg", "psi_f_deg", "psi_c_over_a_deg",
     "multiplier_fe", "multiplier_fan", "fan_z0", "fan_T1", "fan_T2", "fan_admissible",
     "multiplier_wedge", "wedge_z0", "wedge_admissible", "explained", "block_share",
-    "interior_share", "vnorm_fe", "solve_time",
+    "interior_share", "vnorm_fe", "conform_multiplier", "conform_hinge_z", "conform_T1",
+    "conform_T2", "conform_T_mid", "conform_trials", "conform_seconds", "solve_time",
 ]
+_CONFORM = {k: math.nan for k in CRACK_COLUMNS if k.startswith("conform_")}
+
+
+def _nan(v) -> float:
+    return math.nan if v is None else float(v)
 
 
 def _deg(t: float) -> float:
@@ -51,7 +61,7 @@ def _deg(t: float) -> float:
 def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
                       c_over_a=C_OVER_A, frictions=FRICTIONS, facades=FACADE_MODELS,
                       wall: Wall = STUDY_WALL, options=None, map=map,
-                      mesher: str = MESHER_DEFAULT) -> list[dict]:
+                      mesher: str = MESHER_DEFAULT, conform: bool = False) -> list[dict]:
     """Crack-angle records, one per (c/a, f, façade, mesh size); keys ``CRACK_COLUMNS``.
 
     mesh_size: the default mesh (``problems.t_section``'s h) [m]; finer: a second, finer mesh
@@ -59,7 +69,8 @@ def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick:
     options: ``SolverOptions`` of the kinematic solves; map(fn, points): how the grid points
     are evaluated, records in order (default: one after another here; ``app.engine.Engine``'s
     ``stored_map`` makes each point a Dask task whose record is kept); mesher: the mesh of
-    every point (``problems.MESHERS``).
+    every point (``problems.MESHERS``); conform: on the homogenised façade, the ray-conforming
+    search from each point's mechanism (``mechanism.conform``; NaN columns elsewhere).
     """
     check_choice("mesher", mesher, MESHERS)
     mesh_size = check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
@@ -72,14 +83,14 @@ def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick:
     grid = [(check_range("c_over_a", ca, 0.0, lo_open=True), f, fac, h)
             for ca in c_over_a for f in frictions for fac in facades for h in sizes]
     fn = functools.partial(crack_point, wall=wall, options=options or SolverOptions(),
-                           mesher=mesher)
+                           mesher=mesher, conform=conform)
     return list(map(fn, grid))
 
 
 def crack_point(point: tuple, wall: Wall = STUDY_WALL, options=None,
-                mesher: str = MESHER_DEFAULT) -> dict:
+                mesher: str = MESHER_DEFAULT, conform: bool = False) -> dict:
     """The crack-angle record of one grid point (c/a, f, façade, mesh size) [-, -, -, m] on
-    the ``mesher``'s mesh."""
+    the ``mesher``'s mesh (``conform``: see ``crack_angle_study``)."""
     ca, f, fac, h = point
     options = options or SolverOptions()
     case = Case(dataclasses.replace(wall), Masonry(a=_A, c=ca * _A, f=f),
@@ -108,8 +119,22 @@ def crack_point(point: tuple, wall: Wall = STUDY_WALL, options=None,
          "fan_admissible": opt.admissible, "multiplier_wedge": wed.lam,
          "wedge_z0": wed.z0, "wedge_admissible": wed.admissible,
          "explained": mm.explained, "block_share": mm.block_share,
-         "interior_share": mm.interior_share, "vnorm_fe": fe.vnorm,
-         "solve_time": time.perf_counter() - t0}
+         "interior_share": mm.interior_share, "vnorm_fe": fe.vnorm, **_CONFORM}
+    hf = hinge_fan(case, fe.solution) if conform and fac == "homogenised" else None
+    if hf is not None:
+        try:
+            c = conform_fan(case, hf, options=options)
+        except SolverError as exc:
+            log.warning("crack study: c/a=%g f=%g: the conforming search failed (%s)", ca, f,
+                        exc)
+        else:
+            cf = c.fan
+            r |= {"conform_multiplier": c.lam, "conform_trials": len(c.trials),
+                  "conform_seconds": c.seconds}
+            if cf is not None:
+                r |= {"conform_hinge_z": cf.z, "conform_T1": _nan(cf.T1),
+                      "conform_T2": _nan(cf.T2), "conform_T_mid": _nan(cf.T_mid)}
+    r["solve_time"] = time.perf_counter() - t0
     log.info("crack study: c/a=%g f=%g %s h=%g %s z_O=%.2f T1=%.3f T_mid=%.3f "
              "T2=%.3f (±%.3f) | √(cf/a)=%.3f | λ_FE=%.4f λ_fan=%.4f λ_wedge=%.4f %.1fs",
              ca, f, fac, h, r["mechanism_fe"], r["hinge_z"], e1,

@@ -146,11 +146,12 @@ def figure2_curves(rho=None) -> dict:
 def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
                         c_over_a=None, frictions=None, facades=None,
                         max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, map=map,
-                        mesher: str = MESHER_DEFAULT) -> list[dict]:
+                        mesher: str = MESHER_DEFAULT, conform: bool = False) -> list[dict]:
     """The crack-angle study over a grid of c/a and f (``studies.crack_angle_study``): each
     grid argument left None takes the study's default. ``max_triangles``: the problem-size
     budget of its meshes (``budget``), checked before any work; ``map``: how the grid points
-    are evaluated (``crack_angle_study``); ``mesher``: ``problems.MESHERS``."""
+    are evaluated (``crack_angle_study``); ``mesher``: ``problems.MESHERS``; ``conform``: the
+    ray-conforming search on the homogenised façade (``mechanism.conform``)."""
     w = STUDY_WALL
     check_range("mesh_size", mesh_size, 0.0, min(w.H, w.b + w.L), lo_open=True, unit="m")
     if finer is not None:
@@ -168,7 +169,8 @@ def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quic
     grid = {k: tuple(v) for k, v in (("c_over_a", c_over_a), ("frictions", frictions),
                                      ("facades", facades)) if v}
     return crack_angle_study(mesh_size=mesh_size, finer=finer, quick=quick,
-                             options=solver_options(), map=map, mesher=mesher, **grid)
+                             options=solver_options(), map=map, mesher=mesher,
+                             conform=conform, **grid)
 
 
 def mesh_case(config: CaseConfig, out: Path) -> dict:

@@ -6,18 +6,21 @@ values (issue 26, point 5).
     vertical_cut  3.7752 … 3.7776 (Kammoun, Pastor, Smaoui & Pastor    toe (0, 0), crest (0, 1)
                   2010: best published lower and upper bounds)
     tsection      the homogenised façade's hinge + fan, exact in       none: gap-driven sizes
-                  closed form (``closed_form.fan.optimise_fan``),      only (corner and hinge
-                  0.15216 for B1 (ρ = 12, a = 0.3 m); fan edges        fans, and the outer face
-                  T1 = min(f, c/a), T2 = max(f, c/a), √(T1 T2) = √(cf/a)  refined, were measured
-                                                                       not to pay per triangle:
-                                                                       docs/adaptive.md)
+                  closed form (``closed_form.fan.optimise_fan``),      on gmsh-strip (the
+                  0.15216 for B1 (ρ = 12, a = 0.3 m); fan edges        strip's columns graded
+                  T1 = min(f, c/a), T2 = max(f, c/a), √(T1 T2) = √(cf/a)  from 1 cm at the outer
+                                                                       face); λ⁺ also searched
+                                                                       over ray-conforming
+                                                                       meshes (``conform``)
     free_block    b/h (rigid-block statics): one rigid block on a      none
                   frictional bed joint
 
 Each runs ``fe.adapt.adapt`` from a gmsh mesh, the static bound with quadratic stresses
 (``STRESS_DEGREE``; linear on the free block, whose rigid body and joint take no other); a
 bracket "holds" when λ⁻ <= exact_hi and exact_lo <= λ⁺ up to the solver's relative tolerance
-``TOL``.
+``TOL``. On the T-section every cycle's mechanism also starts a search over meshes conforming
+to a hinge + fan (``mechanism.conform.conform_fan``): its λ⁺ are kinematic bounds like the
+others, and the crack is read off the best one's field.
 """
 
 from __future__ import annotations
@@ -35,6 +38,8 @@ from ..fe.adapt import AdaptOptions, adapt, fan_rays
 from ..fe.mesh import to_skfem
 from ..fe.solver import SolverOptions
 from ..mechanism.adaptive import hinge_fan, tsection_remesher
+from ..mechanism.conform import conform_hook
+from ..mechanism.crack import fan_ray
 from ..params import Case
 
 __all__ = ["Known", "KNOWN", "TOL", "known_problem", "verify_records"]
@@ -55,6 +60,7 @@ class Known:
     exact: tuple[float, float]
     source: str
     extra: dict = field(default_factory=dict)
+    improve_upper: Callable | None = None     # ``fe.adapt.adapt``'s hook
 
 
 def _polygon_remesher(regions, boundaries, size, rays, refine_points=()):
@@ -88,17 +94,20 @@ def _vertical_cut(size: float = 0.25, n_fan: int = 12) -> Known:
                  "Kammoun, Pastor, Smaoui & Pastor 2010: 3.7752 <= γH/k <= 3.7776")
 
 
-def _tsection(size: float = 0.5, case: Case = Case(), outer_ratio: float = 0.0) -> Known:
+def _tsection(size: float = 0.25, case: Case = Case(), h_outer: float = 0.01) -> Known:
     fan = optimise_fan(case)
-    remesh = tsection_remesher(case, size=size,
-                               outer=size / outer_ratio if outer_ratio > 0 else None)
-    pr = dataclasses.replace(problems.t_section(case, facade="homogenised", h=size),
+    remesh = tsection_remesher(case, size=size, strip=True, h_outer=h_outer)
+    pr = dataclasses.replace(problems.t_section(case, facade="homogenised", h=size,
+                                                mesher="gmsh-strip", h_outer=h_outer),
                              mesh=remesh(None))
     m = case.masonry
+    conformed = []                    # every cycle's search, for the record
     return Known("tsection", pr, remesh, (fan.lam, fan.lam),
                  f"hinge + fan in closed form (closed_form.fan), {case.name}, façade homogenised",
                  {"case": case, "z0": fan.z0, "T1": fan.T1, "T2": fan.T2,
-                  "f": m.f, "c_over_a": m.c / m.a, "sqrt_cf_a": math.sqrt(m.c * m.f / m.a)})
+                  "f": m.f, "c_over_a": m.c / m.a, "sqrt_cf_a": math.sqrt(m.c * m.f / m.a),
+                  "conformed": conformed},
+                 conform_hook(case, "homogenised", SolverOptions(stress_degree=1), conformed))
 
 
 def _free_block(b: float = 0.5, h: float = 3.0, f: float = 0.6) -> Known:
@@ -145,7 +154,7 @@ def verify_records(names=None, options: AdaptOptions = AdaptOptions(target_gap=0
         k = known_problem(n)
         deg = stress_degree if stress_degree in k.problem.stress_degrees else 1
         res = adapt(k.problem, k.remesh, options, solver=SolverOptions(stress_degree=deg),
-                    first_mesh=k.problem.mesh,
+                    first_mesh=k.problem.mesh, improve_upper=k.improve_upper,
                     progress=None if progress is None else (lambda c, n=n: progress(n, c)))
         br, lo, hi = res.bracket, *k.exact
         rec = {"problem": n, "source": k.source, "exact_lo": lo, "exact_hi": hi,
@@ -159,9 +168,12 @@ def verify_records(names=None, options: AdaptOptions = AdaptOptions(target_gap=0
             ex = k.extra
             hf = hinge_fan(ex["case"], br.kinematic)
             rec |= {"z0_exact": ex["z0"], "T1_exact": ex["T1"], "T2_exact": ex["T2"],
+                    "T_mid_exact": float(fan_ray(0.5, ex["T1"], ex["T2"])),
                     "f": ex["f"], "c_over_a": ex["c_over_a"], "sqrt_cf_a": ex["sqrt_cf_a"],
                     "z0": None if hf is None else hf.z, "T1": None if hf is None else hf.T1,
                     "T2": None if hf is None else hf.T2,
-                    "T_mid": None if hf is None else hf.T_mid}
+                    "T_mid": None if hf is None else hf.T_mid,
+                    "conform": min(ex["conformed"], key=lambda c: c.lam).as_dict()
+                    if ex["conformed"] else None}
         out.append(rec)
     return out

@@ -77,6 +77,7 @@ class Cycle:
     rel_gap: float
     seconds: float
     mesh_seconds: float
+    conformed: float | None = None    # λ⁺ of this cycle's ``improve_upper`` search (if any)
 
     def as_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -148,7 +149,8 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
           options: AdaptOptions = AdaptOptions(),
           solver: SolverOptions = SolverOptions(),
           progress: Callable[[Cycle], None] | None = None,
-          first_mesh=None, on_mesh: Callable[[object], object] | None = None) -> AdaptResult:
+          first_mesh=None, on_mesh: Callable[[object], object] | None = None,
+          improve_upper: Callable | None = None) -> AdaptResult:
     """Bracket ``problem`` on a sequence of meshes refined where the gap is.
 
     remesh(size_map, last) returns a skfem mesh with the problem's region and boundary names;
@@ -158,7 +160,10 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
     mesh instead of ``remesh(None, None)``. ``progress`` is
     called with every finished ``Cycle``. ``on_mesh(mesh)``: the problem on a new mesh
     (default: ``problem`` with its mesh replaced; ``problems.t_section_on_mesh`` places a
-    T-section's ties and floors anew).
+    T-section's ties and floors anew). ``improve_upper(bracket, problem)``: after each
+    cycle's bracket, a search for a lower λ⁺ started from its mechanism (e.g.
+    ``mechanism.conform.conform_fan``), returning (KinematicSolution, problem) or None; a
+    lower λ⁺ it finds is a kinematic bound like any other (its mesh is another valid mesh).
     """
     if not isinstance(options, AdaptOptions):
         raise ParameterError(f"options = {options!r} is not an AdaptOptions")
@@ -177,9 +182,17 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
             lo = (br, prob)
         if up is None or br.upper < up[0].upper:
             up = (br, prob)
+        better = None if improve_upper is None else improve_upper(br, prob)
+        if better is not None and better[0].multiplier < up[0].upper:
+            kin, kprob = better
+            up = (Bracket(name=br.name, lower=br.lower, upper=float(kin.multiplier),
+                          static=br.static, kinematic=kin,
+                          times={"kinematic": float(kin.times.get("total", math.nan)),
+                                 "static": br.times.get("static", math.nan)}), kprob)
         best = _best(lo[0], up[0])
         cyc = Cycle(k, prob.n_triangles, br.lower, br.upper, best.lower, best.upper,
-                    best.rel_gap, time.perf_counter() - t0 + mesh_s, mesh_s)
+                    best.rel_gap, time.perf_counter() - t0 + mesh_s, mesh_s,
+                    None if better is None else float(better[0].multiplier))
         cycles.append(cyc)
         if progress is not None:
             progress(cyc)

@@ -134,10 +134,12 @@ def strip_rows(size_map, b: float, rows: float) -> float:
 
 def adaptive_bracket(case: Case, facade: str, size: float, options: fe_adapt.AdaptOptions,
                      solver=None, progress=None, mesher: str = "gmsh",
-                     h_outer: float | None = None) -> fe_adapt.AdaptResult:
+                     h_outer: float | None = None,
+                     improve_upper=None) -> fe_adapt.AdaptResult:
     """The whole wall's bracket by ``fe.adapt.adapt`` on gmsh meshes (``tsection_remesher``),
     starting at element size ``size``; ``mesher`` "gmsh" (unstructured) or "gmsh-strip" (the
-    façade strip structured, its columns graded from ``h_outer``, the wall refined)."""
+    façade strip structured, its columns graded from ``h_outer``, the wall refined);
+    ``improve_upper``: ``fe.adapt.adapt``'s hook (e.g. ``conform.conform_hook``)."""
     check_choice("mesher", mesher, ("gmsh", "gmsh-strip"))
     strip = mesher == "gmsh-strip"
     remesh = tsection_remesher(case, size=size, strip=strip, h_outer=h_outer if strip else None)
@@ -146,4 +148,5 @@ def adaptive_bracket(case: Case, facade: str, size: float, options: fe_adapt.Ada
                         h_outer=h_outer if strip else None)
     return fe_adapt.adapt(problem, remesh, options, solver or SolverOptions(), progress,
                           first_mesh=first,
-                          on_mesh=lambda m: t_section_on_mesh(problem, case, m))
+                          on_mesh=lambda m: t_section_on_mesh(problem, case, m),
+                          improve_upper=improve_upper)

@@ -62,17 +62,23 @@ def verify(as_json, out, verbose, quiet, problem, target_gap, max_cycles, min_si
                       f"fan edges {r['T1']:.3f} .. {r['T2']:.3f} (f = {r['f']:.3f}, "
                       f"c/a = {r['c_over_a']:.3f}), sqrt(T1 T2) = "
                       f"{(r['T1'] * r['T2']) ** 0.5:.3f} against sqrt(cf/a) = "
-                      f"{r['sqrt_cf_a']:.3f}, mid-line {r['T_mid']:.3f}")
+                      f"{r['sqrt_cf_a']:.3f}, mid-line {r['T_mid']:.3f} (the exact fan's "
+                      f"50 % ray {r['T_mid_exact']:.3f})")
+                if r.get("conform"):
+                    c = r["conform"]
+                    print(f"  lambda+ also searched over {c['trials']} meshes conforming to a "
+                          f"hinge + fan ({c['seconds']:.0f} s; docs/adaptive.md): best "
+                          f"{c['lam']:.6f}")
 
 
 def crack_study(as_json, out, verbose, quiet, mesh_size, finer, quick, c_over_a, friction,
-                facade, max_triangles, mesher, workers, scheduler, resume):
+                facade, max_triangles, mesher, conform, workers, scheduler, resume):
     """``homlimit crack-study``'s work: see ``cli.crack_study``."""
     out = out or Path("homlimit-out") / "crack-study"
     setup_logging(verbose, quiet, as_json)
     grid = dict(mesh_size=mesh_size, finer=finer or None, quick=quick, c_over_a=c_over_a,
                 frictions=friction, facades=facade, max_triangles=max_triangles,
-                mesher=mesher)
+                mesher=mesher, conform=conform)
     store = RecordStore(out / "records")   # a nested set: kept when the set is replaced
     with stdout_quiet(as_json or verbose) as stdout, interruptible(store.folder), \
             pipeline.result_folder(out, "crack-study") as staging:
@@ -87,7 +93,8 @@ def crack_study(as_json, out, verbose, quiet, mesh_size, finer, quick, c_over_a,
                                title="crack-angle study: FE crack against √(cf/a), f and c/a")
     files = {"csv": out / "crack_study.csv", "png": out / "crack_study.png"}
     cols = ["facade", "mesh_size", "c_over_a", "f", "mechanism_fe", "tanpsi_fe", "dtanpsi_fe",
-            "tan_alpha", "tanpsi_block", "tanpsi_fixed", "multiplier_fe", "multiplier_fan"]
+            "tan_alpha", "tanpsi_block", "tanpsi_fixed", "conform_T1", "conform_T2",
+            "multiplier_fe", "conform_multiplier", "multiplier_fan"]
     show(stdout, as_json, {"records": records, "files": files}, records, cols,
          "crack-angle study: FE crack slope tan psi (50 % line, edges) beside tan_alpha = "
          "sqrt(cf/a)", files.values())
