@@ -3,8 +3,8 @@
 A trial is one ``model.run`` from one settled state; it collapses by the criterion of
 ``homlimit.dem.model`` (a watched block outwards by more than disp_limit, or turned by more
 than rot_limit, before t_max). The bracket [lo, hi] (lo safe, hi collapsed) is found by
-steps of ×1.5 from ``guess`` and halved until (hi − lo)/(hi + lo) <= rel_tol; the threshold
-is (lo + hi)/2, ± rel_tol.
+steps of ×``step`` (default 1.5) from ``guess`` and halved until (hi − lo)/(hi + lo) <=
+rel_tol; the threshold is (lo + hi)/2, ± rel_tol.
 
 Failing height h: at the collapse of the lowest collapsing trial, the watched blocks turned by
 more than half the largest watched rotation form the failing part; h is the top of the
@@ -77,15 +77,17 @@ def failing_part(model: DEMModel, settled: DEMState, out: Outcome, slide_tol: fl
 def collapse_threshold(model: DEMModel, settled: DEMState | None = None, *, guess: float = 0.5,
                        rel_tol: float = 0.01, t_max: float = 5.0, load=None,
                        slide_tol: float = 1e-3, max_trials: int = 40,
-                       progress=None) -> Threshold:
+                       progress=None, step: float = 1.5) -> Threshold:
     """The smallest collapsing amplitude by bisection (module docstring).
 
     load: amplitude -> keyword arguments of ``run`` (default: the ideal impulse,
     {"v_g": amplitude}); e.g. ``lambda v: {"velocity": field(v)}`` or
     ``lambda a: {"pulse": pulse.with_pga(a)}``. settled: a settled state (default: settle
     here). progress(amplitude, collapsed, t_end, trials): called after each trial (e.g. a
-    line on stderr); it changes nothing."""
+    line on stderr); it changes nothing. step: the bracket search's factor (> 1; a guess
+    known to lie near the threshold saves trials with a small one, e.g. 1.1)."""
     guess = check_range("guess", guess, 0.0, lo_open=True)
+    step = check_range("step", step, 1.0, 10.0, lo_open=True)
     rel_tol = check_range("rel_tol", rel_tol, 0.0, 0.5, lo_open=True)
     settle_info = {}
     if settled is None:
@@ -113,7 +115,7 @@ def collapse_threshold(model: DEMModel, settled: DEMState | None = None, *, gues
     if trial(v):
         hi = v
         while lo is None:
-            v /= 1.5
+            v /= step
             if trial(v):
                 hi = v
             else:
@@ -121,7 +123,7 @@ def collapse_threshold(model: DEMModel, settled: DEMState | None = None, *, gues
     else:
         lo = v
         while hi is None:
-            v *= 1.5
+            v *= step
             if trial(v):
                 hi = v
             else:
