@@ -178,9 +178,10 @@ BAD = [
                                                           "hinge_check": False},
           blocks={"friction": "non-associative"}),
      "[blocks] friction = non-associative (or non_associative_check) with [[tie]]"),
-    (dict(masonry={"fc": 2e6}, floor=[{"z": 4.0, "load": 1.0, "eccentricity": 0.1}],
-          analysis={"fe": False, "dem": True, "hinge_check": False}),
-     "[analysis] dem = true: the DEM does not take [masonry] fc = 2000000.0 Pa"),
+    (dict(masonry={"fc": 2e6, "cohesion": 1e4},
+          floor=[{"z": 4.0, "load": 1.0, "eccentricity": 0.1}],
+          analysis={"fe": False, "dem": True, "hinge_check": False, "closed_form": False}),
+     "[analysis] dem = true: the DEM does not take [masonry] cohesion = 10000.0 Pa"),
     (dict(masonry={"fc": 2e6}, analysis={"fe": False}),
      "[analysis] hinge_check = true: the hinge check's rockers do not take"),
 ]

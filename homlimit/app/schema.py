@@ -264,6 +264,13 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "trib_floor": Key(float, 0.05, "", 0.0, 0.5, lo_open=True,
                           doc="least tributary length, as a fraction of the shorter edge "
                               "(package choice)"),
+        "joint_segments": Key(int, 0, "", 0, 64,
+                              doc="contact points along the bed joints: each free block's "
+                                  "bottom edge split into this many segments (1: the corners "
+                                  "only, the paper's UDEC model; 0: auto, 1 with [masonry] fc "
+                                  "infinite, 8 with a finite fc, whose cap per point forms the "
+                                  "stress block only with points along the joint; package "
+                                  "choice, docs/dem.md)"),
         "loading": Key(str, "impulse", choices=("impulse", "rectangular", "one-sine",
                                                 "one-cosine", "ricker"),
                        doc="the load whose threshold is found: the ideal impulse (v̄_g, the "
