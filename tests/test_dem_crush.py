@@ -3,7 +3,8 @@ point's normal spring is elastic–perfectly plastic, capped at f_c × tributary
 against hand results that do not use the DEM's code: a block whose caps sum to half its weight
 falls at g/2; a block whose caps are never reached is unchanged bit for bit; the static
 overturning multiplier of a rigid block on a stress block of width w = W/(f_c d), (B − w)/H,
-brackets the DEM's quasi-static collapse to ±1 %.
+brackets the DEM's quasi-static collapse to ±1 %; eq. 7 about the retreated hinge w/2 (the
+closed forms' rule) holds the DEM's impulse threshold to 1 %.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import pytest
 from homlimit.blocks.geometry import stack
 from homlimit.blocks.real import RealActions
 from homlimit.dem import DEMParams, build_model, run, settle
+from homlimit.dem.threshold import collapse_threshold
 from homlimit.errors import ParameterError
 
 B, H, RHO, G = 0.5, 3.0, 2000.0, 9.81      # a 0.5 x 3 m block, 2000 kg/m², 1 m slab
@@ -97,3 +99,36 @@ def test_static_overturning_multiplier_with_the_hinge_retreat():
     s0, _ = settle(m0)
     s0, info = settle(m0, s0, a_g=1.01 * lam * G)
     assert info["converged"] and abs(s0.th[1]) < 1e-4
+
+
+def test_impulse_threshold_falls_with_the_hinge_retreat_as_eq7_about_it():
+    # eq. 7 about the closed forms' retreated hinge (closed_form.real: the stress block's
+    # resultant, t = w/2 from the toe), written out: I_t = m((B² + H²)/12 + (B/2 − t)² + H²/4),
+    # v̄ = √(2 I_t W (R_t − H/2))/(m H/2), R_t = |G − hinge|. The DEM gets eq. 4's field
+    # about that hinge (θ̇0 = m (H/2) v / I_t) and rocks on its elastic–plastic points. At
+    # kn = 1e10 Pa/m the uncapped block is within 0.15 % of eq. 7 about its toe. Measured
+    # (before this tolerance was set): +0.78 % at w = 0.05 m, +0.47 % at w = 0.1 m; the rule
+    # "about the compressed zone's inner edge w, plus the crushing work W w/2 per radian",
+    # the other hinge issue 30 names, lies 1.5–4 % below the DEM. Held to 1 %.
+    m = RHO * B * H
+    previous = None
+    for w in (0.0, 0.05, 0.1):
+        t = w / 2
+        inertia = m * ((B * B + H * H) / 12 + (B / 2 - t) ** 2 + H * H / 4)
+        ref = np.sqrt(2 * inertia * W * (np.hypot(B / 2 - t, H / 2) - H / 2)) / (m * H / 2)
+        model = block(fc=W / w if w else 0.0, kn=1e10, joint_segments=16)
+        s, _ = settle(model)
+
+        def field(v, t=t, inertia=inertia, s=s):
+            td = m * (H / 2) * v / inertia
+            q = np.zeros((2, 3))
+            gx, gz = s.pos[1]
+            q[1] = (-td * gz, td * (gx - t), td)
+            return q
+
+        th = collapse_threshold(model, s, guess=ref, rel_tol=2e-3, t_max=4.0, step=1.05,
+                                load=lambda v, field=field: {"velocity": field(v)})
+        assert th.v == pytest.approx(ref, rel=0.01)
+        if previous is not None:
+            assert th.v < 0.92 * previous          # each retreat lowers it by 9–12 %
+        previous = th.v
