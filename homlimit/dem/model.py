@@ -306,7 +306,8 @@ class Outcome:
     energy [J], x-displacement [m] and rotation [rad] of the first watched block; state: the
     final state; slip_base, slip_bed: per block, the largest plastic slip [m] of its
     contacts with the ground and of its bed joints (each contact's slip summed over time);
-    cpu [s]; builds: Verlet list rebuilds."""
+    cpu [s] (this thread's: walls' bisections may run in threads at once); builds: Verlet list
+    rebuilds."""
 
     collapsed: bool
     t_collapse: float
@@ -418,11 +419,11 @@ def run(model: DEMModel, settled: DEMState, *, v_g: float = 0.0, velocity=None,
     ref = settled
     check = max(1, int(round(0.002 / model.dt))) if stop_on_collapse else 0
     rows = (nsteps // record_every + 1) if record_every else 0
-    t0 = time.process_time()
+    t0 = time.thread_time()
     steps, status, rec, sb, sd, builds = _advance(
         model, st, nsteps, ag=ag, ref=ref, check_every=check, rec_every=record_every,
         rec_rows=rows)
-    cpu = time.process_time() - t0
+    cpu = time.thread_time() - t0
     collapsed = status == 1
     return Outcome(collapsed, steps * model.dt if collapsed else math.nan, int(steps),
                    steps * model.dt, rec, st, sb, sd, cpu, int(builds))
