@@ -185,7 +185,10 @@ def test_table1_dem_one_trial_per_task_repeats_the_walls_run_here():
     # threads: the same trials and thresholds as one wall after the other, every trial here
     from homlimit.app import dem_stage
 
-    section = dem_stage.dem_section(CHEAP[1::2])
+    # half CHEAP's trial length, twice its first guess (three trials), and a wide Verlet
+    # margin: the blocks fly at 40 m/s, so a 5 mm margin rebuilds the list every few steps
+    section = dem_stage.dem_section([*CHEAP[1::2], "dem.t_max=0.1", "dem.guess=40",
+                                     "dem.verlet_margin=0.05"])
     calls = []
 
     def fake_map(fn, items):
