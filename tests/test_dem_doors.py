@@ -142,9 +142,10 @@ def test_pulse_loading_finds_the_pulse_amplitude(tmp_path):
 
 # ----------------------------------------------------------------------------- table1 --dem
 #: a cheap, coarse setting for the door only (never the table's): short trials from a high
-#: first guess, so a wall takes three trials
+#: first guess, so a wall takes three trials; a 5 cm Verlet margin, since the blocks fly at
+#: 10-20 m/s (a 5 mm one rebuilds the list every few steps)
 CHEAP = ["--set", "dem.t_max=0.2", "--set", "dem.rel_tol=0.5", "--set", "dem.settle_time=0.05",
-         "--set", "dem.guess=20"]
+         "--set", "dem.guess=20", "--set", "dem.verlet_margin=0.05"]
 
 
 @pytest.mark.slow
@@ -185,10 +186,8 @@ def test_table1_dem_one_trial_per_task_repeats_the_walls_run_here():
     # threads: the same trials and thresholds as one wall after the other, every trial here
     from homlimit.app import dem_stage
 
-    # half CHEAP's trial length, twice its first guess (three trials), and a wide Verlet
-    # margin: the blocks fly at 40 m/s, so a 5 mm margin rebuilds the list every few steps
-    section = dem_stage.dem_section([*CHEAP[1::2], "dem.t_max=0.1", "dem.guess=40",
-                                     "dem.verlet_margin=0.05"])
+    # half CHEAP's trial length, twice its first guess: three trials
+    section = dem_stage.dem_section([*CHEAP[1::2], "dem.t_max=0.1", "dem.guess=40"])
     calls = []
 
     def fake_map(fn, items):
