@@ -194,6 +194,14 @@ def test_bad_input_names_the_key(parts, message):
     assert message in str(e.value), str(e.value)
 
 
+def test_the_dem_takes_fc():
+    # the DEM's crushing cap (docs/dem.md section 10): fc with [analysis] dem is a valid case,
+    # its [dem] joint_segments auto (0) by default
+    c = load_case(_with(masonry={"fc": 2e6}, analysis={"fe": False, "dem": True,
+                                                       "hinge_check": False}))
+    assert c.case.masonry.fc == 2e6 and c.dem.joint_segments == 0
+
+
 def test_sweep_keys_address_array_entries():
     c = load_case(_with(tie=[{"z": 9.0, "yield_force": 1000.0}]),
                   ["tie.0.yield_force=5000", "tie.1.z=6", "tie.1.yield_force=2000",

@@ -96,7 +96,7 @@ def contact_forces(model: DEMModel, state: DEMState) -> dict:
     tangent t (m, 2) of the edge, fn (the normal spring's force at these positions,
     min(kn (−gap − δ_p), cap)) and fs (the shear force the last step carried) [N per slab],
     the force on the vertex's block fn n + fs t, block (the vertex's) and other (the edge's),
-    slip [m]."""
+    slip [m], closure δ_p [m]."""
     X = _vertices(model, state)
     key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cap_c, dp_c = state.contacts
     A, B = X[ce], X[model.nxt[ce]]
@@ -127,7 +127,7 @@ def contact_forces(model: DEMModel, state: DEMState) -> dict:
     fs = fs_c[act]
     return {"point": X[cv[act]], "n": n[act], "t": t[act], "fn": fn, "fs": fs,
             "force": fn[:, None] * n[act] + fs[:, None] * t[act], "block": own[act],
-            "other": model.owner[ce[act]], "slip": sl_c[act]}
+            "other": model.owner[ce[act]], "slip": sl_c[act], "closure": dp_c[act]}
 
 
 def blocks_mesh(model: DEMModel, state: DEMState, settled: DEMState):
@@ -166,7 +166,7 @@ def contacts_mesh(model: DEMModel, state: DEMState):
     """meshio.Mesh of the acting contact points (``contact_forces``) as vertex cells. Point
     data "force" (on the vertex's block) [N per slab], "normal" (the edge's outward normal),
     "normal_force", "shear_force" [N per slab], "slip" [m] (plastic, summed over time),
-    "block", "other"."""
+    "closure" [m] (plastic normal closure: crushing under a finite f_c), "block", "other"."""
     import meshio
 
     c = contact_forces(model, state)
@@ -175,7 +175,8 @@ def contacts_mesh(model: DEMModel, state: DEMState):
     return meshio.Mesh(np.c_[c["point"], z], [("vertex", np.arange(m)[:, None])],
                        point_data={"force": np.c_[c["force"], z], "normal": np.c_[c["n"], z],
                                    "normal_force": c["fn"], "shear_force": c["fs"],
-                                   "slip": c["slip"], "block": c["block"],
+                                   "slip": c["slip"], "closure": c["closure"],
+                                   "block": c["block"],
                                    "other": c["other"]})
 
 
