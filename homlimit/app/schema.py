@@ -105,8 +105,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                       "rigid blocks). Finite: the hinge of every closed form retreats to the "
                       "resultant of a rectangular stress block, t = N/(2 fc l); both FE "
                       "bounds cap the principal compressive stress at fc; the rigid blocks "
-                      "cap every contact at fc (docs/real-walls.md); the DEM does not take "
-                      "it yet (it takes ties and floors)"),
+                      "cap every contact at fc (docs/real-walls.md); the DEM caps every "
+                      "contact point's normal spring at fc × tributary × depth, on points "
+                      "along the bed joints ([dem] joint_segments; docs/dem.md)"),
         "cohesion": Key(float, default_of(Masonry, "cohesion"), "Pa", 0.0, 1e10,
                         doc="cohesion of the joints (the strength domains' name); the FE "
                             "bounds of fe.problems.t_section take it, no model of a run takes "
