@@ -49,16 +49,12 @@ def _edge(X, nxt, e):
 
 
 @njit(cache=True)
-def _flat(d1x, d1z, d2x, d2z, l1, l2):
-    """Are a vertex's incoming (d1) and outgoing (d2) edges, of lengths l1, l2, collinear?"""
-    return abs(d1x * d2z - d1z * d2x) < 1e-9 * l1 * l2 and d1x * d2x + d1z * d2z > 0.0
-
-
-@njit(cache=True)
-def _in_cone(X, nxt, prv, p, mx, mz, tol):
-    """Does the direction (mx, mz) lie in the outward normal cone of vertex p (between the
-    normals of its two edges, counter-clockwise), widened by sin(tol)? A flat vertex (its
-    two edges collinear): within max(tol, FLAT_CONE) of its normal."""
+def _in_cone(X, nxt, prv, flat, p, mx, mz, tol):
+    """Does the unit direction (mx, mz) lie in the outward normal cone of vertex p (between
+    the normals of its two edges, counter-clockwise), widened by sin(tol)? A flat vertex
+    (flat[p]: its two edges collinear, one normal): within FLAT_CONE (> any tol allowed) of
+    its normal, on its side."""
+    fl = flat[p]
     a = prv[p]
     d1x, d1z = X[p, 0] - X[a, 0], X[p, 1] - X[a, 1]
     l1 = math.sqrt(d1x * d1x + d1z * d1z)
@@ -67,10 +63,9 @@ def _in_cone(X, nxt, prv, p, mx, mz, tol):
     d2x, d2z = X[b, 0] - X[p, 0], X[b, 1] - X[p, 1]
     l2 = math.sqrt(d2x * d2x + d2z * d2z)
     n2x, n2z = d2z / l2, -d2x / l2
-    if _flat(d1x, d1z, d2x, d2z, l1, l2):
-        return mx * n1x + mz * n1z >= math.cos(max(tol, FLAT_CONE)) * math.sqrt(mx * mx + mz * mz)
-    st = math.sin(tol)
-    return (n1x * mz - n1z * mx >= -st) and (mx * n2z - mz * n2x >= -st)
+    st = math.sin(FLAT_CONE if fl else tol)
+    return ((n1x * mz - n1z * mx >= -st) and (mx * n2z - mz * n2x >= -st)
+            and (not fl or mx * n1x + mz * n1z > 0.0))
 
 
 @njit(cache=True)
@@ -96,7 +91,7 @@ def _grow(a, cap):
 
 
 @njit(cache=True)
-def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_build,
+def build_candidates(X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, cone_build,
                      old_key, old_kn, old_ks, old_fs, old_tied, old_sl, old_cap, old_dp, n_old,
                      kn, ks_ratio, thick, fac_x, fac_f, trib_floor, tie_base,
                      fc, dep_f, dep_w, x_j):
@@ -130,6 +125,9 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
             hi[b, 0] = max(hi[b, 0], X[k, 0])
             hi[b, 1] = max(hi[b, 1], X[k, 1])
     order = np.argsort(lo[:, 0])
+    dp_max = 0.0
+    for o in range(n_old):
+        dp_max = max(dp_max, old_dp[o])
     cap = 1024
     key = np.empty(cap, np.int64)
     kn_c = np.empty(cap)
@@ -160,14 +158,15 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                         rx, rz = X[p, 0] - ax, X[p, 1] - az
                         s = rx * tx + rz * tz
                         g = rx * nx + rz * nz
-                        if g > margin or s < -margin or s > L + margin:
+                        if g > margin or g < -margin - dp_max or s < -margin \
+                                or s > L + margin:
                             continue
                         kk = p * P + e
-                        if g < -margin:
+                        if g < -margin:           # deeper: only a crushed pair stays
                             o = _find(old_key, n_old, kk)
                             if o < 0 or g < -margin - old_dp[o]:
                                 continue
-                        if not _in_cone(X, nxt, prv, p, -nx, -nz, cone_build):
+                        if not _in_cone(X, nxt, prv, flat, p, -nx, -nz, cone_build):
                             continue
                         if m == cap:
                             cap *= 2
@@ -205,7 +204,7 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                         sq = (X[q, 0] - ax) * tx + (X[q, 1] - az) * tz
                         sp = min(max(s, 0.0), L)
                         sq = min(max(sq, 0.0), L)
-                        if _flat(d1x, d1z, d2x, d2z, l1, l2):
+                        if flat[p]:
                             # a flat vertex: half of each edge's overlap, one on either side
                             s1 = (X[q1, 0] - ax) * tx + (X[q1, 1] - az) * tz
                             s2 = (X[q2, 0] - ax) * tx + (X[q2, 1] - az) * tz
@@ -269,7 +268,7 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
 
 
 @njit(cache=True)
-def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, inv_m,
+def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, fixed, inv_m,
             inv_I, mass, radius, g, fric, ag, ag_t0, damping,
             key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c,
             build_pos, build_th, margin, coinc, cone_build, cone_tol, edge_tol,
@@ -311,6 +310,7 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
     P = rel.shape[0]
     X = np.empty((P, 2))
     F = np.empty((n, 3))
+    crush = fc > 0.0          # f_c infinite: the caps and closures are never read
     nrow = 0
     builds = 0
     status = 0
@@ -336,7 +336,7 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
         world_vertices(pos, th, rel, owner, X)
         if moved > 0.5 * margin:
             key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c = build_candidates(
-                X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_build,
+                X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, cone_build,
                 key, kn_c, ks_c, fs_c, tied, sl_c, cn_c, dp_c, key.shape[0],
                 kn, ks_ratio, thick, fac_x, fac_f, trib_floor, False, fc, dep_f, dep_w, x_j)
             m = key.shape[0]
@@ -399,10 +399,10 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
             s = rx * tx + rz * tz
             gap = rx * nx + rz * nz
             if not tied[c]:
-                if gap >= -dp_c[c] or s < -edge_tol or s > L + edge_tol:
+                if gap >= (-dp_c[c] if crush else 0.0) or s < -edge_tol or s > L + edge_tol:
                     fs_c[c] = 0.0
                     continue
-                if not _in_cone(X, nxt, prv, p, -nx, -nz, cone_tol):
+                if not _in_cone(X, nxt, prv, flat, p, -nx, -nz, cone_tol):
                     fs_c[c] = 0.0
                     continue
             acted[c] = True
@@ -420,10 +420,13 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
             nx, nz = tz, -tx
             px, pz = X[p, 0], X[p, 1]
             gap = (px - ax) * nx + (pz - az) * nz
-            fn = kn_c[c] * (-gap - dp_c[c])
-            if fn > cn_c[c]:                      # crushing: the excess closure is plastic
-                dp_c[c] = -gap - cn_c[c] / kn_c[c]
-                fn = cn_c[c]
+            if crush:
+                fn = kn_c[c] * (-gap - dp_c[c])
+                if fn > cn_c[c]:                  # crushing: the excess closure is plastic
+                    dp_c[c] = -gap - cn_c[c] / kn_c[c]
+                    fn = cn_c[c]
+            else:
+                fn = -kn_c[c] * gap
             # relative velocity of the vertex against block j at the contact point
             vix = vel[i, 0] - om[i] * (pz - pos[i, 1])
             viz = vel[i, 1] + om[i] * (px - pos[i, 0])

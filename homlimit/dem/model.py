@@ -65,7 +65,8 @@ class DEMModel:
     the widened ground, the stiffness rule and the time step. ``offsets``: the DEM's polygons
     (rel[offsets[i]:offsets[i+1]]; the assembly's, plus the joint points when its bottom edges
     are split); ``crush``: (f_c [Pa] (0: infinite), depth in the façade, depth elsewhere [m],
-    x of the façade's inner face [m]) of the contacts' caps."""
+    x of the façade's inner face [m]) of the contacts' caps; ``flat``: per vertex, whether its
+    two edges are collinear (a joint point)."""
 
     assembly: Assembly
     params: DEMParams
@@ -94,10 +95,13 @@ class DEMModel:
     ties: np.ndarray = field(default_factory=lambda: np.zeros((0, 8)))
     offsets: np.ndarray | None = None
     crush: tuple = (0.0, 1.0, 1.0, math.inf)
+    flat: np.ndarray | None = None
 
     def __post_init__(self):
         if self.offsets is None:
             self.offsets = self.assembly.offsets
+        if self.flat is None:
+            self.flat = np.zeros(self.rel.shape[0], np.bool_)
 
     @property
     def n_blocks(self) -> int:
@@ -114,7 +118,8 @@ class DEMModel:
         empty = (np.empty(0, np.int64), np.empty(0), np.empty(0), np.empty(0),
                  np.empty(0, np.bool_), np.empty(0), np.empty(0), np.empty(0))
         c = kernels.build_candidates(
-            X, self.offsets, self.nxt, self.prv, self.owner, a.fixed, p.verlet_margin,
+            X, self.offsets, self.nxt, self.prv, self.flat, self.owner, a.fixed,
+            p.verlet_margin,
             self.coinc, p.cone_tolerance + 0.1, *empty, 0, p.kn, p.ks_over_kn,
             self.thickness, self.fac_x, self.fac_f, p.trib_floor, p.base_joint == "tied",
             *self.crush)
@@ -182,6 +187,11 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     nxt[offsets[1:] - 1] = offsets[:-1]
     prv = np.arange(-1, P - 1)
     prv[offsets[:-1]] = offsets[1:] - 1
+    # flat vertices (the joint points): collinear edges, a property of the rigid polygon
+    d_in, d_out = verts - verts[prv], verts[nxt] - verts
+    cross = d_in[:, 0] * d_out[:, 1] - d_in[:, 1] * d_out[:, 0]
+    flat = (np.abs(cross) < 1e-9 * np.hypot(*d_in.T) * np.hypot(*d_out.T)) \
+        & ((d_in * d_out).sum(1) > 0)
     free = ~a.fixed
     inv_m = np.where(free, 1.0 / np.where(free, a.mass, 1.0), 0.0)
     inv_I = np.where(free, 1.0 / np.where(free, np.maximum(a.inertia, 1e-300), 1.0), 0.0)
@@ -228,7 +238,7 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
                           "m_min": m_min, "ties": len(ties), "loads": len(loads), "fc": fc,
                           "joint_segments": p.segments(fc),
                           "joint_points": int(P - a.vertices.shape[0])},
-                    loads=loads, ties=ties, offsets=offsets, crush=crush)
+                    loads=loads, ties=ties, offsets=offsets, crush=crush, flat=flat)
 
 
 def _split_bottoms(verts: np.ndarray, offsets: np.ndarray, fixed: np.ndarray, n_seg: int,
@@ -337,8 +347,8 @@ def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: floa
         return 0, 0, rec[:0], slip_base, slip_bed, 0
     out = kernels.advance(
         int(nsteps), model.dt, state.pos, state.th, state.vel, state.om, model.rel,
-        model.offsets, model.nxt, model.prv, model.owner, a.fixed, model.inv_m, model.inv_I,
-        model.mass, model.radius, model.g, model.f, ag, t0, damping,
+        model.offsets, model.nxt, model.prv, model.flat, model.owner, a.fixed, model.inv_m,
+        model.inv_I, model.mass, model.radius, model.g, model.f, ag, t0, damping,
         *state.contacts,
         state.build_pos, state.build_th, p.verlet_margin, model.coinc, p.cone_tolerance + 0.1,
         p.cone_tolerance, model.coinc, p.kn, p.ks_over_kn, model.thickness, model.fac_x,

@@ -26,6 +26,7 @@ import numpy as np
 from .._io import write_figure, write_text
 from ..blocks.geometry import FACADE
 from ..errors import OutputError, ParameterError, check_range
+from .kernels import FLAT_CONE
 from .model import DEMModel, DEMState, kicked, pulse_function, run
 
 __all__ = ["Frame", "record_frames", "contact_forces", "blocks_mesh", "contacts_mesh",
@@ -118,6 +119,9 @@ def contact_forces(model: DEMModel, state: DEMState) -> dict:
     st = math.sin(model.params.cone_tolerance)
     cone = ((n1[:, 0] * m[:, 1] - n1[:, 1] * m[:, 0] >= -st)
             & (m[:, 0] * n2[:, 1] - m[:, 1] * n2[:, 0] >= -st))
+    # a flat vertex (a joint point): within max(tolerance, FLAT_CONE) of its normal
+    wide = math.cos(max(model.params.cone_tolerance, FLAT_CONE))
+    cone = np.where(model.flat[cv], (m * n2).sum(1) >= wide, cone)
     valid = tied | ((gap < -dp_c) & (s >= -tol) & (s <= L + tol) & cone)
     own = model.owner[cv]
     tw = np.where(twin >= 0, twin, 0)
