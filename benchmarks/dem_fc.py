@@ -6,7 +6,7 @@ rotational stiffness).
 
 Each threshold is ``collapse_threshold`` with the bracket searched by steps of ×1.1 from a guess
 (default 0.9 m/s, near the corners' 0.881), bisection to ±rel_tol (default 2 %: with 8 points
-per joint a step costs 3 × the corners', ~10 s of CPU per simulated second), t_max 5 s. One
+per joint a step costs 2.3 × the corners', ~9 s of CPU per simulated second), t_max 5 s. One
 JSON line per f_c (v̄_g with its bracket, h, slips, the largest plastic closure at the lowest
 collapsing trial's end, trials, CPU); one process per f_c keeps a run near 3–4 min of CPU.
 
