@@ -7,8 +7,8 @@ rotational stiffness).
 Each threshold is ``collapse_threshold`` with the bracket searched by steps of ×1.1 from a guess
 (default 0.9 m/s, near the corners' 0.881), bisection to ±rel_tol (default 2 %: with 8 points
 per joint a step costs 2.3 × the corners', ~9 s of CPU per simulated second), t_max 5 s. One
-JSON line per f_c (v̄_g with its bracket, h, slips, the largest plastic closure at the lowest
-collapsing trial's end, trials, CPU); one process per f_c keeps a run near 3–4 min of CPU.
+JSON line per f_c (v̄_g with its bracket, h, slips, trials, CPU); one process per f_c keeps
+a run near 3–4 min of CPU.
 
     python benchmarks/dem_fc.py --fc 0 2e6 [--segments 8] [--rel-tol 0.02] [--guess 0.9]
 """
@@ -22,7 +22,7 @@ import time
 
 def one(fc: float, segments: int, rel_tol: float, guess: float, t_max: float) -> dict:
     from homlimit.blocks.geometry import t_section_blocks
-    from homlimit.dem import DEMParams, build_model, run
+    from homlimit.dem import DEMParams, build_model
     from homlimit.dem.threshold import collapse_threshold
     from homlimit.params import Case, Masonry
 
