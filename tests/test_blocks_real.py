@@ -226,13 +226,14 @@ def test_cli_blocks_take_ties_and_fc(tmp_path):
     assert not (tmp_path / "bad").exists() and "Traceback" not in r.stderr
 
 
-def test_dem_refuses_a_finite_fc():
+def test_dem_takes_a_finite_fc_as_caps_along_the_joints():
+    # (the cap's checks against hand results: tests/test_dem_crush.py)
     from homlimit.dem.model import build_model
 
     A = stack(np.full(3, B), np.full(3, 1.0), density=RHO,
               meta={"f": 0.6, "g": G, "real": RealActions(fc=1e6)})
-    with pytest.raises(ParameterError, match="the DEM does not take a finite compressive"):
-        build_model(A)
+    model = build_model(A)
+    assert model.info["fc"] == 1e6 and model.info["joint_points"] == 3 * 7
 
 
 def _dem_column(real):

@@ -73,7 +73,7 @@ def test_settled_block_sinks_by_its_weight_over_the_joint_stiffness(block):
 def test_stacked_corners_are_twins_and_tributaries_sum_to_the_joint_length():
     a = stack([0.5, 0.5], [0.3, 0.3], density=RHO, meta={"f": 0.6})
     model = build_model(a)
-    key, cv, ce, kn, ks, fs, tied, sl, twin = model.initial_state().contacts
+    key, cv, ce, kn, ks, fs, tied, sl, twin, cap, dp = model.initial_state().contacts
     own_v, own_e = model.owner[cv], model.owner[ce]
     joint = ((own_v == 1) & (own_e == 2)) | ((own_v == 2) & (own_e == 1))
     # the two coincident corners give two twin pairs; each pair acts as one point

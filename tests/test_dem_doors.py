@@ -141,9 +141,10 @@ def test_pulse_loading_finds_the_pulse_amplitude(tmp_path):
 
 # ----------------------------------------------------------------------------- table1 --dem
 #: a cheap, coarse setting for the door only (never the table's): short trials from a high
-#: first guess, so a wall takes three trials
+#: first guess, so a wall takes three trials; a 5 cm Verlet margin, since the blocks fly at
+#: 10-20 m/s (a 5 mm one rebuilds the list every few steps)
 CHEAP = ["--set", "dem.t_max=0.2", "--set", "dem.rel_tol=0.5", "--set", "dem.settle_time=0.05",
-         "--set", "dem.guess=20"]
+         "--set", "dem.guess=20", "--set", "dem.verlet_margin=0.05"]
 
 
 @pytest.mark.slow
@@ -168,7 +169,7 @@ def test_table1_dem_runs_walls_on_dask_beside_udec_and_resumes(tmp_path, table1_
                                                 / table1_ref["C1"]["vg_norm"], rel=1e-12)
     assert ratio["vnorm"] == pytest.approx(rows["C4"]["vnorm"] / rows["C1"]["vnorm"])
     records = sorted((out / "records").glob("[!.]*.json"))
-    assert len(records) == 2
+    assert len(records) == 6                                # one per trial (issue 29)
     stamps = [p.stat().st_mtime_ns for p in records]
     # a rerun reads the walls back from the records instead of running them again
     again = CliRunner().invoke(app, args)
@@ -176,6 +177,31 @@ def test_table1_dem_runs_walls_on_dask_beside_udec_and_resumes(tmp_path, table1_
     assert json.loads(again.stdout)["rows"] == data["rows"]
     assert [p.stat().st_mtime_ns for p in sorted((out / "records").glob("[!.]*.json"))] == stamps
     assert (out / "table1_dem.csv").is_file() and (out / "table1_dem_ratios.json").is_file()
+
+
+@pytest.mark.slow
+def test_table1_dem_one_trial_per_task_repeats_the_walls_run_here():
+    # every trial a call of map with one item (a task on an engine), the walls' bisections in
+    # threads: the same trials and thresholds as one wall after the other, every trial here
+    from homlimit.app import dem_stage
+
+    # half CHEAP's trial length, twice its first guess: three trials
+    section = dem_stage.dem_section([*CHEAP[1::2], "dem.t_max=0.1", "dem.guess=40"])
+    calls = []
+
+    def fake_map(fn, items):
+        calls.append((fn.__name__, [dict(x) for x in items]))
+        return [fn(x) for x in items]
+
+    here, r_here = dem_stage.table1_dem_records(["C1"], section)
+    tasks, r_tasks = dem_stage.table1_dem_records(["C1"], section, map=fake_map)
+    assert len(calls) == sum(r["n_trials"] for r in here) == 3
+    assert all(name == "trial_task" and len(items) == 1 for name, items in calls)
+    timing = ("seconds", "cpu")
+    for a, b in zip(here, tasks):
+        assert {k: v for k, v in a.items() if k not in timing} == \
+            {k: v for k, v in b.items() if k not in timing}
+    assert r_here == r_tasks
 
 
 @pytest.mark.parametrize("extra, message", [

@@ -176,9 +176,10 @@ BAD = [
                                                           "hinge_check": False},
           blocks={"friction": "non-associative"}),
      "[blocks] friction = non-associative (or non_associative_check) with [[tie]]"),
-    (dict(masonry={"fc": 2e6}, floor=[{"z": 4.0, "load": 1.0, "eccentricity": 0.1}],
-          analysis={"fe": False, "dem": True, "hinge_check": False}),
-     "[analysis] dem = true: the DEM does not take [masonry] fc = 2000000.0 Pa"),
+    (dict(masonry={"fc": 2e6, "cohesion": 1e4},
+          floor=[{"z": 4.0, "load": 1.0, "eccentricity": 0.1}],
+          analysis={"fe": False, "dem": True, "hinge_check": False, "closed_form": False}),
+     "[analysis] dem = true: the DEM does not take [masonry] cohesion = 10000.0 Pa"),
     (dict(masonry={"fc": 2e6}, analysis={"fe": False}),
      "[analysis] hinge_check = true: the hinge check's rockers do not take"),
 ]
@@ -189,6 +190,14 @@ def test_bad_input_names_the_key(parts, message):
     with pytest.raises(ConfigError) as e:
         load_case(_with(**parts))
     assert message in str(e.value), str(e.value)
+
+
+def test_the_dem_takes_fc():
+    # the DEM's crushing cap (docs/dem.md section 10): fc with [analysis] dem is a valid case,
+    # its [dem] joint_segments auto (0) by default
+    c = load_case(_with(masonry={"fc": 2e6}, analysis={"fe": False, "dem": True,
+                                                       "hinge_check": False}))
+    assert c.case.masonry.fc == 2e6 and c.dem.joint_segments == 0
 
 
 def test_sweep_keys_address_array_entries():

@@ -217,12 +217,11 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
                    "through homlimit.fe.problems.t_section); allowed 0 Pa with [analysis] "
                    "fe = true, or [analysis] fe = false with these inputs "
                    "(docs/real-walls.md)")
-    dem_no = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("fc", "cohesion", "tension")
-              if m.get(k)]
-    if an.get("dem") and dem_no:      # the DEM takes ties and floors, not these
+    dem_no = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("cohesion", "tension") if m.get(k)]
+    if an.get("dem") and dem_no:      # the DEM takes fc, ties and floors, not these
         out.append(f"[analysis] dem = true: the DEM does not take {', '.join(dem_no)} yet "
-                   "(its contacts are the blocks' corners: a cap per corner is not the stress "
-                   "block); allowed 0 Pa with [analysis] dem = true (docs/real-walls.md)")
+                   "(its joints are no-tension Coulomb contacts); allowed 0 Pa with "
+                   "[analysis] dem = true (docs/real-walls.md)")
     if an.get("blocks"):        # the blocks take fc, ties, floors (associative friction only)
         joint = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("cohesion", "tension") if m.get(k)]
         if joint:

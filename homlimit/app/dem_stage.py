@@ -15,9 +15,15 @@ wall (what benchmarks/dem_table1.py used for docs/dem.md, so the doors reproduce
 trial for trial), mechanism I's closed-form v̄_g rounded so otherwise; of a pulse, mechanism
 I's static collapse acceleration (multiplier × g).
 
-``table1_dem_records`` runs the 12 walls of Table 1 (or some) with one parameter set, one wall
-per task of ``map`` (``engine.Engine.stored_map``: each wall's record stored as it ends, read
-back on a rerun; the command line's ``table1 --dem`` holds them in a result set).
+``table1_dem_records`` runs the 12 walls of Table 1 (or some) with one parameter set. Given a
+``map`` (``engine.Engine.stored_map``), every trial is a task (``trial_task``; issue 29: one
+trial per task): a client thread per wall runs its bisection (``dem.threshold.bisect``), whose
+trials depend on each other, and waits for each trial's task; the walls' threads run at once,
+so the workers hold one trial of each wall in flight. Each trial's record is stored as it ends
+and read back on a rerun, so an interrupted table resumes at the trial where it stopped (the
+command line's ``table1 --dem`` holds them in a result set). A worker builds and settles a wall
+once, at its first trial of that wall, and keeps it for the next (settling is deterministic,
+so every worker's settled state is the same and the trials are those of a run here).
 """
 
 from __future__ import annotations
@@ -26,6 +32,7 @@ import dataclasses
 import logging
 import math
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -35,7 +42,8 @@ from ..errors import ParameterError, check_choice
 from .config import CaseConfig, DemConfig
 
 __all__ = ["DEM_PAIRS", "DemRun", "dem_params", "dem_section", "dem_threshold",
-           "table1_dem_records", "wall_record", "write_files"]
+           "table1_dem_records", "table1_dem_walls", "trial_task", "wall_record",
+           "write_files"]
 
 log = logging.getLogger(__name__)
 
@@ -117,6 +125,9 @@ class DemRun:
                   "trials": [{k: v, "collapsed": c, "t_end": t} for v, c, t in th.trials],
                   "cpu": th.cpu, "seconds": self.seconds, "dt": th.dt,
                   "n_blocks": self.model.n_blocks,
+                  "fc": self.model.info.get("fc", 0.0),
+                  "joint_segments": self.model.info.get("joint_segments", 1),
+                  "joint_points": self.model.info.get("joint_points", 0),
                   "settle_time": th.settle.get("time"),
                   "settle_converged": th.settle.get("converged")})
         return d
@@ -137,7 +148,19 @@ class DemRun:
                 f"±{100 * th.rel_tol:g} %); failing height h = {th.h:.2f} m from z = "
                 f"{th.z0:.2f} m; base slid {yn[th.base_slid]} ({1e3 * th.base_slip:.0f} mm), "
                 f"hinge slid {yn[th.hinge_slid]} ({1e3 * th.hinge_slip:.0f} mm); "
-                f"{len(th.trials)} trials, {th.cpu:.3g} s CPU, {self.seconds:.3g} s")
+                f"{len(th.trials)} trials, {th.cpu:.3g} s CPU, {self.seconds:.3g} s"
+                + self._joints())
+
+    def _joints(self) -> str:
+        """With points along the joints, what they change (docs/dem.md section 10)."""
+        info = self.model.info
+        if info.get("joint_segments", 1) <= 1:
+            return ""
+        fc = info.get("fc", 0.0)
+        return (f"; contacts on {info['joint_segments']} points per bed joint"
+                + (f" (f_c = {fc / 1e6:.4g} MPa caps each)" if fc else "")
+                + ": the joints' rotational stiffness drops with them (B1 at f_c infinite: "
+                  "0.753 m/s on 8 points, 0.88-0.90 on the corners; docs/dem.md section 10)")
 
 
 def _model(case, dem: DemConfig):
@@ -214,32 +237,84 @@ def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") 
 
 
 # ----------------------------------------------------------------------------- Table 1
-def wall_record(item: dict) -> dict:
-    """One Table 1 wall's DEM threshold (a task: ``item`` = {"test": name, "dem": the [dem]
-    section as a dict}): the record of a row of table1_dem.csv."""
+def _table1_row(name: str):
     from ..closed_form.paper import table1
 
-    row = {t.test: t for t in table1()}[item["test"]]
-    dem = DemConfig(**item["dem"])
-    cfg = CaseConfig(case=row.case, dem=dem)
-    r = dem_threshold(cfg)
-    d = r.as_dict()
+    return {t.test: t for t in table1()}[name]
+
+
+def _wall_row(row, th, n_blocks: int, seconds: float) -> dict:
+    """A row of table1_dem.csv from a wall's ``Threshold``."""
     g, b = row.case.wall.g, row.case.wall.b
     return {"test": row.test, "vg_udec": row.vg, "h_udec": row.h_v,
-            "vnorm_udec": row.vg_norm, "vg": d["vg"], "vg_lo": d["vg_lo"],
-            "vg_hi": d["vg_hi"], "h": d["h"], "vnorm": d["vg"] / math.sqrt(g * b),
-            "dem_over_udec": d["vg"] / row.vg, "base_slid": d["base_slid"],
-            "hinge_slid": d["hinge_slid"], "base_slip": d["base_slip"],
-            "hinge_slip": d["hinge_slip"], "n_trials": d["n_trials"],
-            "n_blocks": d["n_blocks"], "cpu": d["cpu"], "seconds": d["seconds"]}
+            "vnorm_udec": row.vg_norm, "vg": th.v, "vg_lo": th.lo, "vg_hi": th.hi,
+            "h": th.h, "vnorm": th.v / math.sqrt(g * b), "dem_over_udec": th.v / row.vg,
+            "base_slid": th.base_slid, "hinge_slid": th.hinge_slid,
+            "base_slip": th.base_slip, "hinge_slip": th.hinge_slip,
+            "n_trials": len(th.trials), "n_blocks": n_blocks, "cpu": th.cpu,
+            "seconds": seconds}
 
 
-def table1_dem_records(tests: list[str] | None = None, dem: DemConfig | None = None,
-                       map=None) -> tuple[list[dict], dict]:
-    """Table 1's DEM column: one row per wall (``wall_record``) and the block-size ratios
-    (``DEM_PAIRS``) of v̄_g/√(gb), this DEM's and UDEC's. One parameter set (``dem``, default
-    [dem]'s defaults) for every wall; ideal impulse only. ``map(fn, items)``: runs the walls
-    (default: one after the other here), the costliest first."""
+def wall_record(item: dict) -> dict:
+    """One Table 1 wall's DEM threshold, every trial here (``item`` = {"test": name, "dem":
+    the [dem] section as a dict}): the record of a row of table1_dem.csv."""
+    row = _table1_row(item["test"])
+    r = dem_threshold(CaseConfig(case=row.case, dem=DemConfig(**item["dem"])))
+    return _wall_row(row, r.threshold, r.model.n_blocks, r.seconds)
+
+
+#: per worker process: (model, settled state, settling report) of each wall and [dem] section
+#: a trial task has met (``trial_task``)
+_SETTLED: dict = {}
+
+
+def trial_task(item: dict) -> dict:
+    """One trial of a Table 1 wall's bisection, a task: ``item`` = {"test": name, "dem": the
+    [dem] section as a dict, "amplitude": v̄_g [m/s]}. The wall is built and settled at this
+    worker's first trial of it and kept (module docstring). Returns
+    ``dem.threshold.trial_record`` with dt [s], n_blocks, settle (the settling's report),
+    settle_cpu [s] (the settling's CPU in this task, 0 when it was kept) and seconds (the
+    task's wall clock)."""
+    from ..dem import run, settle
+    from ..dem.threshold import trial_record
+
+    key = (item["test"], repr(sorted(item["dem"].items())))
+    dem = DemConfig(**item["dem"])
+    wall = time.perf_counter()
+    t0 = time.thread_time()
+    if key not in _SETTLED:
+        model = _model(_table1_row(item["test"]).case, dem)
+        _SETTLED[key] = (model, *settle(model))
+    model, settled, info = _SETTLED[key]
+    settle_cpu = time.thread_time() - t0
+    amp = float(item["amplitude"])
+    out = run(model, settled, t_max=dem.t_max, **_load(dem)(amp))
+    return {**trial_record(model, settled, out, amp), "dt": model.dt,
+            "n_blocks": model.n_blocks, "settle": info, "settle_cpu": settle_cpu,
+            "seconds": time.perf_counter() - wall}
+
+
+def _wall_by_trials(item: dict, map) -> dict:
+    """``wall_record`` with every trial a task of ``map`` (module docstring); its seconds
+    are those of its trials' tasks, summed (a resumed table reads them from the records)."""
+    from ..dem.threshold import bisect, threshold_of
+
+    row = _table1_row(item["test"])
+    dem = DemConfig(**item["dem"])
+
+    def trial(v):
+        return map(trial_task, [{"test": row.test, "dem": item["dem"], "amplitude": v}])[0]
+
+    lo, hi, recs = bisect(trial, guess=_guess(row.case, dem), rel_tol=dem.rel_tol,
+                          progress=_logger(f"{row.test} vg", "m/s"))
+    th = threshold_of(lo, hi, recs, dem.rel_tol, recs[0]["dt"], recs[0]["settle"])
+    return _wall_row(row, th, recs[0]["n_blocks"], sum(r["seconds"] for r in recs))
+
+
+def table1_dem_walls(tests: list[str] | None = None, dem: DemConfig | None = None
+                     ) -> list[str]:
+    """The walls ``table1_dem_records`` runs, the costliest first, after checking the tests'
+    names and the loading (ParameterError, before any work)."""
     from ..closed_form.paper import table1
 
     dem = dem or DemConfig()
@@ -253,8 +328,29 @@ def table1_dem_records(tests: list[str] | None = None, dem: DemConfig | None = N
     # the costliest first (blocks × steps per second ~ 1/a), so two workers end together
     names.sort(key=lambda t: -(walls[t].case.wall.H / walls[t].case.masonry.a) ** 2
                * walls[t].case.wall.L / walls[t].case.masonry.c)
+    return names
+
+
+def table1_dem_records(tests: list[str] | None = None, dem: DemConfig | None = None,
+                       map=None) -> tuple[list[dict], dict]:
+    """Table 1's DEM column: one row per wall (``wall_record``) and the block-size ratios
+    (``DEM_PAIRS``) of v̄_g/√(gb), this DEM's and UDEC's. One parameter set (``dem``, default
+    [dem]'s defaults) for every wall; ideal impulse only. ``map(fn, items)``: every trial a
+    task, the walls' bisections at once (module docstring); default: the walls one after the
+    other, every trial here."""
+    from ..closed_form.paper import table1
+
+    dem = dem or DemConfig()
+    names = table1_dem_walls(tests, dem)
+    walls = {t.test: t for t in table1()}
     items = [{"test": t, "dem": dataclasses.asdict(dem)} for t in names]
-    recs = (map or (lambda fn, xs: [fn(x) for x in xs]))(wall_record, items)
+    if map is None:
+        recs = [wall_record(x) for x in items]
+    elif items:
+        with ThreadPoolExecutor(len(items)) as pool:
+            recs = list(pool.map(lambda x: _wall_by_trials(x, map), items))
+    else:
+        recs = []
     by = {r["test"]: r for r in recs}
     rows = [by[t] for t in walls if t in by]
     ratios = {}

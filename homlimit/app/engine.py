@@ -227,7 +227,7 @@ class Engine:
     def run(self, fn: Callable, items: Sequence, *, on_result: Callable | None = None,
             failed: Callable | None = None, weight: Callable | None = None,
             total: int | None = None, already: tuple[int, int] = (0, 0),
-            description: str = "tasks") -> list:
+            description: str = "tasks", show: bool = True) -> list:
         """``[fn(x) for x in items]``, every call a task, results in item order; ``items`` may
         be an iterator (each item is submitted as it comes, e.g. as a sweep plans its cases).
 
@@ -235,7 +235,8 @@ class Engine:
         record); failed(item, exc): the result of a task that raised (a lost worker, say;
         None: the error is raised). Progress counts ``weight(result)`` = (cases, failed
         cases) per result (default: 1 case, failed if the result is a dict with status
-        "failed") out of ``total``, ``already`` = (done, failed) counted before.
+        "failed") out of ``total``, ``already`` = (done, failed) counted before. show: False
+        hides the progress bar (a caller that runs many small maps at once and logs its own).
         """
         from distributed import as_completed
 
@@ -244,7 +245,7 @@ class Engine:
             items = list(items)
             total = len(items)
         done, n_failed = already
-        prog, bar = _progress(total, description, self.progress)
+        prog, bar = _progress(total, description, self.progress and show)
         with prog:
             prog.update(bar, completed=done, failed=n_failed, remaining=total - done)
             submitted, futures = [], {}
@@ -268,10 +269,11 @@ class Engine:
                 prog.update(bar, completed=done, failed=n_failed, remaining=total - done)
         return results
 
-    def stored_map(self, store: RecordStore, kind: str, description: str = "tasks"):
+    def stored_map(self, store: RecordStore, kind: str, description: str = "tasks",
+                   show: bool = True):
         """A map hook ``map(fn, items)`` whose results (JSON-able records) are stored as they
         arrive and read back instead of rerun: the key of a call is ``record_key(kind, ...)``
-        of ``fn``'s name and bound arguments and the item."""
+        of ``fn``'s name and bound arguments and the item. show: ``run``'s progress bar."""
 
         def map_(fn: Callable, items: Iterable) -> list:
             items = list(items)
@@ -285,6 +287,7 @@ class Engine:
                          len(items) - len(todo), len(items), store.folder)
             new = self.run(fn, [items[k] for k in todo], total=len(items),
                            already=(len(items) - len(todo), 0), description=description,
+                           show=show,
                            on_result=lambda j, rec: store.put(keys[todo[j]], rec, exact=True))
             out = [stored.get(key) for key in keys]
             for j, k in enumerate(todo):

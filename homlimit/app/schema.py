@@ -1,6 +1,7 @@
-"""The case file's keys: one ``Key`` per key of every section, the single source of truth
-for reading case files (``app.config``), checking them (``app.case_checks``) and their
-documentation (``app.schema_doc``: ``schema_markdown`` → docs/case-file.md).
+"""The case file's keys: one ``Key`` (``app.schema_key``) per key of every section, the single
+source of truth for reading case files (``app.config``), checking them (``app.case_checks``)
+and their documentation (``app.schema_doc``: ``schema_markdown`` → docs/case-file.md); the
+[dem] section's keys live in ``app.schema_dem``.
 
 SCHEMA: section → key → Key; ARRAYS: the arrays of tables ([[tie]], [[floor]]); TOP_LEVEL: the
 keys outside any section (the case name).
@@ -8,15 +9,11 @@ keys outside any section (the case name).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any
-
 from ..blocks.geometry import FACADE_BONDS
 from ..check.site import SOILS, TOPOGRAPHIES, Site
-from ..dem.params import BASE_JOINTS, DEMParams
 from ..dynamics.pulses import PULSE_KINDS, MavroeidisPapageorgiouPulse
 from ..dynamics.rocking import RigidRocker
-from ..fields import Range, default_of, range_of
+from ..fields import default_of
 from ..params import (
     FACADE_DEFAULT,
     FACADE_MODELS,
@@ -29,54 +26,11 @@ from ..params import (
     Wall,
 )
 from . import budget, registry
+from .schema_dem import DEM_KEYS
+from .schema_key import REQUIRED, Key
 
 __all__ = ["ARRAYS", "MAX_ARRAY", "OPTIONAL_SECTIONS", "REQUIRED", "REQUIRED_SECTIONS", "SCHEMA",
            "TOP_LEVEL", "Key"]
-
-REQUIRED = object()
-_DEM = DEMParams()   # [dem]'s defaults (facade_stiffness: the case file's 0 is its "rho")
-
-
-@dataclass(frozen=True)
-class Key:
-    """One case-file key: its type, default (or REQUIRED), unit, allowed range and meaning."""
-
-    kind: type                    # float, int, bool, str, or list (of ``item``)
-    default: Any = REQUIRED
-    unit: str = ""
-    lo: float | None = None
-    hi: float | None = None
-    lo_open: bool = False
-    hi_open: bool = False
-    choices: tuple = ()
-    doc: str = ""
-    item: type | None = None      # the type of a list's items (range and choices apply to each)
-    typical: tuple[float, float] | None = None   # outside: a warning (valid but implausible)
-
-    @classmethod
-    def of(cls, owner, name: str, kind: type = float, required: bool = False, **kw) -> Key:
-        """The key of the ranged field ``name`` of the dataclass ``owner``
-        (``fields.ranged``): its default (``required``: none) and range are the field's,
-        written once there; ``kw``: the rest (``doc``, ``typical``, ``unit`` as the docs
-        spell it)."""
-        r = range_of(owner, name)
-        return cls(kind, REQUIRED if required else default_of(owner, name),
-                   kw.pop("unit", r.unit), r.lo, r.hi, r.lo_open, r.hi_open, **kw)
-
-    @property
-    def required(self) -> bool:
-        return self.default is REQUIRED
-
-    @property
-    def range(self) -> Range:
-        """The allowed range of a number (``fields.Range``, shared with the parameter
-        objects' fields)."""
-        return Range(self.lo, self.hi, self.lo_open, self.hi_open, self.unit)
-
-    def range_text(self, name: str) -> str:
-        if self.choices:
-            return "one of " + ", ".join(repr(c) for c in self.choices)
-        return self.range.text(name)
 
 
 def _len(hi: float, typical: tuple[float, float]) -> dict:
@@ -110,8 +64,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                       "rigid blocks). Finite: the hinge of every closed form retreats to the "
                       "resultant of a rectangular stress block, t = N/(2 fc l); both FE "
                       "bounds cap the principal compressive stress at fc; the rigid blocks "
-                      "cap every contact at fc (docs/real-walls.md); the DEM does not take "
-                      "it yet (it takes ties and floors)"),
+                      "cap every contact at fc (docs/real-walls.md); the DEM caps every "
+                      "contact point's normal spring at fc × tributary × depth, on points "
+                      "along the bed joints ([dem] joint_segments; docs/dem.md)"),
         "cohesion": Key(float, default_of(Masonry, "cohesion"), "Pa", 0.0, 1e10,
                         doc="cohesion of the joints (the strength domains' name); the FE "
                             "bounds of fe.problems.t_section take it, no model of a run takes "
@@ -226,82 +181,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
                           doc="largest assembly allowed ((H/a)(L/2c + 1) blocks; 20 000 "
                               "blocks solve in about 90 s of CPU)"),
     },
-    "dem": {
-        "kn": Key(float, _DEM.kn, "Pa/m", 1e5, 1e13,
-                  doc="joint normal stiffness per unit joint area (a contact point gets kn × "
-                      "tributary length × s); not in the paper: the order of UDEC joint "
-                      "stiffnesses for masonry, 10⁹–10¹⁰ Pa/m (Lemos 2007), the lower end "
-                      "for a longer time step"),
-        "ks_over_kn": Key(float, _DEM.ks_over_kn, "", 0.0, 10.0, lo_open=True,
-                          doc="shear over normal joint stiffness; not in the paper: a common "
-                              "UDEC choice (an elastic interface: 1/(2(1 + ν)) ≈ 0.4)"),
-        "facade_stiffness": Key(float, 0.0, "", 0.0, 1e3,
-                                doc="factor on the façade's contact stiffness (0: ρ = l/s, "
-                                    "the paper's uniform lowering: contacts stiffened like "
-                                    "the façade's density)"),
-        "dt_fraction": Key(float, _DEM.dt_fraction, "", 0.0, 0.5, lo_open=True,
-                           doc="dt = dt_fraction × √(m_min/k_max) (package choice: a block "
-                               "held by ~40 such springs stays below the central-difference "
-                               "limit)"),
-        "settle_damping": Key(float, _DEM.settle_damping, "", 0.0, 1.0, hi_open=True,
-                              doc="Cundall's local damping while settling under gravity "
-                                  "(UDEC's default for static solutions); none after"),
-        "settle_time": Key(float, _DEM.settle_time, "s", 0.0, 600.0,
-                           doc="longest settling run (package choice)"),
-        "settle_velocity": Key(float, _DEM.settle_velocity, "m/s", 0.0, 1.0, lo_open=True,
-                               doc="settling stops once every block is slower (package "
-                                   "choice)"),
-        "base_joint": Key(str, _DEM.base_joint, choices=BASE_JOINTS,
-                          doc="joint with the ground: frictional like the others (the "
-                              "paper's UDEC base is not described) or tied (the contacts "
-                              "present at the start neither open nor slide)"),
-        "ground_margin": Key(float, _DEM.ground_margin, "m", 0.0, 100.0,
-                             doc="the ground is widened by this on both sides (the "
-                                 "assembly's ends flush with the façade's toe; package "
-                                 "choice)"),
-        "verlet_margin": Key(float, _DEM.verlet_margin, "m", 0.0, 0.1, lo_open=True,
-                             doc="contact candidates: vertex–edge pairs closer than this; "
-                                 "rebuilt after a move of half of it (package choice)"),
-        "cone_tolerance": Key(float, _DEM.cone_tolerance, "rad", 0.0, 0.5,
-                              doc="widening of a vertex's normal cone in the contact test "
-                                  "(package choice)"),
-        "trib_floor": Key(float, _DEM.trib_floor, "", 0.0, 0.5, lo_open=True,
-                          doc="least tributary length, as a fraction of the shorter edge "
-                              "(package choice)"),
-        "loading": Key(str, "impulse", choices=("impulse", "rectangular", "one-sine",
-                                                "one-cosine", "ricker"),
-                       doc="the load whose threshold is found: the ideal impulse (v̄_g, the "
-                           "paper's) or a base-acceleration pulse of duration/period "
-                           "pulse_period (its amplitude a_g; homlimit.dynamics.pulses)"),
-        "pulse_period": Key(float, 0.2, "s", 1e-3, 100.0,
-                            doc="Δt of the pulse (rectangular: its duration; loading other "
-                                "than impulse)"),
-        "polarity": Key(int, 1, choices=(1, -1),
-                        doc="pulse polarity: +1 pushes the ground towards +x first (the "
-                            "façade's inertia outwards)"),
-        "rel_tol": Key(float, 0.01, "", 0.0, 0.5, lo_open=True,
-                       doc="bisection tolerance of the threshold: (hi − lo)/(hi + lo)"),
-        "t_max": Key(float, 5.0, "s", 0.0, 600.0, lo_open=True,
-                     doc="length of a trial: a trial collapses when a façade or toothing "
-                         "block moved outwards by more than H/4 before t_max "
-                         "(docs/dem.md, section 3)"),
-        "guess": Key(float, 0.0, "", 0.0, 1e4,
-                     doc="first trial amplitude (m/s, or m/s² for a pulse; 0: the paper's "
-                         "v̄_g rounded to 0.1 for a Table 1 wall, else mechanism I's; a "
-                         "pulse: mechanism I's static multiplier × g); it only sets where "
-                         "the bracket search (steps of ×1.5) starts"),
-        "max_blocks": Key(int, 5000, "", 1, 10 ** 6,
-                          doc="largest assembly allowed ((H/a)(L/2c + 1) blocks; B1's 480 "
-                              "blocks take ~60 µs per time step, 75–80 s of CPU per "
-                              "threshold)"),
-        "frame_interval": Key(float, 0.05, "s", 1e-4, 10.0,
-                              doc="time between the frames of the ParaView series of the "
-                                  "lowest collapsing trial (dem.pvd) and of the animation"),
-        "animation": Key(bool, True,
-                         doc="with [output] png, write dem_animation.gif: the lowest "
-                             "collapsing trial beside the highest standing one (one more "
-                             "trial of up to t_max, and the rendering)"),
-    },
+    "dem": DEM_KEYS,
     "pulse": {
         "kinds": Key(list, ["rectangular", "one-sine"], item=str, choices=tuple(PULSE_KINDS),
                      doc="pulse shapes of the overturning spectra (`homlimit pulse`): "

@@ -99,6 +99,7 @@ class DemConfig:
     verlet_margin: float
     cone_tolerance: float
     trib_floor: float
+    joint_segments: int
     loading: str
     pulse_period: float
     polarity: int

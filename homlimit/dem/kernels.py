@@ -1,5 +1,6 @@
 """The DEM's compiled loops (numba, ``cache=True``): vertex positions, the Verlet candidate list
-with its stiffnesses and coincident-corner twins, and the central-difference time loop.
+with its stiffnesses, crushing caps and coincident-corner twins, and the central-difference time
+loop.
 
 Conventions (``model``): blocks are rigid polygons, vertex k of block owner[k] sits at
 pos + R(θ) rel[k]; edge k runs from vertex k to vertex nxt[k] (counter-clockwise, outward
@@ -14,7 +15,14 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["world_vertices", "build_candidates", "advance"]
+__all__ = ["world_vertices", "build_candidates", "advance", "FLAT_CONE"]
+
+#: the normal cone's half-angle [rad] of a flat vertex (a point inserted on a straight edge,
+#: ``model``'s joint_segments): it touches an edge whose inward normal lies within this of its
+#: own outward normal. A corner's cone is its two edges' normals; a flat vertex has one normal,
+#: so the corners' small tolerance would drop it once the two blocks turn by 0.05 rad apart,
+#: while it still lies in the other's face (a rocking block's crushed toe)
+FLAT_CONE = math.pi / 4
 
 
 @njit(cache=True)
@@ -41,9 +49,12 @@ def _edge(X, nxt, e):
 
 
 @njit(cache=True)
-def _in_cone(X, nxt, prv, p, mx, mz, tol):
-    """Does the direction (mx, mz) lie in the outward normal cone of vertex p (between the
-    normals of its two edges, counter-clockwise), widened by sin(tol)?"""
+def _in_cone(X, nxt, prv, flat, p, mx, mz, tol):
+    """Does the unit direction (mx, mz) lie in the outward normal cone of vertex p (between
+    the normals of its two edges, counter-clockwise), widened by sin(tol)? A flat vertex
+    (flat[p]: its two edges collinear, one normal): within FLAT_CONE (> any tol allowed) of
+    its normal, on its side."""
+    fl = flat[p]
     a = prv[p]
     d1x, d1z = X[p, 0] - X[a, 0], X[p, 1] - X[a, 1]
     l1 = math.sqrt(d1x * d1x + d1z * d1z)
@@ -52,8 +63,9 @@ def _in_cone(X, nxt, prv, p, mx, mz, tol):
     d2x, d2z = X[b, 0] - X[p, 0], X[b, 1] - X[p, 1]
     l2 = math.sqrt(d2x * d2x + d2z * d2z)
     n2x, n2z = d2z / l2, -d2x / l2
-    st = math.sin(tol)
-    return (n1x * mz - n1z * mx >= -st) and (mx * n2z - mz * n2x >= -st)
+    st = math.sin(FLAT_CONE if fl else tol)
+    return ((n1x * mz - n1z * mx >= -st) and (mx * n2z - mz * n2x >= -st)
+            and (not fl or mx * n1x + mz * n1z > 0.0))
 
 
 @njit(cache=True)
@@ -79,20 +91,25 @@ def _grow(a, cap):
 
 
 @njit(cache=True)
-def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_build,
-                     old_key, old_kn, old_ks, old_fs, old_tied, old_sl, n_old,
-                     kn, ks_ratio, thick, fac_x, fac_f, trib_floor, tie_base):
+def build_candidates(X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, cone_build,
+                     old_key, old_kn, old_ks, old_fs, old_tied, old_sl, old_cap, old_dp, n_old,
+                     kn, ks_ratio, thick, fac_x, fac_f, trib_floor, tie_base,
+                     fc, dep_f, dep_w, x_j):
     """The Verlet list: every (vertex of i, edge of j) pair of distinct blocks, not both fixed,
     with the vertex within ``margin`` of the edge's line and span and its normal cone within
     ``cone_build`` of the edge's inward normal. A pair already listed (same key
-    vertex·P + edge) keeps its stiffnesses, shear force and tie; a new one gets
-    kn·trib·thick·factor, trib = half the overlap of the vertex's adjacent edge (the one
-    facing the edge) with the edge, at least trib_floor × the shorter of the two, factor
-    fac_f if the tributary's centre has x < fac_x. ``tie_base``: new contacts with a fixed
-    block that touch (gap < coinc) are tied. Twins: a pair whose vertex lies within margin
-    of an end of its edge, and the reverse pair at that corner (coincident corners, drifted
-    apart by at most margin); only one of them acts at a time (``advance``). Returns sorted
-    arrays (key, v, e, kn, ks, fs, tied, slip, twin)."""
+    vertex·P + edge) keeps its stiffnesses, shear force, tie, cap and plastic closure, and
+    stays listed while it penetrates by less than margin + its plastic closure (a crushed
+    contact keeps its memory); a new one gets kn·trib·thick·factor, trib = half the overlap of
+    the vertex's adjacent edge (the one facing the edge) with the edge (a flat vertex: half
+    the overlap of each of its two edges), at least trib_floor × the shorter of the two,
+    factor fac_f if the tributary's centre has x < fac_x. Its crushing cap is
+    fc·trib·depth, depth dep_f if the tributary's centre has x < x_j, else dep_w (infinite
+    for fc = 0). ``tie_base``: new contacts with a fixed block that touch (gap < coinc) are
+    tied. Twins: a pair whose vertex lies within margin of an end of its edge, and the
+    reverse pair at that corner (coincident corners, drifted apart by at most margin); only
+    one of them acts at a time (``advance``). Returns sorted arrays (key, v, e, kn, ks, fs,
+    tied, slip, twin, cap, plastic closure)."""
     n = offsets.shape[0] - 1
     P = X.shape[0]
     lo = np.empty((n, 2))
@@ -108,6 +125,9 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
             hi[b, 0] = max(hi[b, 0], X[k, 0])
             hi[b, 1] = max(hi[b, 1], X[k, 1])
     order = np.argsort(lo[:, 0])
+    dp_max = 0.0
+    for o in range(n_old):
+        dp_max = max(dp_max, old_dp[o])
     cap = 1024
     key = np.empty(cap, np.int64)
     kn_c = np.empty(cap)
@@ -115,6 +135,8 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
     fs_c = np.empty(cap)
     tied = np.empty(cap, np.bool_)
     sl_c = np.empty(cap)
+    cn_c = np.empty(cap)
+    dp_c = np.empty(cap)
     m = 0
     for oi in range(n):
         i = order[oi]
@@ -136,9 +158,15 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                         rx, rz = X[p, 0] - ax, X[p, 1] - az
                         s = rx * tx + rz * tz
                         g = rx * nx + rz * nz
-                        if g > margin or g < -margin or s < -margin or s > L + margin:
+                        if g > margin or g < -margin - dp_max or s < -margin \
+                                or s > L + margin:
                             continue
-                        if not _in_cone(X, nxt, prv, p, -nx, -nz, cone_build):
+                        kk = p * P + e
+                        if g < -margin:           # deeper: only a crushed pair stays
+                            o = _find(old_key, n_old, kk)
+                            if o < 0 or g < -margin - old_dp[o]:
+                                continue
+                        if not _in_cone(X, nxt, prv, flat, p, -nx, -nz, cone_build):
                             continue
                         if m == cap:
                             cap *= 2
@@ -148,7 +176,8 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                             fs_c = _grow(fs_c, cap)
                             tied = _grow(tied, cap)
                             sl_c = _grow(sl_c, cap)
-                        kk = p * P + e
+                            cn_c = _grow(cn_c, cap)
+                            dp_c = _grow(dp_c, cap)
                         key[m] = kk
                         o = _find(old_key, n_old, kk)
                         if o >= 0:
@@ -157,6 +186,8 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                             fs_c[m] = old_fs[o]
                             tied[m] = old_tied[o]
                             sl_c[m] = old_sl[o]
+                            cn_c[m] = old_cap[o]
+                            dp_c[m] = old_dp[o]
                             m += 1
                             continue
                         # tributary: the adjacent edge of p whose normal faces the edge
@@ -173,12 +204,29 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                         sq = (X[q, 0] - ax) * tx + (X[q, 1] - az) * tz
                         sp = min(max(s, 0.0), L)
                         sq = min(max(sq, 0.0), L)
-                        trib = 0.5 * abs(sq - sp)
-                        trib = max(trib, trib_floor * min(L, ladj))
-                        sc = sp + (0.5 * trib if sq >= sp else -0.5 * trib)
+                        if flat[p]:
+                            # a flat vertex: half of each edge's overlap, one on either side
+                            s1 = (X[q1, 0] - ax) * tx + (X[q1, 1] - az) * tz
+                            s2 = (X[q2, 0] - ax) * tx + (X[q2, 1] - az) * tz
+                            s1 = min(max(s1, 0.0), L)
+                            s2 = min(max(s2, 0.0), L)
+                            trib = 0.5 * (abs(s1 - sp) + abs(s2 - sp))
+                            ladj = min(l1, l2)
+                            sc = sp + 0.25 * ((s1 - sp) + (s2 - sp))
+                            if trib < trib_floor * min(L, ladj):
+                                trib = trib_floor * min(L, ladj)
+                        else:
+                            trib = 0.5 * abs(sq - sp)
+                            trib = max(trib, trib_floor * min(L, ladj))
+                            sc = sp + (0.5 * trib if sq >= sp else -0.5 * trib)
                         xc = ax + tx * sc
                         f = fac_f if xc < fac_x else 1.0
                         kn_c[m] = kn * trib * thick * f
+                        if fc > 0.0:
+                            cn_c[m] = fc * trib * (dep_f if xc < x_j else dep_w)
+                        else:
+                            cn_c[m] = np.inf
+                        dp_c[m] = 0.0
                         ks_c[m] = ks_ratio * kn_c[m]
                         fs_c[m] = 0.0
                         tied[m] = tie_base and (fixed[bi] or fixed[bj]) and g < coinc
@@ -191,6 +239,8 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
     fs_c = fs_c[srt].copy()
     tied = tied[srt].copy()
     sl_c = sl_c[srt].copy()
+    cn_c = cn_c[srt].copy()
+    dp_c = dp_c[srt].copy()
     cv = key // P
     ce = key % P
     # twins at coincident corners: (p on e of j) with p within ``margin`` of an end q of e,
@@ -214,15 +264,15 @@ def build_candidates(X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_bui
                 _, _, tx2, tz2, _ = _edge(X, nxt, ep)
                 if tx1 * tx2 + tz1 * tz2 < -0.99:
                     twin[c] = o
-    return key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin
+    return key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c
 
 
 @njit(cache=True)
-def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, inv_m,
+def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, fixed, inv_m,
             inv_I, mass, radius, g, fric, ag, ag_t0, damping,
-            key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin,
+            key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c,
             build_pos, build_th, margin, coinc, cone_build, cone_tol, edge_tol,
-            kn, ks_ratio, thick, fac_x, fac_f, trib_floor,
+            kn, ks_ratio, thick, fac_x, fac_f, trib_floor, fc, dep_f, dep_w, x_j,
             watch, ref_pos, ref_th, disp_limit, rot_limit, check_every,
             slip_base, slip_bed, rec_every, rec, z_ref, vel_tol, loads, ties, tstate):
     """Central differences for nsteps steps of dt.
@@ -238,25 +288,29 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
     Forces at x_n: gravity −m g ẑ, the ground's inertia −m a_g(t) x̂ (ag[k] at t = ag_t0 + k
     dt, zero past the array), the contacts; with ``damping`` > 0 Cundall's local damping.
     v_{n+1/2} = v_{n−1/2} + dt F/m, x_{n+1} = x_n + dt v_{n+1/2}. Contacts: gap g = (P − A)·n,
-    active when g < 0, the vertex within the edge's span (± edge_tol) and the edge's inward
-    normal in the vertex's cone (± cone_tol), or when tied. Normal force kn·(−g), no tension
+    active when g < −δ_p (δ_p the contact's plastic closure, dp_c; 0 until it crushes), the
+    vertex within the edge's span (± edge_tol) and the edge's inward normal in the vertex's
+    cone (± cone_tol), or when tied. Normal force kn·(−g − δ_p), elastic–perfectly plastic:
+    capped at the contact's cap cn_c (f_c × tributary × depth, ``build_candidates``), the
+    excess closure added to δ_p, which stays (the crushed material is gone); no tension
     unless tied; shear force incremented by −ks·(relative tangential velocity)·dt and capped
     at fric·Fn (the excess over ks is the plastic slip, summed per contact in sl_c; per
     block, slip_base and slip_bed keep the largest of its contacts' slips with a fixed block
     and in bed joints). Of two twins only the one whose
     vertex belongs to the lower block index acts while both are valid; the other carries its
-    shear force. The list is rebuilt (``build_candidates``) once a block has moved by
-    margin/2. Every check_every steps: stop (status 1) if a watched block has moved outwards
-    (−x) by more than disp_limit or turned by more than rot_limit; with damping, stop
+    shear force and plastic closure. The list is rebuilt (``build_candidates``) once a block
+    has moved by margin/2. Every check_every steps: stop (status 1) if a watched block has
+    moved outwards (−x) by more than disp_limit or turned by more than rot_limit; with damping, stop
     (status 2) once every free block is slower than vel_tol. rec (rows, 6) gets, every
     rec_every steps, t, kinetic, potential (m g (z − z_ref)), elastic energy, then the
     x-displacement and rotation of the first watched block.
     Returns (steps done, status, rows recorded, key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin,
-    n_builds)."""
+    cn_c, dp_c, n_builds)."""
     n = pos.shape[0]
     P = rel.shape[0]
     X = np.empty((P, 2))
     F = np.empty((n, 3))
+    crush = fc > 0.0          # f_c infinite: the caps and closures are never read
     nrow = 0
     builds = 0
     status = 0
@@ -281,10 +335,10 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
                 moved = d
         world_vertices(pos, th, rel, owner, X)
         if moved > 0.5 * margin:
-            key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin = build_candidates(
-                X, offsets, nxt, prv, owner, fixed, margin, coinc, cone_build,
-                key, kn_c, ks_c, fs_c, tied, sl_c, key.shape[0],
-                kn, ks_ratio, thick, fac_x, fac_f, trib_floor, False)
+            key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c = build_candidates(
+                X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, cone_build,
+                key, kn_c, ks_c, fs_c, tied, sl_c, cn_c, dp_c, key.shape[0],
+                kn, ks_ratio, thick, fac_x, fac_f, trib_floor, False, fc, dep_f, dep_w, x_j)
             m = key.shape[0]
             acted = np.zeros(m, np.bool_)
             builds += 1
@@ -345,10 +399,10 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
             s = rx * tx + rz * tz
             gap = rx * nx + rz * nz
             if not tied[c]:
-                if gap >= 0.0 or s < -edge_tol or s > L + edge_tol:
+                if gap >= (-dp_c[c] if crush else 0.0) or s < -edge_tol or s > L + edge_tol:
                     fs_c[c] = 0.0
                     continue
-                if not _in_cone(X, nxt, prv, p, -nx, -nz, cone_tol):
+                if not _in_cone(X, nxt, prv, flat, p, -nx, -nz, cone_tol):
                     fs_c[c] = 0.0
                     continue
             acted[c] = True
@@ -366,7 +420,13 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
             nx, nz = tz, -tx
             px, pz = X[p, 0], X[p, 1]
             gap = (px - ax) * nx + (pz - az) * nz
-            fn = -kn_c[c] * gap
+            if crush:
+                fn = kn_c[c] * (-gap - dp_c[c])
+                if fn > cn_c[c]:                  # crushing: the excess closure is plastic
+                    dp_c[c] = -gap - cn_c[c] / kn_c[c]
+                    fn = cn_c[c]
+            else:
+                fn = -kn_c[c] * gap
             # relative velocity of the vertex against block j at the contact point
             vix = vel[i, 0] - om[i] * (pz - pos[i, 1])
             viz = vel[i, 1] + om[i] * (px - pos[i, 0])
@@ -402,6 +462,7 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
             if t2 >= 0 and acted[c] and acted[t2] and owner[cv[t2]] < owner[cv[c]]:
                 fs_c[c] = fs_c[t2]
                 sl_c[c] = sl_c[t2]
+                dp_c[c] = dp_c[t2]
         ke = 0.0
         pe = 0.0
         vmax = 0.0
@@ -447,4 +508,5 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, owner, fixed, 
                     status = 1
             if status:
                 break
-    return (step + 1, status, nrow, key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, builds)
+    return (step + 1, status, nrow, key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c,
+            builds)

@@ -62,7 +62,11 @@ class DEMState:
 @dataclass
 class DEMModel:
     """An assembly prepared for the DEM: vertex offsets from the centroids, inverse masses,
-    the widened ground, the stiffness rule and the time step."""
+    the widened ground, the stiffness rule and the time step. ``offsets``: the DEM's polygons
+    (rel[offsets[i]:offsets[i+1]]; the assembly's, plus the joint points when its bottom edges
+    are split); ``crush``: (f_c [Pa] (0: infinite), depth in the façade, depth elsewhere [m],
+    x of the façade's inner face [m]) of the contacts' caps; ``flat``: per vertex, whether its
+    two edges are collinear (a joint point)."""
 
     assembly: Assembly
     params: DEMParams
@@ -89,6 +93,15 @@ class DEMModel:
     info: dict = field(default_factory=dict)
     loads: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
     ties: np.ndarray = field(default_factory=lambda: np.zeros((0, 8)))
+    offsets: np.ndarray | None = None
+    crush: tuple = (0.0, 1.0, 1.0, math.inf)
+    flat: np.ndarray | None = None
+
+    def __post_init__(self):
+        if self.offsets is None:
+            self.offsets = self.assembly.offsets
+        if self.flat is None:
+            self.flat = np.zeros(self.rel.shape[0], np.bool_)
 
     @property
     def n_blocks(self) -> int:
@@ -103,11 +116,13 @@ class DEMModel:
         kernels.world_vertices(pos, th, self.rel, self.owner, X)
         p = self.params
         empty = (np.empty(0, np.int64), np.empty(0), np.empty(0), np.empty(0),
-                 np.empty(0, np.bool_), np.empty(0))
+                 np.empty(0, np.bool_), np.empty(0), np.empty(0), np.empty(0))
         c = kernels.build_candidates(
-            X, a.offsets, self.nxt, self.prv, self.owner, a.fixed, p.verlet_margin,
+            X, self.offsets, self.nxt, self.prv, self.flat, self.owner, a.fixed,
+            p.verlet_margin,
             self.coinc, p.cone_tolerance + 0.1, *empty, 0, p.kn, p.ks_over_kn,
-            self.thickness, self.fac_x, self.fac_f, p.trib_floor, p.base_joint == "tied")
+            self.thickness, self.fac_x, self.fac_f, p.trib_floor, p.base_joint == "tied",
+            *self.crush)
         return DEMState(pos, th, np.zeros((n, 2)), np.zeros(n), c, pos.copy(), th.copy(),
                         np.zeros((len(self.ties), 2)))
 
@@ -141,11 +156,7 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
         raise ParameterError(f"params = {p!r} is not a DEMParams")
     meta = assembly.meta
     real = meta.get("real")
-    if real is not None and real.fc > 0:
-        raise ParameterError(f"[masonry] fc = {real.fc!r} Pa: the DEM does not take a finite "
-                             "compressive strength yet (its contacts are the blocks' corners: "
-                             "a cap per corner is not the stress block); allowed fc = 0 "
-                             "(infinite) (docs/real-walls.md)")
+    fc = float(real.fc) if real is not None else 0.0
     f = meta.get("f") if f is None else f
     if f is None:
         raise ParameterError("f = None is out of range: the assembly has no friction "
@@ -158,20 +169,33 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     n = a.n_blocks
     if a.n_free == 0:
         raise ParameterError("assembly has no free block: allowed at least one")
-    owner = np.repeat(np.arange(n), np.diff(a.offsets))
     verts = _widen_ground(a, p.ground_margin)
+    # the longest edge before any split, for the stiffest contact below
+    d0 = np.roll(verts, -1, axis=0) - verts
+    last = a.offsets[1:] - 1
+    d0[last] = verts[a.offsets[:-1]] - verts[last]
+    owner0 = np.repeat(np.arange(n), np.diff(a.offsets))
+    elen = np.hypot(d0[:, 0], d0[:, 1])
+    longest = float(elen[~a.fixed[owner0]].max())
+    verts, offsets = _split_bottoms(verts, a.offsets, a.fixed, p.segments(fc), p.verlet_margin)
+    owner = np.repeat(np.arange(n), np.diff(offsets))
     # the ground's widened vertices move its centroid; the fixed blocks' centroids stay those
     # of the assembly (they never move, so only the offsets matter)
     rel = verts - a.centroid[owner]
     P = verts.shape[0]
     nxt = np.arange(1, P + 1)
-    nxt[a.offsets[1:] - 1] = a.offsets[:-1]
+    nxt[offsets[1:] - 1] = offsets[:-1]
     prv = np.arange(-1, P - 1)
-    prv[a.offsets[:-1]] = a.offsets[1:] - 1
+    prv[offsets[:-1]] = offsets[1:] - 1
+    # flat vertices (the joint points): collinear edges, a property of the rigid polygon
+    d_in, d_out = verts - verts[prv], verts[nxt] - verts
+    cross = d_in[:, 0] * d_out[:, 1] - d_in[:, 1] * d_out[:, 0]
+    flat = (np.abs(cross) < 1e-9 * np.hypot(*d_in.T) * np.hypot(*d_out.T)) \
+        & ((d_in * d_out).sum(1) > 0)
     free = ~a.fixed
     inv_m = np.where(free, 1.0 / np.where(free, a.mass, 1.0), 0.0)
     inv_I = np.where(free, 1.0 / np.where(free, np.maximum(a.inertia, 1e-300), 1.0), 0.0)
-    radius = np.sqrt(np.maximum.reduceat((rel ** 2).sum(1), a.offsets[:-1]))
+    radius = np.sqrt(np.maximum.reduceat((rel ** 2).sum(1), offsets[:-1]))
     radius[a.fixed] = 0.0
     # façade factor (T-sections): the paper's uniform lowering
     if "b" in meta and "rho" in meta:
@@ -182,14 +206,12 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
         fac_x, fac_f = -math.inf, 1.0
         watch = free.copy()
     # the stiffest contact that can form: half the longest free edge, with the façade factor
-    d = verts[nxt] - verts
-    elen = np.hypot(d[:, 0], d[:, 1])
-    free_edge = free[owner]
-    k_max = p.kn * thickness * max(fac_f, 1.0) * 0.5 * float(elen[free_edge].max())
+    # (a joint point's tributary, one segment, is at most half its edge)
+    k_max = p.kn * thickness * max(fac_f, 1.0) * 0.5 * longest
     m_min = float(a.mass[free].min())
     dt = p.dt_fraction * math.sqrt(m_min / k_max)
     bb = a.bounds()
-    size = float(np.ptp(a.vertices[:, 0][free[owner]])) or 1.0
+    size = float(np.ptp(a.vertices[:, 0][free[owner0]])) or 1.0
     if disp_limit is None:
         disp_limit = 0.25 * float(meta["H"]) if "H" in meta and "b" in meta else \
             float((bb[free, 2] - bb[free, 0]).max())
@@ -207,12 +229,50 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     if ties.size and ties[:, 4].max() > k_max:             # a stiffer tie sets the step
         k_max = float(ties[:, 4].max())
         dt = p.dt_fraction * math.sqrt(m_min / k_max)
+    crush = (fc, real.depth_facade, real.depth_wall, real.x_junction) if fc > 0 else \
+        (0.0, 1.0, 1.0, math.inf)
     return DEMModel(a, p, f, g, thickness, rel, nxt, prv, owner, inv_m, inv_I,
                     a.mass.astype(float), radius, fac_x, fac_f, watch, dt, k_max, m_min,
                     disp_limit, rot_limit, coinc,
                     info={"n_blocks": n, "n_free": a.n_free, "dt": dt, "k_max": k_max,
-                          "m_min": m_min, "ties": len(ties), "loads": len(loads)},
-                    loads=loads, ties=ties)
+                          "m_min": m_min, "ties": len(ties), "loads": len(loads), "fc": fc,
+                          "joint_segments": p.segments(fc),
+                          "joint_points": int(P - a.vertices.shape[0])},
+                    loads=loads, ties=ties, offsets=offsets, crush=crush, flat=flat)
+
+
+def _split_bottoms(verts: np.ndarray, offsets: np.ndarray, fixed: np.ndarray, n_seg: int,
+                   margin: float) -> tuple[np.ndarray, np.ndarray]:
+    """The polygons with every free block's bottom edge (outward normal −z: running towards
+    +x, counter-clockwise) split into ``n_seg`` equal segments by inserted vertices, leaving
+    out a point within ``margin`` of another block's vertex (a corner contact already stands
+    there; two coincident points would each count their tributary). Returns (vertices,
+    offsets); unchanged for n_seg = 1."""
+    if n_seg <= 1:
+        return verts, offsets
+    from scipy.spatial import cKDTree
+
+    P = verts.shape[0]
+    owner = np.repeat(np.arange(offsets.size - 1), np.diff(offsets))
+    nxt = np.arange(1, P + 1)
+    nxt[offsets[1:] - 1] = offsets[:-1]
+    d = verts[nxt] - verts
+    L = np.hypot(d[:, 0], d[:, 1])
+    bottom = ~fixed[owner] & (d[:, 0] > 0) & (np.abs(d[:, 1]) < 1e-9 * L)
+    e = np.flatnonzero(bottom)
+    frac = np.arange(1, n_seg) / n_seg
+    pts = (verts[e, None, :] + frac[None, :, None] * d[e, None, :]).reshape(-1, 2)
+    edge = np.repeat(e, frac.size)
+    dist, _ = cKDTree(verts).query(pts, distance_upper_bound=margin)
+    keep = ~np.isfinite(dist)
+    pts, edge, fr = pts[keep], edge[keep], np.tile(frac, e.size)[keep]
+    # every vertex k, then the points of its edge k in order along it
+    key_e = np.r_[np.arange(P), edge]
+    key_f = np.r_[np.zeros(P), fr]
+    order = np.lexsort((key_f, key_e))
+    out = np.r_[verts, pts][order]
+    counts = np.bincount(owner[key_e], minlength=offsets.size - 1)
+    return out, np.r_[0, np.cumsum(counts)].astype(offsets.dtype)
 
 
 def _real_actions(a: Assembly, real, k_rigid: float):
@@ -256,7 +316,8 @@ class Outcome:
     energy [J], x-displacement [m] and rotation [rad] of the first watched block; state: the
     final state; slip_base, slip_bed: per block, the largest plastic slip [m] of its
     contacts with the ground and of its bed joints (each contact's slip summed over time);
-    cpu [s]; builds: Verlet list rebuilds."""
+    cpu [s] (this thread's: walls' bisections may run in threads at once); builds: Verlet list
+    rebuilds."""
 
     collapsed: bool
     t_collapse: float
@@ -284,20 +345,19 @@ def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: floa
     z_ref = ref.pos[:, 1].copy() if z_ref is None else z_ref
     if nsteps <= 0:
         return 0, 0, rec[:0], slip_base, slip_bed, 0
-    key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin = state.contacts
     out = kernels.advance(
         int(nsteps), model.dt, state.pos, state.th, state.vel, state.om, model.rel,
-        a.offsets, model.nxt, model.prv, model.owner, a.fixed, model.inv_m, model.inv_I,
-        model.mass, model.radius, model.g, model.f, ag, t0, damping,
-        key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin,
+        model.offsets, model.nxt, model.prv, model.flat, model.owner, a.fixed, model.inv_m,
+        model.inv_I, model.mass, model.radius, model.g, model.f, ag, t0, damping,
+        *state.contacts,
         state.build_pos, state.build_th, p.verlet_margin, model.coinc, p.cone_tolerance + 0.1,
         p.cone_tolerance, model.coinc, p.kn, p.ks_over_kn, model.thickness, model.fac_x,
-        model.fac_f, p.trib_floor, model.watch, ref.pos, ref.th, model.disp_limit,
+        model.fac_f, p.trib_floor, *model.crush, model.watch, ref.pos, ref.th, model.disp_limit,
         model.rot_limit, int(check_every), slip_base, slip_bed, int(rec_every), rec, z_ref,
         vel_tol, model.loads, model.ties, state.tstate)
     steps, status, nrow = out[0], out[1], out[2]
-    state.contacts = tuple(out[3:12])
-    return steps, status, rec[:nrow], slip_base, slip_bed, out[12]
+    state.contacts = tuple(out[3:14])
+    return steps, status, rec[:nrow], slip_base, slip_bed, out[14]
 
 
 def settle(model: DEMModel, state: DEMState | None = None, *, a_g: float = 0.0
@@ -369,11 +429,11 @@ def run(model: DEMModel, settled: DEMState, *, v_g: float = 0.0, velocity=None,
     ref = settled
     check = max(1, int(round(0.002 / model.dt))) if stop_on_collapse else 0
     rows = (nsteps // record_every + 1) if record_every else 0
-    t0 = time.process_time()
+    t0 = time.thread_time()
     steps, status, rec, sb, sd, builds = _advance(
         model, st, nsteps, ag=ag, ref=ref, check_every=check, rec_every=record_every,
         rec_rows=rows)
-    cpu = time.process_time() - t0
+    cpu = time.thread_time() - t0
     collapsed = status == 1
     return Outcome(collapsed, steps * model.dt if collapsed else math.nan, int(steps),
                    steps * model.dt, rec, st, sb, sd, cpu, int(builds))

@@ -26,6 +26,7 @@ import numpy as np
 from .._io import write_figure, write_text
 from ..blocks.geometry import FACADE
 from ..errors import OutputError, ParameterError, check_range
+from .kernels import FLAT_CONE
 from .model import DEMModel, DEMState, kicked, pulse_function, run
 
 __all__ = ["Frame", "record_frames", "contact_forces", "blocks_mesh", "contacts_mesh",
@@ -89,14 +90,16 @@ def _vertices(model: DEMModel, state: DEMState) -> np.ndarray:
 
 
 def contact_forces(model: DEMModel, state: DEMState) -> dict:
-    """The contacts acting in ``state``, by the kernel's test (``kernels.advance``): gap < 0,
-    the vertex within its edge's span and the edge's inward normal in the vertex's cone, or
-    tied; of two acting twins, the one whose vertex belongs to the lower block. Returns point
-    (m, 2) [m], normal n and tangent t (m, 2) of the edge, fn (the normal spring's force at
-    these positions) and fs (the shear force the last step carried) [N per slab], the force
-    on the vertex's block fn n + fs t, block (the vertex's) and other (the edge's), slip [m]."""
+    """The contacts acting in ``state``, by the kernel's test (``kernels.advance``): gap < −δ_p
+    (δ_p the contact's plastic closure, 0 unless it crushed), the vertex within its edge's
+    span and the edge's inward normal in the vertex's cone, or tied; of two acting twins, the
+    one whose vertex belongs to the lower block. Returns point (m, 2) [m], normal n and
+    tangent t (m, 2) of the edge, fn (the normal spring's force at these positions,
+    min(kn (−gap − δ_p), cap)) and fs (the shear force the last step carried) [N per slab],
+    the force on the vertex's block fn n + fs t, block (the vertex's) and other (the edge's),
+    slip [m], closure δ_p [m]."""
     X = _vertices(model, state)
-    key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin = state.contacts
+    key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cap_c, dp_c = state.contacts
     A, B = X[ce], X[model.nxt[ce]]
     d = B - A
     L = np.hypot(d[:, 0], d[:, 1])
@@ -116,16 +119,19 @@ def contact_forces(model: DEMModel, state: DEMState) -> dict:
     st = math.sin(model.params.cone_tolerance)
     cone = ((n1[:, 0] * m[:, 1] - n1[:, 1] * m[:, 0] >= -st)
             & (m[:, 0] * n2[:, 1] - m[:, 1] * n2[:, 0] >= -st))
-    valid = tied | ((gap < 0) & (s >= -tol) & (s <= L + tol) & cone)
+    # a flat vertex (a joint point): within max(tolerance, FLAT_CONE) of its normal
+    wide = math.cos(max(model.params.cone_tolerance, FLAT_CONE))
+    cone = np.where(model.flat[cv], (m * n2).sum(1) >= wide, cone)
+    valid = tied | ((gap < -dp_c) & (s >= -tol) & (s <= L + tol) & cone)
     own = model.owner[cv]
     tw = np.where(twin >= 0, twin, 0)
     shadowed = (twin >= 0) & valid[tw] & (model.owner[cv[tw]] < own)
     act = np.flatnonzero(valid & ~shadowed)
-    fn = -kn_c[act] * gap[act]
+    fn = np.minimum(kn_c[act] * (-gap[act] - dp_c[act]), cap_c[act])
     fs = fs_c[act]
     return {"point": X[cv[act]], "n": n[act], "t": t[act], "fn": fn, "fs": fs,
             "force": fn[:, None] * n[act] + fs[:, None] * t[act], "block": own[act],
-            "other": model.owner[ce[act]], "slip": sl_c[act]}
+            "other": model.owner[ce[act]], "slip": sl_c[act], "closure": dp_c[act]}
 
 
 def blocks_mesh(model: DEMModel, state: DEMState, settled: DEMState):
@@ -141,13 +147,13 @@ def blocks_mesh(model: DEMModel, state: DEMState, settled: DEMState):
     r = X - state.pos[model.owner]
     om = state.om[model.owner]
     vv = state.vel[model.owner] + np.c_[-om * r[:, 1], om * r[:, 0]]
-    counts = np.diff(a.offsets)
+    counts = np.diff(model.offsets)
     du = state.pos - settled.pos
     cells, data = [], {k: [] for k in ("block", "fixed", "kind", "course", "u", "w", "omega",
                                        "rotation", "ux", "uz", "watched")}
     for k in np.unique(counts):
         idx = np.flatnonzero(counts == k)
-        cells.append(("polygon", a.offsets[idx][:, None] + np.arange(k)))
+        cells.append(("polygon", model.offsets[idx][:, None] + np.arange(k)))
         for name, val in (("block", idx), ("fixed", a.fixed[idx].astype(np.int8)),
                           ("kind", a.kind[idx]), ("course", a.course[idx]),
                           ("u", state.vel[idx, 0]), ("w", state.vel[idx, 1]),
@@ -164,7 +170,7 @@ def contacts_mesh(model: DEMModel, state: DEMState):
     """meshio.Mesh of the acting contact points (``contact_forces``) as vertex cells. Point
     data "force" (on the vertex's block) [N per slab], "normal" (the edge's outward normal),
     "normal_force", "shear_force" [N per slab], "slip" [m] (plastic, summed over time),
-    "block", "other"."""
+    "closure" [m] (plastic normal closure: crushing under a finite f_c), "block", "other"."""
     import meshio
 
     c = contact_forces(model, state)
@@ -173,7 +179,8 @@ def contacts_mesh(model: DEMModel, state: DEMState):
     return meshio.Mesh(np.c_[c["point"], z], [("vertex", np.arange(m)[:, None])],
                        point_data={"force": np.c_[c["force"], z], "normal": np.c_[c["n"], z],
                                    "normal_force": c["fn"], "shear_force": c["fs"],
-                                   "slip": c["slip"], "block": c["block"],
+                                   "slip": c["slip"], "closure": c["closure"],
+                                   "block": c["block"],
                                    "other": c["other"]})
 
 
@@ -228,8 +235,8 @@ def write_series(folder, model: DEMModel, settled: DEMState, frames: list[Frame]
 
 def _outlines(model: DEMModel, state: DEMState) -> list[np.ndarray]:
     """Every block's polygon (its vertices, (k, 2)) in ``state``."""
-    a, X = model.assembly, _vertices(model, state)
-    return [X[a.offsets[i]:a.offsets[i + 1]] for i in range(a.n_blocks)]
+    o, X = model.offsets, _vertices(model, state)
+    return [X[o[i]:o[i + 1]] for i in range(model.n_blocks)]
 
 
 def _rotation(model: DEMModel, settled: DEMState, state: DEMState) -> np.ndarray:

@@ -11,11 +11,15 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 
+import numpy as np
+
 from ..errors import ParameterError, check_range
 
-__all__ = ["DEMParams", "BASE_JOINTS"]
+__all__ = ["DEMParams", "BASE_JOINTS", "AUTO_SEGMENTS"]
 
 BASE_JOINTS = ("frictional", "tied")
+#: joint_segments = 0 (auto) with a finite f_c: each free block's bottom edge in 8 segments
+AUTO_SEGMENTS = 8
 
 
 @dataclass(frozen=True)
@@ -55,6 +59,15 @@ class DEMParams:
         the vertex's normal cone widened by this. Default 0.05 rad (package choice).
     trib_floor [-]: a contact's tributary length is at least this fraction of the shorter
         of its edge and the vertex's adjacent edge (corner-to-edge contacts). Default 0.05.
+    joint_segments [-]: contact points along the bed joints: every free block's bottom edge
+        is split into this many equal segments by vertices on it (each a contact point with
+        its tributary; a point within verlet_margin of another block's vertex is left out,
+        so it never doubles a corner contact). 1: the corners only (the paper's UDEC model,
+        two points per joint). 0 (default, auto): 1 with f_c infinite, ``AUTO_SEGMENTS`` = 8
+        with a finite ``[masonry] fc``, whose cap per point (f_c × tributary × depth) forms
+        the stress block only with points along the joint (package choice: B1's façade
+        joint of 0.5 m in 62.5 mm; docs/dem.md, "Crushing cap"). The points also change the
+        joint's rotational stiffness (kn L³/4 with corners only, → kn L³/12 with many).
     """
 
     kn: float = 1.0e9
@@ -69,6 +82,7 @@ class DEMParams:
     verlet_margin: float = 0.005
     cone_tolerance: float = 0.05
     trib_floor: float = 0.05
+    joint_segments: int = 0
 
     def __post_init__(self):
         check_range("kn", self.kn, 0.0, lo_open=True, unit="Pa/m")
@@ -88,6 +102,14 @@ class DEMParams:
         check_range("verlet_margin", self.verlet_margin, 0.0, lo_open=True, unit="m")
         check_range("cone_tolerance", self.cone_tolerance, 0.0, 0.5, unit="rad")
         check_range("trib_floor", self.trib_floor, 0.0, 0.5, lo_open=True)
+        js = self.joint_segments
+        if isinstance(js, bool) or not isinstance(js, (int, np.integer)) or not 0 <= js <= 64:
+            raise ParameterError(f"joint_segments = {js!r} is out of range: allowed an integer "
+                                 "0 <= joint_segments <= 64 (0: auto)")
+
+    def segments(self, fc: float) -> int:
+        """The bottom edges' segments for a compressive strength fc [Pa] (0: infinite)."""
+        return self.joint_segments or (AUTO_SEGMENTS if fc > 0 else 1)
 
     def as_dict(self) -> dict:
         return asdict(self)

@@ -3,8 +3,8 @@
 A trial is one ``model.run`` from one settled state; it collapses by the criterion of
 ``homlimit.dem.model`` (a watched block outwards by more than disp_limit, or turned by more
 than rot_limit, before t_max). The bracket [lo, hi] (lo safe, hi collapsed) is found by
-steps of ×1.5 from ``guess`` and halved until (hi − lo)/(hi + lo) <= rel_tol; the threshold
-is (lo + hi)/2, ± rel_tol.
+steps of ×``step`` (default 1.5) from ``guess`` and halved until (hi − lo)/(hi + lo) <=
+rel_tol; the threshold is (lo + hi)/2, ± rel_tol.
 
 Failing height h: at the collapse of the lowest collapsing trial, the watched blocks turned by
 more than half the largest watched rotation form the failing part; h is the top of the
@@ -24,7 +24,8 @@ import numpy as np
 from ..errors import ParameterError, ResultError, check_range
 from .model import DEMModel, DEMState, Outcome, run, settle
 
-__all__ = ["Threshold", "collapse_threshold", "failing_part"]
+__all__ = ["Threshold", "bisect", "collapse_threshold", "failing_part", "threshold_of",
+           "trial_record"]
 
 
 @dataclass(frozen=True)
@@ -74,66 +75,107 @@ def failing_part(model: DEMModel, settled: DEMState, out: Outcome, slide_tol: fl
     return h, z0, base_slip > slide_tol, hinge_slip > slide_tol, base_slip, hinge_slip
 
 
-def collapse_threshold(model: DEMModel, settled: DEMState | None = None, *, guess: float = 0.5,
-                       rel_tol: float = 0.01, t_max: float = 5.0, load=None,
-                       slide_tol: float = 1e-3, max_trials: int = 40,
-                       progress=None) -> Threshold:
-    """The smallest collapsing amplitude by bisection (module docstring).
+def trial_record(model: DEMModel, settled: DEMState, out: Outcome, amplitude: float,
+                 slide_tol: float = 1e-3) -> dict:
+    """One trial as JSON-able data: amplitude, collapsed, t_end [s], cpu [s]; a collapsed
+    trial also its failing part (``failing_part``: h, z0 [m], base_slid, hinge_slid,
+    base_slip, hinge_slip [m])."""
+    rec = {"amplitude": float(amplitude), "collapsed": bool(out.collapsed),
+           "t_end": float(out.t_end), "cpu": float(out.cpu)}
+    if out.collapsed:
+        h, z0, bs, hs, bsl, hsl = failing_part(model, settled, out, slide_tol)
+        rec.update(h=h, z0=z0, base_slid=bool(bs), hinge_slid=bool(hs), base_slip=bsl,
+                   hinge_slip=hsl)
+    return rec
 
-    load: amplitude -> keyword arguments of ``run`` (default: the ideal impulse,
-    {"v_g": amplitude}); e.g. ``lambda v: {"velocity": field(v)}`` or
-    ``lambda a: {"pulse": pulse.with_pga(a)}``. settled: a settled state (default: settle
-    here). progress(amplitude, collapsed, t_end, trials): called after each trial (e.g. a
-    line on stderr); it changes nothing."""
+
+def bisect(trial, *, guess: float = 0.5, rel_tol: float = 0.01, max_trials: int = 40,
+           progress=None, step: float = 1.5) -> tuple[float, float, list[dict]]:
+    """The bracket [lo, hi] (lo safe, hi collapsed) of ``trial(amplitude) -> record``
+    (``trial_record``'s keys) by steps of ×step from guess, halved until (hi − lo)/(hi + lo)
+    <= rel_tol (module docstring). Each trial depends on the ones before, so they run one
+    after the other, wherever ``trial`` runs them (here, or a task each). Returns (lo, hi,
+    records in trial order)."""
     guess = check_range("guess", guess, 0.0, lo_open=True)
     rel_tol = check_range("rel_tol", rel_tol, 0.0, 0.5, lo_open=True)
-    settle_info = {}
-    if settled is None:
-        settled, settle_info = settle(model)
-    load = load or (lambda v: {"v_g": v})
-    trials = []
-    cpu = 0.0
-    outs = {}
+    step = check_range("step", step, 1.0, 10.0, lo_open=True)
+    recs = []
 
-    def trial(v):
-        nonlocal cpu
-        if len(trials) >= max_trials:
+    def collapses(v):
+        if len(recs) >= max_trials:
             raise ResultError(f"DEM threshold: no bracket or no convergence in {max_trials} "
                               f"trials (last amplitude {v:g})")
-        o = run(model, settled, t_max=t_max, **load(v))
-        trials.append((v, o.collapsed, o.t_end))
-        cpu += o.cpu
-        outs[v] = o
+        recs.append(trial(v))
         if progress is not None:
-            progress(v, o.collapsed, o.t_end, tuple(trials))
-        return o.collapsed
+            progress(v, recs[-1]["collapsed"], recs[-1]["t_end"],
+                     tuple((r["amplitude"], r["collapsed"], r["t_end"]) for r in recs))
+        return recs[-1]["collapsed"]
 
     lo, hi = None, None
     v = guess
-    if trial(v):
+    if collapses(v):
         hi = v
         while lo is None:
-            v /= 1.5
-            if trial(v):
+            v /= step
+            if collapses(v):
                 hi = v
             else:
                 lo = v
     else:
         lo = v
         while hi is None:
-            v *= 1.5
-            if trial(v):
+            v *= step
+            if collapses(v):
                 hi = v
             else:
                 lo = v
     while (hi - lo) / (hi + lo) > rel_tol:
         mid = 0.5 * (lo + hi)
-        if trial(mid):
+        if collapses(mid):
             hi = mid
         else:
             lo = mid
     if not math.isfinite(hi):  # pragma: no cover - guarded by the loop
         raise ParameterError("no collapse found")
-    h, z0, bs, hs, bsl, hsl = failing_part(model, settled, outs[hi], slide_tol)
-    return Threshold(0.5 * (lo + hi), lo, hi, rel_tol, h, z0, bs, hs, bsl, hsl, tuple(trials),
-                     cpu, model.dt, settle_info)
+    return lo, hi, recs
+
+
+def threshold_of(lo: float, hi: float, recs: list[dict], rel_tol: float, dt: float,
+                 settle_info: dict) -> Threshold:
+    """The ``Threshold`` of a bisection's records (``bisect``): the failing part of the lowest
+    collapsing trial, CPU summed over the trials."""
+    top = next(r for r in recs if r["collapsed"] and r["amplitude"] == hi)
+    return Threshold(0.5 * (lo + hi), lo, hi, rel_tol, top["h"], top["z0"], top["base_slid"],
+                     top["hinge_slid"], top["base_slip"], top["hinge_slip"],
+                     tuple((r["amplitude"], r["collapsed"], r["t_end"]) for r in recs),
+                     sum(r["cpu"] for r in recs), dt, settle_info)
+
+
+def collapse_threshold(model: DEMModel, settled: DEMState | None = None, *, guess: float = 0.5,
+                       rel_tol: float = 0.01, t_max: float = 5.0, load=None,
+                       slide_tol: float = 1e-3, max_trials: int = 40,
+                       progress=None, step: float = 1.5) -> Threshold:
+    """The smallest collapsing amplitude by bisection (module docstring), every trial run
+    here (``bisect`` with ``trial_record`` of ``run``).
+
+    load: amplitude -> keyword arguments of ``run`` (default: the ideal impulse,
+    {"v_g": amplitude}); e.g. ``lambda v: {"velocity": field(v)}`` or
+    ``lambda a: {"pulse": pulse.with_pga(a)}``. settled: a settled state (default: settle
+    here). progress(amplitude, collapsed, t_end, trials): called after each trial (e.g. a
+    line on stderr); it changes nothing. step: the bracket search's factor (> 1; a guess
+    known to lie near the threshold saves trials with a small one, e.g. 1.1)."""
+    check_range("guess", guess, 0.0, lo_open=True)
+    check_range("rel_tol", rel_tol, 0.0, 0.5, lo_open=True)
+    check_range("step", step, 1.0, 10.0, lo_open=True)
+    settle_info = {}
+    if settled is None:
+        settled, settle_info = settle(model)
+    load = load or (lambda v: {"v_g": v})
+
+    def trial(v):
+        return trial_record(model, settled, run(model, settled, t_max=t_max, **load(v)), v,
+                            slide_tol)
+
+    lo, hi, recs = bisect(trial, guess=guess, rel_tol=rel_tol, max_trials=max_trials,
+                          progress=progress, step=step)
+    return threshold_of(lo, hi, recs, rel_tol, model.dt, settle_info)

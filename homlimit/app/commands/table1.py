@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ...errors import ParameterError
 from .. import pipeline, plots, report
-from ..dem_stage import dem_section, table1_dem_records
+from ..dem_stage import dem_section, table1_dem_records, table1_dem_walls
 from ..door import (
     interruptible,
     open_engine,
@@ -31,18 +31,19 @@ def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, m
     owner = dict(command=f"table1 {variant}".strip(),
                  source="embedded:table1" + (f":{','.join(tests)}" if tests else ""))
     setup_logging(verbose, quiet, as_json)
-    if dem:   # validated before any work, then every wall a Dask task, its record kept
+    if dem:   # validated before any work, then every trial a Dask task, its record kept
 
         section = dem_section(overrides)
-        table1_dem_records(tests, section, map=lambda fn, walls: [])
+        table1_dem_walls(tests, section)
         store = RecordStore(out / "records")
         with stdout_quiet(as_json or verbose) as stdout, interruptible(store.folder), \
                 pipeline.result_folder(out, **owner) as staging:
             if not resume:
                 store.clear()
             with open_engine(workers, scheduler, quiet or as_json) as engine:
+                # each trial logs its line; one bar per trial's map would be noise
                 rows, ratios = table1_dem_records(tests, section, map=engine.stored_map(
-                    store, "table1-dem", "DEM walls"))
+                    store, "table1-dem", "DEM trial", show=False))
             report.write(staging / "table1_dem.csv", rows)
             report.write(staging / "table1_dem_ratios.json", {
                 "ratios": ratios, "dem": asdict(section),
