@@ -559,10 +559,12 @@ def test_crack_study_one_point(tmp_path):
 
     res = CliRunner().invoke(app, ["crack-study", "--json", "--out", str(tmp_path),
                                    "--c-over-a", "1.0", "--friction", "0.6", "--facade",
-                                   "homogenised", "--mesh-size", "0.6", "--finer", "0"])
+                                   "homogenised", "--mesh-size", "0.6", "--finer", "0",
+                                   "--no-conform"])     # the search: tests/test_conform.py
     assert res.exit_code == 0, res.output
     out = json.loads(res.stdout)
     (r,) = out["records"]
+    assert r["conform_multiplier"] is None              # not searched (NaN: JSON null)
     assert (r["c_over_a"], r["f"], r["facade"], r["mesh_size"]) == (1.0, 0.6, "homogenised",
                                                                      0.6)
     assert r["tan_alpha"] == pytest.approx(math.sqrt(1.0 * 0.6), rel=1e-12)   # eq. 16

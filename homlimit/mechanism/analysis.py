@@ -233,7 +233,10 @@ def analyse(case: Case, problem: Problem, options=None, solution=None) -> FEMech
                                                                 options or SolverOptions())
     X, V, el, rho = p2_nodes(sol, densities(case))
     mm = measure_mechanism(X, V, el, rho)
-    edges = fan_edges(X, el, mm, w.b, z_top=w.H) if mm.kind != "distributed" else None
+    # a mesh conforming to the field's kinks (mechanism.conform) states its own resolution
+    res = problem.meta.get("crack_resolution")
+    edges = (fan_edges(X, el, mm, w.b, z_top=w.H, resolution=res)
+             if mm.kind != "distributed" else None)
     kind = mechanism_type(mm, edges)
     meta = problem.meta
     common = dict(case=case, problem=problem, solution=sol, measures=mm, edges=edges,

@@ -54,7 +54,10 @@ class ConformedFan:
     trial mesh's hinge and ray slopes; fan: the hinge and edges read off its field
     (``HingeFan``; None if the field has no hinge on the outer face); start: where the search
     began; trials: (z_h, T1, T2, λ⁺) of every solved trial in order (λ⁺ NaN: the solver
-    failed on that mesh); seconds: wall time of the search.
+    failed on that mesh); seconds: wall time of the search; change: the largest change of the
+    field's edges (or mid-line) over the search's last improving round (over the first: from
+    the start), at least ``xatol``: the crack's resolution, kept in the problem's meta as
+    ``crack_resolution`` for ``analysis.analyse``.
     """
 
     kinematic: object
@@ -66,6 +69,7 @@ class ConformedFan:
     start: HingeFan
     trials: tuple[tuple[float, float, float, float], ...]
     seconds: float
+    change: float = math.nan
 
     @property
     def lam(self) -> float:
@@ -78,7 +82,7 @@ class ConformedFan:
                 "T1": None if f is None else f.T1, "T2": None if f is None else f.T2,
                 "T_mid": None if f is None else f.T_mid,
                 "start": dataclasses.asdict(self.start), "trials": len(self.trials),
-                "seconds": self.seconds}
+                "seconds": self.seconds, "change": self.change}
 
 
 def conform_fan(case: Case, start: HingeFan, *, facade: str = "homogenised", size: float = 0.5,
@@ -113,6 +117,7 @@ def conform_fan(case: Case, start: HingeFan, *, facade: str = "homogenised", siz
         return np.array([min(max(hf.z, z_lo), z_hi), (T1 + T2) / 2, T2 - T1])
 
     x = simplex_start(start)
+    fans = [start]                           # the best field's hinge and edges, per round
     problem0 = t_section(case, facade=facade, h=size)
     trials, best = [], {}
     t0 = time.perf_counter()
@@ -148,6 +153,7 @@ def conform_fan(case: Case, start: HingeFan, *, facade: str = "homogenised", siz
         if not best or best["k"].multiplier >= lam0 * (1 - 1e-7):
             break
         hf = hinge_fan(case, best["k"])
+        fans.append(hf)
         try:
             nxt = simplex_start(hf) if hf is not None else None
         except ParameterError:
@@ -162,8 +168,22 @@ def conform_fan(case: Case, start: HingeFan, *, facade: str = "homogenised", siz
         raise SolverError(f"every one of the {len(trials)} ray-conforming meshes failed to solve")
     k = best["k"]
     z_h, T1, T2 = best["p"]
-    return ConformedFan(k, best["prob"], z_h, T1, T2, hinge_fan(case, k), start, tuple(trials),
-                        time.perf_counter() - t0)
+    fan = hinge_fan(case, k)
+    change = max(xatol, _change(fans[-2] if len(fans) > 1 else start, fan))
+    prob = dataclasses.replace(best["prob"], meta={**best["prob"].meta,
+                                                   "crack_resolution": change})
+    return ConformedFan(k, prob, z_h, T1, T2, fan, start, tuple(trials),
+                        time.perf_counter() - t0, change)
+
+
+def _change(a: HingeFan | None, b: HingeFan | None) -> float:
+    """The largest change of the edges (or, where one has none, the mid-lines) from a to b."""
+    if a is None or b is None:
+        return math.inf
+    pairs = [(a.T1, b.T1), (a.T2, b.T2)] if None not in (a.T1, a.T2, b.T1, b.T2) else \
+        [(a.T_mid if a.T_mid is not None else a.T1, b.T_mid)]
+    d = [abs(u - v) for u, v in pairs if u is not None and v is not None]
+    return max(d) if d else math.inf
 
 
 def conform_hook(case: Case, facade: str = "homogenised",

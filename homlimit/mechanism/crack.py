@@ -127,15 +127,19 @@ def _wall_mask(X, sub, b, hinge, r_min):
 
 def crack_line(X: np.ndarray, elements: np.ndarray, mm: MechanismMeasures, b: float,
                level: float = 0.5, fit_part: tuple[float, float] = (0.1, 0.9),
-               r_min: float | None = None, z_top: float | None = None) -> CrackLine | None:
+               r_min: float | None = None, z_top: float | None = None,
+               resolution: float | None = None) -> CrackLine | None:
     """The level set p = level of the block's participation inside the wall x > b.
 
     X, elements: P2 nodes (n, 2) and triangles (n_el, 6) as given to ``measure_mechanism``;
     b: façade thickness [m] (the wall starts at x = b); fit_part: the fitted part as fractions
     of the line's height range in the wall (default: the middle 80 %, away from the façade
     junction and the top); r_min: points closer to O are ignored (default 2 h_e);
-    z_top: ignore points within 2 h_e of this height (the free top). Returns None if the level
-    is not crossed (no block, or no crack in the wall).
+    z_top: ignore points within 2 h_e of this height (the free top); resolution: the slope
+    uncertainty of the field itself, replacing h_e/ℓ_z in δT where the mesh conforms to the
+    field's kinks (there a level set of the P2 field is exact, and what is uncertain is where
+    the search put the kinks: ``conform``). Returns None if the level is not crossed (no block,
+    or no crack in the wall).
     """
     level = check_range("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
     lo, hi = (check_range("fit_part", v, 0.0, 1.0) for v in fit_part)
@@ -179,7 +183,7 @@ def crack_line(X: np.ndarray, elements: np.ndarray, mm: MechanismMeasures, b: fl
     dof = max(sel.sum() - 2, 1)
     cov = np.linalg.inv(A.T @ A) * (r @ r) / dof
     se = math.sqrt(max(cov[1, 1], 0.0))
-    dT = math.hypot(se, h_e / (zc - za))
+    dT = math.hypot(se, h_e / (zc - za) if resolution is None else resolution)
     return CrackLine(level, pts, zb, xb, psi, float(coef[1]), dT, (float(za), float(zc)), h_e,
                      float(coef[0]))
 
