@@ -149,3 +149,22 @@ def test_hinge_check_takes_a_tie():
         assert math.isfinite(hp.duration) and hp.ratio > 1, (name, hp)
         assert hp.pgv == pytest.approx(0.6 * G * hp.duration)
         assert hp.pgv / hp.ratio == pytest.approx(m.vg, rel=1e-9)   # eq. 7's v̄_g
+
+
+def test_pulse_spectra_take_a_tie():
+    # `homlimit pulse`'s spectra of a tied B1: I and the overturning (not enabled in
+    # [analysis]: its `alone` computes it) on RealWallRocker at the closed forms' λ and v̄_g;
+    # a rectangular pulse of finite duration needs more pgv than the ideal impulse
+    from homlimit.app.config import load_case
+    from homlimit.app.pulses import pulse_records
+
+    config = load_case(b1(analysis={"fe": False}, tie=[{"z": 9.0, "yield_force": 2000.0}],
+                          pulse={"mechanisms": ["I", "overturning"], "kinds": ["rectangular"],
+                                 "periods": [0.2], "polarities": [1]}))
+    points, fe = pulse_records(config)
+    assert fe is None and {p.mechanism for p in points} == {"I", "overturning"}
+    for p in points:
+        mech = real.real_mechanism(config.case, {"I": "detachment"}.get(p.mechanism,
+                                                                         p.mechanism))
+        assert p.vg_eq7 == pytest.approx(mech.vg, rel=1e-12)
+        assert 1 < p.ratio < 3 and p.pga > p.a_uplift >= mech.multiplier * G
