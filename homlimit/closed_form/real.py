@@ -39,7 +39,7 @@ from ..params import Case
 from .mechanisms import MechanismResult, geometry_II, lam_max_II, minimise, wedge_Jz
 
 __all__ = ["KINDS", "RealMechanismResult", "real_mechanism", "vnorm_real", "multiplier_real",
-           "tie_force", "tie_work",
+           "friction_work_I", "mechanism_state", "tie_force", "tie_work",
            "work_real", "theta_m_real", "lam_bounds"]
 
 KINDS = ("detachment", "crack", "overturning")     # mechanisms I, II and the overturning
@@ -100,6 +100,18 @@ def _state(case: Case, kind: str, lam, tanpsi=None):
     t = np.where(2 * t <= b, t, np.nan)        # the stress block must fit the thickness
     return dict(lam=lam, m=m, xg=xg, zg=zg, I_O=I_O, Jz=Jz, Q=Q, e=e, zq=zq, T=T, k=k, du=du, d=d,
                 N=N, t=t, g=g, t_psi=t_psi)
+
+
+def mechanism_state(case: Case, kind: str, lam, tanpsi: float | None = None) -> dict:
+    """Per λ (arrays): the failing body (m, x_G, z_G from the outer toe, I_O, Jz), the hinge
+    retreat t and normal force N, the floors on it (Q, e, zq: height above the hinge) and the
+    ties in it (T, k, du, d), each (n_λ, n); t_psi, g. What the rockers build on."""
+    return _state(case, kind, lam, tanpsi)
+
+
+def friction_work_I(case: Case, lam, theta):
+    """Mechanism I's abutment friction work at λ up to θ [J] (eq. 9 integrated)."""
+    return _friction_I(case, lam, theta)
 
 
 def tie_work(delta, T, k, du):

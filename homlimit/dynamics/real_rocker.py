@@ -42,7 +42,7 @@ from ..errors import ParameterError
 from ..fields import set_fields
 from ..impulse import RigidBody, peak_of
 from ..params import Case
-from .rocking import Rocker, _restitution, friction_moment_I
+from .rocking import RESTITUTION, Rocker, friction_moment_I
 
 __all__ = ["RealWallRocker"]
 
@@ -86,11 +86,11 @@ class RealWallRocker(Rocker):
                                  "'linearised' or 'exact' for mechanism I, 'exact' for II and "
                                  "the overturning")
         set_fields(self, geometry=geo)
-        set_fields(self, restitution=_restitution(self.restitution))
+        set_fields(self, restitution=RESTITUTION.check("restitution", self.restitution))
         lam = self.lam
         if lam is None:
             lam = real.real_mechanism(self.case, self.kind, self.tanpsi).lam
-        st = real._state(self.case, self.kind, [float(lam)], self.tanpsi)
+        st = real.mechanism_state(self.case, self.kind, [float(lam)], self.tanpsi)
         t = float(st["t"][0])
         if not math.isfinite(t):
             raise ParameterError(f"[masonry] fc = {self.case.masonry.fc!r} Pa: mechanism "
@@ -198,7 +198,7 @@ class RealWallRocker(Rocker):
         phi = np.asarray(phi, dtype=float)
         if self.kind != "detachment":
             return np.zeros_like(phi)
-        return real._friction_I(self.case, self.lam, phi)
+        return real.friction_work_I(self.case, self.lam, phi)
 
     def work(self, phi):
         phi = np.asarray(phi, dtype=float)
