@@ -168,3 +168,15 @@ def test_pulse_spectra_take_a_tie():
                                                                          p.mechanism))
         assert p.vg_eq7 == pytest.approx(mech.vg, rel=1e-12)
         assert 1 < p.ratio < 3 and p.pga > p.a_uplift >= mech.multiplier * G
+
+
+def test_hinge_check_refusals_lifted_where_the_rockers_take_the_inputs():
+    # fc on every rocker (the FE body's too), ties and floors on the closed forms'; the FE
+    # body's rocker with a tie and any rocker with cohesion stay refused (test_real_walls.py)
+    from homlimit.app.config import load_case
+
+    assert load_case(b1(masonry={"fc": 2e6})).analysis.hinge_check       # fe = true default
+    tied = load_case(b1(analysis={"fe": False}, floor=[{"z": 4.5, "load": 2e4,
+                                                        "eccentricity": 0.1}],
+                        tie=[{"z": 9.0, "yield_force": 2000.0}]))
+    assert tied.analysis.hinge_check and tied.case.ties and tied.case.floors
