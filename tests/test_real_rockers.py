@@ -180,3 +180,19 @@ def test_hinge_check_refusals_lifted_where_the_rockers_take_the_inputs():
                                                         "eccentricity": 0.1}],
                         tie=[{"z": 9.0, "yield_force": 2000.0}]))
     assert tied.analysis.hinge_check and tied.case.ties and tied.case.floors
+
+
+def test_mechanism_I_exact_gravity():
+    # [pulse] gravity_I = "exact": gravity, floors and ties at finite rotation (δ = d sin φ),
+    # the friction linearised as eq. 8; R + F = dW/dφ, θ_m where R + F changes sign, and the
+    # impulse of its own v̄_g (1 ∓ 1 %) stands / overturns
+    r = RealWallRocker(REAL, "detachment", geometry="exact")
+    phi = np.array([0.01, 0.05, 0.12])
+    dW = (r.work(phi + 1e-6) - r.work(phi - 1e-6)) / 2e-6
+    np.testing.assert_allclose(r.restoring(phi) + r.friction(phi), dW, rtol=1e-7)
+    th = r.theta_m
+    assert r.restoring(th * 0.999) + r.friction(th * 0.999) > 0
+    assert r.restoring(th * 1.001) + r.friction(th * 1.001) < 0
+    w0 = r.vg_impulse * r.excitation(0.0) / r.inertia
+    assert not simulate(r, theta_dot0=0.99 * w0, duration=5.0).overturned
+    assert simulate(r, theta_dot0=1.01 * w0, duration=5.0).overturned
