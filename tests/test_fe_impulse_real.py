@@ -221,9 +221,9 @@ def test_adaptive_bracket_keeps_the_tie_on_every_mesh():
 
 
 def test_pulse_spectra_refuse_ties_and_floors_before_any_work(monkeypatch):
-    """The pulse rockers (the FE body's too) have no tie or floor work: ``pulse_records``
-    refuses a case with a tie before the FE path runs (it would take minutes), naming the
-    entry; ``rocker_fe`` refuses it too."""
+    """The FE body's pulse rocker has no tie or floor work: ``pulse_records`` refuses a case
+    with a tie and [pulse] mechanisms "FE" before the FE path runs (it would take minutes),
+    naming the entry; ``rocker_fe`` refuses it too."""
     from homlimit.app import models
     from homlimit.app.config import load_case
     from homlimit.app.pulses import pulse_records
@@ -234,7 +234,8 @@ def test_pulse_spectra_refuse_ties_and_floors_before_any_work(monkeypatch):
     monkeypatch.setattr(models, "fe_result", forbidden)
     config = load_case(None, ["tie.0.z=9", "tie.0.yield_force=5000",
                               'pulse.mechanisms=["FE"]', "analysis.hinge_check=false"])
-    with pytest.raises(ParameterError, match=r"\[\[tie\]\] 0: the pulse spectra's rockers"):
+    with pytest.raises(ParameterError,
+                       match=r"\[\[tie\]\] 0: \[pulse\] mechanisms = \['FE'\]: the FE body's"):
         pulse_records(config)
     with pytest.raises(ParameterError, match=r"\[\[tie\]\] 0: the FE body's rocker"):
         models.rocker_fe(config.case, None)

@@ -28,7 +28,6 @@ from typing import Any
 
 from .. import _io
 from .._version import package_version
-from ..closed_form import mechanisms as mech
 from ..dynamics import GeneralisedRocker
 from ..errors import OutputError, ParameterError, ResultError
 from ..fe.mesh import cache_dir, from_skfem
@@ -39,6 +38,7 @@ from . import plots, registry, report
 from .config import CaseConfig
 from .models_rigid import (
     blocks_files,
+    closed_form_alone,
     closed_form_files,
     closed_forms,
     real_closed_forms,
@@ -353,9 +353,9 @@ registry.register(
     Model("fe", lambda config: config.analysis.fe, run_fe, check_fe, files=fe_files),
     Model("blocks", lambda config: config.analysis.blocks, run_blocks, files=blocks_files),
     Model("dem", lambda config: config.analysis.dem, run_dem),
-    Mechanism("I", rocker=rocker_I, alone=lambda config: mech.mechanism_I(config.case),
+    Mechanism("I", rocker=rocker_I, alone=closed_form_alone("detachment"),
               colour="tab:blue", **CLOSED),
-    Mechanism("II", rocker=rigid_rocker, alone=lambda config: mech.mechanism_II(config.case),
+    Mechanism("II", rocker=rigid_rocker, alone=closed_form_alone("crack"),
               colour="tab:orange", **CLOSED),
     Mechanism("FE", model="fe", rocker=rocker_fe, alone=fe_rocker, colour="tab:green",
               marker="*", size=16, needs_mesh=True,

@@ -12,14 +12,14 @@ import numpy as np
 from ..blocks import analyse_blocks
 from ..closed_form import mechanisms as mech
 from ..closed_form import real
-from ..dynamics import MechanismIRocker, RigidRocker
+from ..dynamics import MechanismIRocker, RealWallRocker, RigidRocker
 from ..errors import ParameterError
 from . import plots
 from .stages import solver_options, stage
 
-__all__ = ["blocks_files", "closed_form_files", "closed_forms", "no_real_wall",
-           "real_closed_forms", "rigid_rocker", "rocker_I", "run_blocks", "run_closed_forms",
-           "run_dem"]
+__all__ = ["blocks_files", "closed_form_alone", "closed_form_files", "closed_forms",
+           "no_joint_strength", "no_real_wall", "real_closed_forms", "real_rocker",
+           "rigid_rocker", "rocker_I", "run_blocks", "run_closed_forms", "run_dem"]
 
 
 # ----------------------------------------------------------------------------- closed forms
@@ -114,16 +114,55 @@ def no_real_wall(case, what: str) -> None:
                              "them (docs/real-walls.md)")
 
 
+def no_joint_strength(case, what: str) -> None:
+    """A ParameterError naming [masonry] cohesion / tension if the case sets them: no rocker
+    takes a joint strength (its work at finite rotation is not rigid-plastic)."""
+    m = case.masonry
+    keys = [f"[masonry] {k} = {getattr(m, k)!r} Pa" for k in ("cohesion", "tension")
+            if getattr(m, k)]
+    if keys:
+        raise ParameterError(f"{', '.join(keys)}: {what} does not take a joint cohesion or "
+                             "tension; allowed 0 Pa (docs/real-walls.md)")
+
+
+def real_rocker(case, mechanism, gravity_I="linearised", restitution=0.0):
+    """The rocker of a real wall's closed-form mechanism (``closed_form.real``: I, II or the
+    overturning, fc, ties and floors; ``dynamics.RealWallRocker``) at the mechanism's λ;
+    mechanism I's gravity per ``gravity_I``, II and the overturning exact."""
+    what = f"the rocker of mechanism {mechanism.name} (pulse spectra, hinge check)"
+    no_joint_strength(case, what)
+    kind = getattr(mechanism, "kind", None)
+    if kind not in real.KINDS:
+        no_real_wall(case, what)            # not a closed form of closed_form.real
+    geometry = gravity_I if kind == "detachment" else "exact"
+    return RealWallRocker(case, kind, lam=mechanism.lam, tanpsi=mechanism.tanpsi,
+                          geometry=geometry, restitution=restitution, name=mechanism.name)
+
+
 def rigid_rocker(case, mechanism, gravity_I="linearised", restitution=0.0):
-    """The rocker of a mechanism with a rigid ``body`` (exact geometry)."""
-    no_real_wall(case, f"the rocker of mechanism {mechanism.name} (pulse spectra, hinge check)")
+    """The rocker of a mechanism with a rigid ``body`` (exact geometry); a real wall's
+    (``case.real``): ``real_rocker``."""
+    if case.real:
+        return real_rocker(case, mechanism, gravity_I, restitution)
     return RigidRocker(mechanism.body, g=case.wall.g, restitution=restitution,
                        name=mechanism.name)
 
 
 def rocker_I(case, mechanism, gravity_I="linearised", restitution=0.0):
     """Mechanism I's rocker: the façade strip with the abutment friction of eq. 9, at the
-    critical λ, its gravity linearised (eq. 10) or exact (``gravity_I``)."""
-    no_real_wall(case, "the rocker of mechanism I (pulse spectra, hinge check)")
+    critical λ, its gravity linearised (eq. 10) or exact (``gravity_I``); a real wall's:
+    ``real_rocker``."""
+    if case.real:
+        return real_rocker(case, mechanism, gravity_I, restitution)
     return MechanismIRocker(case, gravity=gravity_I, restitution=restitution)
 
+
+def closed_form_alone(kind: str):
+    """``registry.Mechanism.alone`` of closed-form mechanism ``kind`` (for ``homlimit
+    pulse``): the paper's form, or ``closed_form.real``'s on a real wall."""
+    def alone(config):
+        case = config.case
+        if case.real or kind == "overturning":
+            return real_closed_forms(config, (kind,))[0][real.NAMES[kind]]
+        return mech.mechanism_I(case) if kind == "detachment" else mech.mechanism_II(case)
+    return alone

@@ -3,13 +3,15 @@ without the abutment friction, with ties, floors and a finite f_c (docs/real-wal
 
 A model of its own (``[analysis] overturning``, off by default, so that the paper's runs and
 the closed forms' batched sweeps are unchanged) with one mechanism, "overturning", registered
-like I and II. No rocker yet: the hinge check and the pulse spectra do not take it.
+like I and II, with its rocker (``dynamics.RealWallRocker``, exact geometry) for the hinge
+check and the pulse spectra.
 """
 
 from __future__ import annotations
 
 from . import registry
 from .models import real_closed_forms, stage
+from .models_rigid import closed_form_alone, real_rocker
 from .registry import Mechanism, Model
 
 __all__ = ["run_overturning"]
@@ -25,8 +27,8 @@ def run_overturning(config, result) -> None:
 
 registry.register(
     Model("overturning", lambda config: config.analysis.overturning, run_overturning),
-    Mechanism("overturning", model="overturning",
-              alone=lambda config: real_closed_forms(config, ("overturning",))[0]["overturning"],
+    Mechanism("overturning", model="overturning", rocker=real_rocker,
+              alone=closed_form_alone("overturning"),
               checked=("lam", "h", "vg", "vnorm", "theta_m", "W_m"),
               body_checked=("m", "x_G", "z_G", "I_O", "J_z"), static=True, colour="tab:brown",
               marker="s", size=8))

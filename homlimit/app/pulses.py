@@ -13,7 +13,7 @@ from ..errors import ParameterError
 from . import registry
 from .config import CaseConfig
 from .models import FERocker, stage
-from .models_rigid import no_real_wall
+from .models_rigid import no_joint_strength
 from .result import Result
 
 __all__ = ["MAX_RECORD_BYTES", "pulse_records"]
@@ -32,8 +32,14 @@ def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
     rocker (None unless chosen), which says whether it came from the cache."""
     case, pc = config.case, config.pulse
     w = case.wall
-    if case.ties or case.floors:     # no rocker takes them: refused before the FE path runs
-        no_real_wall(case, "the pulse spectra's rockers")
+    # refused before any work (the FE path): what the chosen rockers do not take
+    no_joint_strength(case, "the pulse spectra's rockers")
+    if (case.ties or case.floors) and registry.needs_mesh(list(pc.mechanisms)):
+        keys = [k for k in case.real_inputs() if k.startswith("[[")]
+        raise ParameterError(f"{', '.join(keys)}: [pulse] mechanisms = "
+                             f"{list(pc.mechanisms)!r}: the FE body's rocker does not take ties "
+                             "or floors yet (the closed forms' rockers do); allowed mechanisms "
+                             "without 'FE' (docs/pulses.md)")
     record = None
     if pc.record:
         base = Path(config.source).parent if Path(config.source).is_file() else Path.cwd()

@@ -163,7 +163,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                            "and the shortest rectangular pulse it holds, "
                                            "per mechanism (summary 'hinges'; about 0.07 s "
                                            "per mechanism: off for large closed-form "
-                                           "sweeps)"),
+                                           "sweeps). A real wall: the closed forms' rockers "
+                                           "take fc, ties, floors, the FE body's only fc; "
+                                           "cohesion, tension refused"),
     },
     "blocks": {
         "facade": Key(str, "through", choices=FACADE_BONDS,
@@ -194,7 +196,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                               "façade's inertia outwards)"),
         "mechanisms": Key(list, ["I", "II"], item=str, choices=registry.PULSE_CHOICES,
                           doc="mechanisms whose spectra are computed (FE runs the FE path "
-                              "first: its critical body, rigid or one-DOF)"),
+                              "first: its critical body, rigid or one-DOF). A real wall: I, "
+                              "II, overturning take fc, ties, floors (docs/real-walls.md "
+                              "\"Rockers\"), FE only fc"),
         "gravity_I": Key(str, "linearised", choices=("linearised", "exact"),
                          doc="mechanism I's gravity: as eq. 10 (linearised) or exact"),
         "restitution": Key.of(RigidRocker, "restitution",

@@ -25,6 +25,7 @@ from ..impulse.body import RigidBody
 from ..params import Case
 from .integrate import IntegrationOptions
 from .pulses import PULSE_KINDS, make_pulse
+from .real_rocker import RealWallRocker
 from .rocking import GeneralisedRocker, MechanismIRocker, RigidRocker, Rocker
 from .threshold import critical_pulse
 
@@ -160,10 +161,13 @@ def _hinge_ratio_of(rocker: Rocker, th) -> float:
 
 
 #: the closed-form mechanisms' rockers: (case, gravity_I, restitution) → Rocker
+#: (a real wall's, ``case.real``: ``RealWallRocker`` of ``closed_form.real``)
 _CLOSED_FORM_ROCKERS = {
-    "I": lambda case, gravity_I, restitution: MechanismIRocker(
-        case, gravity=gravity_I, restitution=restitution),
-    "II": lambda case, gravity_I, restitution: RigidRocker(
+    "I": lambda case, gravity_I, restitution: RealWallRocker(
+        case, "detachment", geometry=gravity_I, restitution=restitution, name="I")
+    if case.real else MechanismIRocker(case, gravity=gravity_I, restitution=restitution),
+    "II": lambda case, gravity_I, restitution: RealWallRocker(
+        case, "crack", restitution=restitution, name="II") if case.real else RigidRocker(
         mechanism_II(case).body, g=case.wall.g, restitution=restitution, name="II")}
 
 
