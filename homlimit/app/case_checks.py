@@ -12,7 +12,7 @@ import math
 import unicodedata
 from typing import Any
 
-from ..params import MESHER_DEFAULT, PART_DIVISIONS, Case
+from ..params import MESHER_DEFAULT, PART_DIVISIONS, Case, opening_problems
 from . import budget, registry
 from .schema import ARRAYS, MAX_ARRAY, OPTIONAL_SECTIONS, REQUIRED_SECTIONS, SCHEMA, TOP_LEVEL, Key
 
@@ -191,6 +191,9 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
             if "b" in w and "eccentricity" in e and e["eccentricity"] > w["b"]:
                 out.append(f"[[{arr}]] {k} eccentricity = {e['eccentricity']!r} m is out of "
                            f"range: allowed 0 <= eccentricity <= b = {w['b']:g} m")
+    if all(k in w for k in ("H", "b", "L")):
+        out += opening_problems(w["H"], w["b"], w["L"], v.get("facade_opening") or (),
+                                v.get("wall_opening") or ())
     closed = an.get("closed_form") or an.get("overturning")
     held = [(k, e["z"]) for k, e in enumerate(v.get("floor") or ())
             if e.get("restrains") and "z" in e]
@@ -201,8 +204,10 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
                        f"forms a failing body of (H − z)/b = {(w['H'] - zr) / w['b']:.4g}: out "
                        f"of range: allowed z <= H − {LAM_MIN_CLOSED:g} b = "
                        f"{w['H'] - LAM_MIN_CLOSED * w['b']:g} m (the body lies above it)")
+    out += _openings_refused(v, an)
     keys = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("fc", "cohesion", "tension") if m.get(k)]
-    keys += [f"[[{arr}]] ({len(v[arr])} entries)" for arr in ("tie", "floor") if v.get(arr)]
+    keys += [f"[[{arr}]] ({len(v[arr])} entries)"
+             for arr in ("tie", "floor", "facade_opening", "wall_opening") if v.get(arr)]
     if not keys:
         return out
     given = ", ".join(keys)
@@ -244,6 +249,21 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
                        "overturning) do not take a joint " + k + " (no clean derivation "
                        "yet); allowed 0 Pa (docs/real-walls.md)")
     return out
+
+
+#: the models that do not take an opening yet: (array, [analysis] key) → what says so
+OPENINGS_REFUSED = {("facade_opening", "fe"): "the FE path", ("wall_opening", "fe"): "the FE path",
+                    ("facade_opening", "blocks"): "the rigid blocks",
+                    ("wall_opening", "blocks"): "the rigid blocks",
+                    ("facade_opening", "dem"): "the DEM", ("wall_opening", "dem"): "the DEM"}
+
+
+def _openings_refused(v: dict[str, Any], an: dict[str, Any]) -> list[str]:
+    """An opening given with a model that does not take it (``OPENINGS_REFUSED``)."""
+    return [f"[[{arr}]] ({len(v[arr])} entries) with [analysis] {model} = true: {what} does "
+            f"not take a {arr.replace('_', ' ')} yet; allowed [analysis] {model} = false "
+            "with it (docs/real-walls.md \"Openings\")"
+            for (arr, model), what in OPENINGS_REFUSED.items() if v.get(arr) and an.get(model)]
 
 
 def cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> list[str]:

@@ -1,0 +1,203 @@
+"""Openings (issue 31 step 1): a façade band and rectangles in the transversal wall, from the
+case file to every model.
+
+The references are written here by hand: the failing body's mass, centroid, inertia and
+participation integral as sums of rectangles (the façade strip cut into the parts below, in
+and above the band) and, for mechanism II's wedge cut by a wall opening, the shoelace
+(Green's theorem) moments of the clipped polygon whose vertices are worked out below; none
+calls the package's integrals.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from homlimit.app.config import ConfigError, load_case
+from homlimit.closed_form import real
+from homlimit.params import Case, FacadeOpening, Masonry, Wall, WallOpening
+
+from cases import b1, run_cli
+
+B1 = Case(Wall(H=9.0, L=6.0, s=0.5, b=0.5, l=6.0), Masonry(a=0.3, c=0.2, f=0.6), name="B1")
+BAND = FacadeOpening(z_bottom=1.0, z_top=2.5, fraction=0.2)
+
+
+def _rect(x0, x1, z0, z1, rho):
+    """(m, ∫x dm, ∫z dm, ∫(x² + z²) dm, ∫z² dm) of a rectangle of areal density rho."""
+    if z1 <= z0:
+        return np.zeros(5)
+    dx, dz = x1 - x0, z1 - z0
+    m = rho * dx * dz
+    return np.array([m, m * (x0 + x1) / 2, m * (z0 + z1) / 2,
+                     rho * ((x1 ** 3 - x0 ** 3) / 3 * dz + (z1 ** 3 - z0 ** 3) / 3 * dx),
+                     rho * (z1 ** 3 - z0 ** 3) / 3 * dx])
+
+
+def _strip_by_hand(h: float) -> np.ndarray:
+    """B1's façade strip of height h above its toe (0, 9 − h) with the 20 % band at z in
+    [1, 2.5] m: three rectangles, the band's at 0.8 of the density γ l."""
+    z_h, rho = 9.0 - h, 2000.0 * 6.0
+    cuts = sorted({0.0, h, *(min(max(z - z_h, 0.0), h) for z in (1.0, 2.5))})
+    out = np.zeros(5)
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        inside = 1.0 - z_h <= lo and hi <= 2.5 - z_h
+        out += _rect(0.0, 0.5, lo, hi, rho * (0.8 if inside else 1.0))
+    return out
+
+
+def _check_body(body, ref):
+    m, sx, sz, io, jz = ref
+    assert body.m == pytest.approx(m, rel=1e-9, abs=0)
+    assert body.x_G == pytest.approx(sx / m, rel=1e-9, abs=0)
+    assert body.z_G == pytest.approx(sz / m, rel=1e-9, abs=0)
+    assert body.I_O == pytest.approx(io, rel=1e-9, abs=0)
+    assert body.J_z == pytest.approx(jz, rel=1e-9, abs=0)
+
+
+@pytest.mark.parametrize("kind", ["detachment", "overturning"])
+def test_band_body_at_the_critical_height_by_hand(kind):
+    case = dataclasses.replace(B1, facade_openings=(BAND,))
+    r = real.real_mechanism(case, kind)
+    _check_body(r.body, _strip_by_hand(r.h))
+    # the overturning's critical body is the whole façade: the band lies inside it
+    if kind == "overturning":
+        assert r.h == 9.0 and r.body.m == pytest.approx(2000 * 6 * 0.5 * (9 - 0.2 * 1.5))
+
+
+@pytest.mark.parametrize("h", [9.0, 8.0, 7.5, 6.5, 3.0])     # band inside, cut, above
+def test_band_body_at_any_height_by_hand(h):
+    case = dataclasses.replace(B1, facade_openings=(BAND,))
+    r = real.real_mechanism(case, "detachment", lam=h / 0.5)
+    _check_body(r.body, _strip_by_hand(h))
+
+
+def _polygon(P):
+    """Shoelace moments (A, ∫x, ∫z, ∫(x² + z²), ∫z²) of a counter-clockwise polygon."""
+    x, z = np.asarray(P, float).T
+    xn, zn = np.roll(x, -1), np.roll(z, -1)
+    c = x * zn - xn * z
+    A = c.sum() / 2
+    Sx = ((x + xn) * c).sum() / 6
+    Sz = ((z + zn) * c).sum() / 6
+    Ixx = ((z * z + z * zn + zn * zn) * c).sum() / 12     # ∫z²
+    Izz = ((x * x + x * xn + xn * xn) * c).sum() / 12     # ∫x²
+    return np.array([A, Sx, Sz, Ixx + Izz, Ixx])
+
+
+def test_wedge_loses_the_hole_by_hand():
+    """Mechanism II at h = 6 m (toe at z = 3), tan ψ = 0.5: the wedge x <= 0.5 + 0.5 ζ. The
+    opening x 1.0..2.0, z 4.0..6.0 (ζ 1..3): the crack x = 0.5 + 0.5 ζ crosses x = 1 at
+    ζ = 1 and x = 2 at ζ = 3, so the wedge's part of the hole is the triangle (1, 1), (2, 3),
+    (1, 3)."""
+    t, h = 0.5, 6.0
+    hole = WallOpening(x=1.0, z=4.0, width=1.0, height=2.0)
+    case = dataclasses.replace(B1, wall_openings=(hole,))
+    r = real.real_mechanism(case, "crack", tanpsi=t, lam=h / 0.5)
+    strip = _rect(0.0, 0.5, 0.0, h, 2000.0 * 6.0)
+    wedge = 2000.0 * 0.5 * _polygon([(0.5, 0.0), (0.5 + t * h, h), (0.5, h)])
+    cut = 2000.0 * 0.5 * _polygon([(1.0, 1.0), (2.0, 3.0), (1.0, 3.0)])
+    _check_body(r.body, strip + wedge - cut)
+    # a hole the crack passes below (ζ 4..5, x 3.0..3.4 > 0.5 + 0.5·5): a pentagon is cut
+    hole2 = WallOpening(x=2.5, z=7.0, width=0.9, height=1.0)      # ζ 4..5, x 2.5..3.4
+    case2 = dataclasses.replace(B1, wall_openings=(hole2,))
+    r2 = real.real_mechanism(case2, "crack", tanpsi=t, lam=h / 0.5)
+    # crack at x = 2.5: ζ = 4; at ζ = 5: x = 3.0 < 3.4, so the part is (2.5, 4), (3, 5), (2.5, 5)
+    cut2 = 2000.0 * 0.5 * _polygon([(2.5, 4.0), (3.0, 5.0), (2.5, 5.0)])
+    _check_body(r2.body, strip + wedge - cut2)
+    # a hole straddling the crack with its lower left corner inside the wedge: x 1..3,
+    # ζ 3..4 (z 6..7): crack at ζ = 3 is x = 2, at ζ = 4 is x = 2.5: pentagon
+    hole3 = WallOpening(x=1.0, z=6.0, width=2.0, height=1.0)
+    r3 = real.real_mechanism(dataclasses.replace(B1, wall_openings=(hole3,)), "crack",
+                             tanpsi=t, lam=h / 0.5)
+    cut3 = 2000.0 * 0.5 * _polygon([(1.0, 3.0), (2.0, 3.0), (2.5, 4.0), (1.0, 4.0)])
+    _check_body(r3.body, strip + wedge - cut3)
+    # mechanism I takes the façade only: a wall opening changes nothing
+    r1 = real.real_mechanism(case, "detachment", lam=h / 0.5)
+    _check_body(r1.body, strip)
+
+
+def test_no_opening_is_the_paper_body():
+    for kind in real.KINDS:
+        a = real.real_mechanism(B1, kind, lam=12.0).body
+        b = real.real_mechanism(dataclasses.replace(
+            B1, facade_openings=(FacadeOpening(1.0, 2.5, 0.0),)), kind, lam=12.0).body
+        assert a == b
+
+
+# ------------------------------------------------------------------------ bad openings
+BAD = [
+    (dict(facade_opening=[{"z_bottom": 1.0, "z_top": 2.5, "fraction": 1.0}]),
+     "[[facade_opening]] 0 fraction = 1.0 is out of range: allowed 0 <= fraction < 1"),
+    (dict(facade_opening=[{"z_bottom": 1.0, "z_top": 12.0, "fraction": 0.2}]),
+     "[[facade_opening]] 0 z_top = 12.0 m is out of range: allowed z_top <= H = 9 m"),
+    (dict(facade_opening=[{"z_bottom": 2.0, "z_top": 2.0, "fraction": 0.2}]),
+     "[[facade_opening]] 0 z_top = 2.0 m is out of range: allowed z_top > z_bottom = 2 m"),
+    (dict(facade_opening=[{"z_bottom": 1.0, "z_top": 3.0, "fraction": 0.2},
+                          {"z_bottom": 2.0, "z_top": 4.0, "fraction": 0.2}]),
+     "[[facade_opening]] 0 z = [1, 3] m overlaps [[facade_opening]] 1 z = [2, 4] m"),
+    (dict(wall_opening=[{"x": 0.4, "z": 1.0, "width": 1.0, "height": 1.0}]),
+     "[[wall_opening]] 0 x = 0.4 m is out of range (the opening must lie inside the "
+     "transversal wall, touching no edge): allowed x > b = 0.5 m"),
+    (dict(wall_opening=[{"x": 5.0, "z": 1.0, "width": 1.5, "height": 1.0}]),
+     "[[wall_opening]] 0 x + width = 6.5 m is out of range"),
+    (dict(wall_opening=[{"x": 2.0, "z": 8.0, "width": 1.0, "height": 1.0}]),
+     "[[wall_opening]] 0 z + height = 9.0 m is out of range"),
+    (dict(wall_opening=[{"x": 2.0, "z": 0.0, "width": 1.0, "height": 1.0}]),
+     "[[wall_opening]] 0 z = 0.0 m is out of range: allowed 0 < z"),
+    (dict(wall_opening=[{"x": 2.0, "z": 1.0, "width": 0.0, "height": 1.0}]),
+     "[[wall_opening]] 0 width = 0.0 m is out of range: allowed 0 < width"),
+    (dict(wall_opening=[{"x": 2.0, "z": 1.0, "width": 1.0, "height": 1.0},
+                        {"x": 2.5, "z": 1.5, "width": 1.0, "height": 1.0}]),
+     "[[wall_opening]] 0 (x 2..3, z 1..2 m) overlaps or touches [[wall_opening]] 1"),
+    (dict(wall_opening=[{"x": 2.0, "z": 1.0, "width": 1.0, "height": 1.0},
+                        {"x": 3.0, "z": 1.0, "width": 1.0, "height": 1.0}]),
+     "overlaps or touches [[wall_opening]] 1"),
+]
+
+
+@pytest.mark.parametrize("parts, message", BAD)
+def test_bad_openings_name_the_key(parts, message):
+    with pytest.raises(ConfigError) as e:
+        load_case(b1(analysis={"hinge_check": False}, **parts))
+    assert message in str(e.value), str(e.value)
+
+
+def test_bad_opening_exits_2_before_any_work(tmp_path):
+    case = b1(analysis={"fe": False, "hinge_check": False},
+              wall_opening=[{"x": 0.5, "z": 1.0, "width": 1.0, "height": 1.0}])
+    r = run_cli(tmp_path, case, "run")
+    assert r.returncode == 2 and "[[wall_opening]] 0 x = 0.5 m is out of range" in r.stderr
+    assert "Traceback" not in r.stderr and not (tmp_path / "out").exists()
+
+
+def test_the_api_checks_too():
+    with pytest.raises(ValueError, match="allowed x > b = 0.5 m"):
+        dataclasses.replace(B1, wall_openings=(WallOpening(0.5, 1.0, 1.0, 1.0),))
+    with pytest.raises(ValueError, match="fraction = 1.0 is out of range"):
+        FacadeOpening(1.0, 2.0, 1.0)
+
+
+def test_a_model_without_openings_refuses_them():
+    with pytest.raises(ConfigError) as e:
+        load_case(b1(analysis={"hinge_check": False, "fe": False, "dem": True},
+                     wall_opening=[{"x": 2.0, "z": 1.0, "width": 1.0, "height": 1.0}]))
+    assert ("[[wall_opening]] (1 entries) with [analysis] dem = true: the DEM does not take a "
+            "wall opening yet; allowed [analysis] dem = false") in str(e.value)
+    with pytest.raises(ConfigError, match="hinge check's rockers do not take"):
+        load_case(b1(analysis={"fe": False}, facade_opening=[
+            {"z_bottom": 1.0, "z_top": 2.5, "fraction": 0.2}]))
+
+
+def test_closed_forms_run_with_a_band(tmp_path):
+    case = b1(analysis={"fe": False, "hinge_check": False, "overturning": True},
+              facade_opening=[{"z_bottom": 1.0, "z_top": 2.5, "fraction": 0.2}])
+    r = run_cli(tmp_path, case, "run")
+    assert r.returncode == 0, r.stderr
+    import json
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert s["inputs"]["facade_opening"] == [{"z_bottom": 1.0, "z_top": 2.5, "fraction": 0.2}]
+    over = s["mechanisms"]["overturning"]
+    assert over["body"]["m"] == pytest.approx(2000 * 6 * 0.5 * (9 - 0.2 * 1.5), rel=1e-12)
