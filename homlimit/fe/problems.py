@@ -442,6 +442,7 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     real = {}
     if case.ties or case.floors:
         m, real, meta["real_wall"] = _ties_and_floors(m, case, z0)
+    m, live_open, dead_open = _facade_bands(m, case)
     if mas.fc:
         meta["fc"] = {"facade": rho * mas.fc, "wall": mas.fc}
     supports = {"base": "fixed"} | real.get("supports", {})
@@ -450,9 +451,32 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
         domains={"facade": strength.capped(fac, rho * mas.fc),
                  "wall": strength.capped(wall, mas.fc)},
         supports=supports,
-        live_body={"facade": (-wf, 0.0), "wall": (-wg, 0.0)},
-        dead_body={"facade": (0.0, -wf), "wall": (0.0, -wg)} | real.get("dead_body", {}),
-        ties=real.get("ties", {}), meta=meta)
+        live_body={"facade": (-wf, 0.0), "wall": (-wg, 0.0)} | live_open,
+        dead_body={"facade": (0.0, -wf), "wall": (0.0, -wg)} | real.get("dead_body", {})
+        | dead_open, ties=real.get("ties", {}), meta=meta)
+
+
+def _facade_bands(m: MeshTri, case: Case):
+    """The façade's opening bands (``case.facade_openings``, docs/real-walls.md "Openings"):
+    the façade triangles whose centroid lies in a band form region "facade_open<k>" (always
+    present, maybe empty), on which body forces of −fraction times the façade's weight and
+    horizontal load are added (regions' loads add up), so the band carries (1 − fraction) of
+    them; its strength is the façade's. The band's edges are those of the rows of triangles
+    its centroids select (within one row of z_bottom and z_top). Returns the mesh with the
+    regions, and the live and dead body forces to add."""
+    live, dead, sub = {}, {}, {}
+    if not case.facade_openings:
+        return m, live, dead
+    w = case.wall
+    wf = case.rho * w.gamma * w.g
+    fac = np.asarray(m.subdomains["facade"])
+    zc = m.p[1, m.t[:, fac]].mean(axis=0)
+    for k, op in enumerate(case.facade_openings):
+        sub[f"facade_open{k}"] = fac[(zc >= op.z_bottom) & (zc <= op.z_top)]
+        if op.fraction > 0 and sub[f"facade_open{k}"].size:
+            live[f"facade_open{k}"] = (op.fraction * wf, 0.0)
+            dead[f"facade_open{k}"] = (0.0, op.fraction * wf)
+    return m.with_subdomains(sub), live, dead
 
 
 def _real_tag(name: str) -> bool:
@@ -460,12 +484,22 @@ def _real_tag(name: str) -> bool:
     return name.startswith(("tie", "floor"))
 
 
+def _band_tag(name: str) -> bool:
+    """Whether a region name is one ``_facade_bands`` adds."""
+    return name.startswith("facade_open")
+
+
 def t_section_on_mesh(problem: Problem, case: Case, mesh: MeshTri) -> Problem:
     """The T-section ``problem`` of ``case`` carried to ``mesh`` (the same regions and
     boundaries, e.g. a remesh of ``fe.adapt``): its ties and floors placed anew there
     (``_ties_and_floors``: their bands and patch forces depend on the mesh)."""
+    mesh, live_open, dead_open = _facade_bands(mesh, case)
+    no_band = lambda d: {k: v for k, v in d.items() if not _band_tag(k)}  # noqa: E731
+    problem = dataclasses.replace(problem, mesh=mesh,
+                                  live_body=no_band(problem.live_body) | live_open,
+                                  dead_body=no_band(problem.dead_body) | dead_open)
     if not (case.ties or case.floors):
-        return dataclasses.replace(problem, mesh=mesh)
+        return problem
     keep = lambda d: {k: v for k, v in d.items() if not _real_tag(k)}  # noqa: E731
     m, real, placed = _ties_and_floors(mesh, case, float(problem.meta.get("z0", 0.0)))
     return dataclasses.replace(

@@ -68,8 +68,9 @@ def p2_nodes(solution, densities: dict | None = None):
     X = sb.doflocs.T.copy()
     V = np.asarray(solution.u, float).reshape(-1, 2)  # vector P2 DOFs interleave (x, z)
     rho = np.ones(mesh.t.shape[1])
-    for name, idx in (densities or {}).items():
-        rho[solution.regions[name]] = idx
+    for name, idx in (densities or {}).items():     # in order: a later region overrides
+        if name in solution.regions:
+            rho[solution.regions[name]] = idx
     return X, V, sb.element_dofs.T.copy(), rho
 
 
