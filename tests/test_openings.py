@@ -235,3 +235,38 @@ def test_fe_band_scales_the_facade_weight_and_the_bracket_holds():
     # a lighter façade near the base, its strength unchanged: the mechanism's multiplier
     # (resistance over load, both from the weight) moves, and stays of the same order
     assert up == pytest.approx(full, rel=0.2)
+
+
+# --------------------------------------------------------------------------- blocks, DEM
+def test_blocks_band_masses_by_hand():
+    from homlimit.blocks.geometry import FACADE, t_section_blocks
+    case = dataclasses.replace(B1, facade_openings=(BAND,))
+    A = t_section_blocks(case)
+    free = ~A.fixed
+    # façade ρ γ s b (H − f × 1.5 m) + wall γ s L H, ρ γ s = γ l = 12000 kg/m³·m
+    assert A.mass[free].sum() == pytest.approx(12000 * 0.5 * (9 - 0.2 * 1.5)
+                                               + 1000 * 6.0 * 9.0, rel=1e-12)
+    # course 3 (z 0.9..1.2, not toothed): the façade block [0, 0.5] is cut at z = 1.0,
+    # 0.1 m full and 0.2 m at 80 %
+    bb = A.bounds()
+    k = np.flatnonzero((A.kind == FACADE) & np.isclose(bb[:, 1], 0.9))
+    assert k.size == 1
+    m = 12000 * 0.5 * (0.1 + 0.8 * 0.2)
+    zg = 12000 * 0.5 * (0.1 * 0.95 + 0.8 * 0.2 * 1.1) / m
+    assert A.mass[k[0]] == pytest.approx(m, rel=1e-12)
+    assert A.centroid[k[0]] == pytest.approx([0.25, zg], rel=1e-12)
+    # about its centroid: Σ ρ_i A_i ((b² + dz_i²)/12 + (z_i − z_G)²)
+    inertia = sum(12000 * 0.5 * rho * dz * ((0.25 + dz ** 2) / 12 + (zc - zg) ** 2)
+                  for rho, dz, zc in ((1.0, 0.1, 0.95), (0.8, 0.2, 1.1)))
+    assert A.inertia[k[0]] == pytest.approx(inertia, rel=1e-12)
+
+
+def test_dem_takes_the_band_masses():
+    from homlimit.blocks.geometry import t_section_blocks
+    from homlimit.dem import build_model
+    case = dataclasses.replace(B1, facade_openings=(BAND,))
+    model = build_model(t_section_blocks(case, facade="through"))
+    assert model.mass.sum() == pytest.approx(12000 * 0.5 * 8.7 + 1000 * 6.0 * 9.0, rel=1e-12)
+    assert load_case(b1(analysis={"hinge_check": False, "fe": False, "dem": True,
+                                  "blocks": True}, facade_opening=[
+        {"z_bottom": 1.0, "z_top": 2.5, "fraction": 0.2}])).case.facade_openings == (BAND,)

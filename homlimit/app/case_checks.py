@@ -253,9 +253,8 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
 
 #: the models that do not take an opening yet: (array, [analysis] key) → what says so
 OPENINGS_REFUSED = {("wall_opening", "fe"): "the FE path",
-                    ("facade_opening", "blocks"): "the rigid blocks",
                     ("wall_opening", "blocks"): "the rigid blocks",
-                    ("facade_opening", "dem"): "the DEM", ("wall_opening", "dem"): "the DEM"}
+                    ("wall_opening", "dem"): "the DEM"}
 
 
 def _openings_refused(v: dict[str, Any], an: dict[str, Any]) -> list[str]:

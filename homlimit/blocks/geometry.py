@@ -419,13 +419,34 @@ def _course_breaks(geo: TSection, c: float, toothed: bool, facade: str, tol: flo
     return np.unique(np.r_[0.0, xs, x_end])
 
 
+def _band_parts(rects, on_facade, z_lo: float, z_hi: float, scale: float):
+    """Rectangular parts (x0, x1, z0, z1, block, density) with the façade's (``on_facade``)
+    cut at z_lo and z_hi: a part crossing the band [z_lo, z_hi] becomes its pieces below, in
+    and above it, the piece in it at ``scale`` × its density (docs/real-walls.md "Openings":
+    the façade's mass over an opening band times 1 − fraction). Returns the new arrays and
+    their façade flags."""
+    x0, x1, z0, z1, pb, pd = (np.asarray(a) for a in rects)
+    hit = on_facade & (z0 < z_hi) & (z1 > z_lo)
+    keep = ~hit
+    lo, hi = np.maximum(z0, z_lo), np.minimum(z1, z_hi)
+    pieces = [(z0, lo, 1.0), (lo, hi, scale), (hi, z1, 1.0)]   # below, in, above the band
+    out = [[a[keep]] for a in (x0, x1, z0, z1, pb, pd, on_facade)]
+    for a, b, f in pieces:
+        sel = hit & (b > a)
+        for lst, v in zip(out, (x0[sel], x1[sel], a[sel], b[sel], pb[sel], pd[sel] * f,
+                                on_facade[sel])):
+            lst.append(v)
+    return tuple(np.concatenate(lst) for lst in out)
+
+
 def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "through"
                      ) -> Assembly:
     """The paper's T-section as rigid blocks (module docstring): façade strip [0, b], transversal
     wall [b, b + L] in running bond 2c × a, toothed at the abutment with overlap c, on a fixed
     ground; any H, L, b, a, c of ``case``. The bottom course is toothed if ``toothed_first``.
     A top course shorter than a (H not a multiple of a) is kept with its own height.
-    Masses per slab of thickness s: façade ρ·γ·s, wall γ·s; a block straddling x = b has a
+    Masses per slab of thickness s: façade ρ·γ·s (times 1 − fraction over an opening band:
+    the façade parts cut at its edges), wall γ·s; a block straddling x = b has a
     façade part and a wall part.
 
     facade: "through" (default, the paper's: one block across the façade's thickness per
@@ -474,8 +495,13 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     px0 = np.r_[X0, np.full(tooth.size, b)]
     px1 = np.r_[last, X1[tooth]]
     pz0, pz1 = np.r_[Z0, Z0[tooth]], np.r_[Z1, Z1[tooth]]
+    pb, pd = np.r_[np.arange(n), tooth], np.r_[dens, np.full(tooth.size, gs)]
+    on_facade = np.r_[(kind == FACADE) | (kind == TOOTHING), np.zeros(tooth.size, bool)]
+    for op in case.facade_openings:     # the façade parts cut at the band, its part lighter
+        px0, px1, pz0, pz1, pb, pd, on_facade = _band_parts(
+            (px0, px1, pz0, pz1, pb, pd), on_facade, op.z_bottom, op.z_top, 1 - op.fraction)
     pv, po = _rectangles(px0, px1, pz0, pz1)
-    parts = (pv, po, np.r_[np.arange(n), tooth], np.r_[dens, np.full(tooth.size, gs)])
+    parts = (pv, po, pb, pd)
     meta = {"H": H, "L": L, "b": b, "a": a, "c": c, "f": mas.f, "rho": case.rho,
             "gamma": w.gamma, "s": w.s, "g": w.g, "n_courses": n_c,
             "toothed_first": bool(toothed_first), "facade": facade, "name": case.name}
