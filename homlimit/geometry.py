@@ -35,19 +35,27 @@ Point = tuple[float, float]
 class TSection:
     """Façade strip [0, b] and transversal wall [b, b + L] over z0 <= z <= H [m].
 
-    Validated on construction (ParameterError naming the parameter): 0 < H, 0 < b, 0 < L,
-    0 <= z0 < H.
+    ``holes``: the transversal wall's openings, rectangles (x0, x1, z0, z1) strictly inside
+    it (``params.WallOpening.box``). Validated on construction (ParameterError naming the
+    parameter): 0 < H, 0 < b, 0 < L, 0 <= z0 < H, the holes inside the wall.
     """
 
     H: float = ranged(0.0, lo_open=True, unit="m")
     b: float = ranged(0.0, lo_open=True, unit="m")
     L: float = ranged(0.0, lo_open=True, unit="m")
     z0: float = 0.0
+    holes: tuple = ()
 
     def __post_init__(self):
         check_fields(self)
         # the upper bound is a field's: checked here
-        set_fields(self, z0=check_range("z0", self.z0, 0.0, self.H, hi_open=True, unit="m"))
+        set_fields(self, z0=check_range("z0", self.z0, 0.0, self.H, hi_open=True, unit="m"),
+                   holes=tuple(tuple(float(v) for v in box) for box in self.holes))
+        for k, (x0, x1, z0, z1) in enumerate(self.holes):
+            if not (self.b < x0 < x1 < self.b + self.L and 0 < z0 < z1 < self.H):
+                raise ParameterError(f"holes[{k}] = {(x0, x1, z0, z1)!r} is out of range: "
+                                     f"allowed b = {self.b:g} < x0 < x1 < b + L = "
+                                     f"{self.b + self.L:g}, 0 < z0 < z1 < H = {self.H:g} m")
 
     @classmethod
     def from_case(cls, case: Case, z0: float = 0.0) -> TSection:
@@ -56,7 +64,7 @@ class TSection:
             raise ParameterError(f"case = {type(case).__name__} is out of range: allowed a "
                                  "homlimit.params.Case")
         w = case.wall
-        return cls(w.H, w.b, w.L, z0)
+        return cls(w.H, w.b, w.L, z0, holes=tuple(o.box for o in case.wall_openings))
 
     # ------------------------------------------------------------------ lengths
     @property
@@ -91,7 +99,20 @@ class TSection:
 
     def part(self, z0: float) -> TSection:
         """The failing part above the base z0 (0 <= z0 < H), same walls."""
-        return TSection(self.H, self.b, self.L, z0)
+        return TSection(self.H, self.b, self.L, z0, self.holes)
+
+    @property
+    def part_holes(self) -> tuple[tuple[float, float, float, float], ...]:
+        """The wall's openings (x0, x1, z0, z1) in the part z >= z0, clipped to it (a hole
+        the base cuts is a notch in it)."""
+        return tuple((x0, x1, max(z0, self.z0), z1) for x0, x1, z0, z1 in self.holes
+                     if z1 > self.z0)
+
+    @property
+    def hole_polygons(self) -> tuple[tuple[Point, ...], ...]:
+        """``part_holes`` as counter-clockwise polygons."""
+        return tuple(((x0, z0), (x1, z0), (x1, z1), (x0, z1))
+                     for x0, x1, z0, z1 in self.part_holes)
 
     # ------------------------------------------------------------------ regions and segments
     @property
@@ -117,7 +138,9 @@ class TSection:
             raise ParameterError(f"region = {region!r} is out of range: allowed one of "
                                  f"{sorted(polys)}")
         names = polys if region is None else (region,)
-        return float(sum(_shoelace(np.asarray(polys[n], float)) for n in names))
+        holes = sum((x1 - x0) * (z1 - z0) for x0, x1, z0, z1 in self.part_holes)
+        return float(sum(_shoelace(np.asarray(polys[n], float)) for n in names)
+                     - (holes if region in (None, "wall") else 0.0))
 
     # ------------------------------------------------------------------ membership
     def tol(self) -> float:
@@ -148,7 +171,10 @@ class TSection:
                                  f"{sorted(polys)}")
         (x0, z0), _, (x1, z1), _ = polys[name]
         x = np.asarray(x, float)
-        return (x[0] > x0) & (x[0] < x1) & (x[1] > z0) & (x[1] < z1)
+        inside = (x[0] > x0) & (x[0] < x1) & (x[1] > z0) & (x[1] < z1)
+        for a0, a1, c0, c1 in self.part_holes:        # the wall's openings are no region's
+            inside &= ~((x[0] > a0) & (x[0] < a1) & (x[1] > c0) & (x[1] < c1))
+        return inside
 
 
 def _shoelace(P: np.ndarray) -> float:

@@ -270,3 +270,34 @@ def test_dem_takes_the_band_masses():
     assert load_case(b1(analysis={"hinge_check": False, "fe": False, "dem": True,
                                   "blocks": True}, facade_opening=[
         {"z_bottom": 1.0, "z_top": 2.5, "fraction": 0.2}])).case.facade_openings == (BAND,)
+
+
+# ------------------------------------------------------------------------ FE, wall holes
+HOLES = (WallOpening(x=2.0, z=3.0, width=1.0, height=2.0),
+         WallOpening(x=4.0, z=1.0, width=1.0, height=1.5))
+
+
+@pytest.mark.parametrize("mesher", ["gmsh", "gmsh-strip"])
+@pytest.mark.parametrize("z0", [0.0, 3.5])
+def test_fe_mesh_area_is_the_section_less_the_holes(mesher, z0):
+    from homlimit.fe.mesh import element_areas
+    from homlimit.fe.problems import t_section
+    case = dataclasses.replace(B1, wall_openings=HOLES)
+    p = t_section(case, z0=z0, h=0.5, mesher=mesher, facade="bedjoints")
+    # by hand: (b + L)(H − z0) less the holes' parts above z0 (the first cut by z0 = 3.5 to
+    # 1 × 1.5, the second below it)
+    holes = 1.0 * 2.0 + 1.0 * 1.5 if z0 == 0.0 else 1.0 * 1.5
+    area = element_areas(p.mesh)
+    assert area.sum() == pytest.approx(6.5 * (9.0 - z0) - holes, rel=1e-12)
+    assert area[p.mesh.subdomains["facade"]].sum() == pytest.approx(0.5 * (9.0 - z0), rel=1e-12)
+    # no triangle's centroid inside a hole
+    cen = p.mesh.p[:, p.mesh.t].mean(axis=1)
+    for op in HOLES:
+        x0, x1, z_0, z_1 = op.box
+        assert not np.any((cen[0] > x0) & (cen[0] < x1) & (cen[1] > z_0) & (cen[1] < z_1))
+
+
+def test_crossed_grid_refuses_holes():
+    from homlimit.fe.problems import t_section
+    with pytest.raises(ValueError, match="the crossed grid does not cut holes"):
+        t_section(dataclasses.replace(B1, wall_openings=HOLES), h=0.5, mesher="crossed")

@@ -392,6 +392,8 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     cohesion and tension enter both domains, the façade's times ρ = l/s (its stresses in the
     section are ρ times the façade's, as its density is ρ γ): fc caps the principal
     compressive stress (``strength.Capped``). Ties and floors: ``_ties_and_floors``.
+    Wall openings (``case.wall_openings``): holes in the gmsh meshes (``geometry.tsection``
+    holes; the crossed grid refuses them); façade opening bands: ``_facade_bands``.
     Reference: the prototype's hinge + fan mechanism (docs/kinematic.md); no closed form.
     """
     w, mas = case.wall, case.masonry
@@ -409,11 +411,16 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
         if mesher == "gmsh":
             raise ParameterError(f"h_outer = {h_outer} with mesher = {mesher!r} is out of "
                                  f"range: allowed only with mesher = 'crossed' or 'gmsh-strip'")
+    if geo.holes and mesher == "crossed":
+        raise ParameterError(f"mesher = {mesher!r} with [[wall_opening]] ({len(geo.holes)} "
+                             "entries) is out of range: the crossed grid does not cut holes; "
+                             "allowed mesher = 'gmsh' or 'gmsh-strip'")
     if mesher == "gmsh":
-        m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0))
+        m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0,
+                              holes=geo.holes))
     elif mesher == "gmsh-strip":
         m = to_skfem(tsection(H, b, geo.L, size=min(max(h, b / n_b), geo.span),
-                              size_junction=min(h, b / n_b),
+                              size_junction=min(h, b / n_b), holes=geo.holes,
                               z0=z0, strip="structured", n_b=n_b, rows=h, h_outer=h_outer))
     else:
         xf = (np.linspace(0.0, b, n_b + 1) if h_outer is None else
