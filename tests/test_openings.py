@@ -301,3 +301,39 @@ def test_crossed_grid_refuses_holes():
     from homlimit.fe.problems import t_section
     with pytest.raises(ValueError, match="the crossed grid does not cut holes"):
         t_section(dataclasses.replace(B1, wall_openings=HOLES), h=0.5, mesher="crossed")
+
+
+def test_fe_bracket_holds_with_holes_under_rigid_lintels():
+    from homlimit.fe.kinematic import solve_kinematic
+    from homlimit.fe.problems import t_section
+    from homlimit.fe.static import solve_static
+    from homlimit.fe.strength import Rigid
+    case = dataclasses.replace(B1, wall_openings=HOLES)
+    p = t_section(case, h=0.5, mesher="gmsh-strip", facade="bedjoints")
+    # each lintel: one course a = 0.3 m above its hole, c = 0.2 m beyond either side, rigid
+    from homlimit.fe.mesh import element_areas
+    area = element_areas(p.mesh)
+    for k, (x0, x1, z1) in enumerate(((2.0, 3.0, 5.0), (4.0, 5.0, 2.5))):
+        assert isinstance(p.domains[f"lintel{k}"], Rigid)
+        els = p.mesh.subdomains[f"lintel{k}"]
+        assert area[els].sum() == pytest.approx((x1 - x0 + 0.4) * 0.3, rel=1e-12)
+        cen = p.mesh.p[:, p.mesh.t[:, els]].mean(axis=1)
+        assert np.all((cen[0] > x0 - 0.2) & (cen[0] < x1 + 0.2) & (cen[1] > z1)
+                      & (cen[1] < z1 + 0.3))
+    lo, up = solve_static(p).multiplier, solve_kinematic(p).multiplier
+    assert 0 < lo <= up * (1 + 1e-7)
+
+
+def test_fe_refuses_what_cannot_take_holes():
+    hole = [{"x": 2.0, "z": 3.0, "width": 1.0, "height": 2.0}]
+    for parts, msg in (
+            (dict(mesh={"mesher": "crossed"}), "the crossed grid does not cut holes"),
+            (dict(analysis={"hinge_check": False, "stress_degree": 2}),
+             "rigid lintels take linear stresses only; allowed stress_degree = 1")):
+        with pytest.raises(ConfigError, match=msg):
+            load_case(b1(**({"analysis": {"hinge_check": False}} | parts),
+                         wall_opening=hole))
+    # a second opening within the first's lintel (z 5.0..5.3, x 1.8..3.2)
+    with pytest.raises(ConfigError, match="lintels"):
+        load_case(b1(analysis={"hinge_check": False}, wall_opening=hole + [
+            {"x": 3.1, "z": 5.1, "width": 0.5, "height": 0.5}]))

@@ -14,6 +14,7 @@ from typing import Any
 
 from ..params import MESHER_DEFAULT, PART_DIVISIONS, Case, opening_problems
 from . import budget, registry
+from .case_openings import openings_refused
 from .schema import ARRAYS, MAX_ARRAY, OPTIONAL_SECTIONS, REQUIRED_SECTIONS, SCHEMA, TOP_LEVEL, Key
 
 __all__ = ["LAM_MIN_CLOSED", "MAX_NAME", "array_key", "check_key", "collect", "cross_checks",
@@ -204,7 +205,7 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
                        f"forms a failing body of (H − z)/b = {(w['H'] - zr) / w['b']:.4g}: out "
                        f"of range: allowed z <= H − {LAM_MIN_CLOSED:g} b = "
                        f"{w['H'] - LAM_MIN_CLOSED * w['b']:g} m (the body lies above it)")
-    out += _openings_refused(v, an)
+    out += openings_refused(v, an)
     keys = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("fc", "cohesion", "tension") if m.get(k)]
     keys += [f"[[{arr}]] ({len(v[arr])} entries)"
              for arr in ("tie", "floor", "facade_opening", "wall_opening") if v.get(arr)]
@@ -249,20 +250,6 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
                        "overturning) do not take a joint " + k + " (no clean derivation "
                        "yet); allowed 0 Pa (docs/real-walls.md)")
     return out
-
-
-#: the models that do not take an opening yet: (array, [analysis] key) → what says so
-OPENINGS_REFUSED = {("wall_opening", "fe"): "the FE path",
-                    ("wall_opening", "blocks"): "the rigid blocks",
-                    ("wall_opening", "dem"): "the DEM"}
-
-
-def _openings_refused(v: dict[str, Any], an: dict[str, Any]) -> list[str]:
-    """An opening given with a model that does not take it (``OPENINGS_REFUSED``)."""
-    return [f"[[{arr}]] ({len(v[arr])} entries) with [analysis] {model} = true: {what} does "
-            f"not take a {arr.replace('_', ' ')} yet; allowed [analysis] {model} = false "
-            "with it (docs/real-walls.md \"Openings\")"
-            for (arr, model), what in OPENINGS_REFUSED.items() if v.get(arr) and an.get(model)]
 
 
 def cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> list[str]:

@@ -132,6 +132,7 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
                  structured: Mapping[str, tuple] | None = None,
                  size_map=None,
                  holes: Sequence[Sequence[Point]] = (),
+                 inserts: Sequence[str] = (),
                  name: str = "polygon",
                  verbosity: int = 0) -> meshio.Mesh:
     """Triangulate polygonal regions, conforming across shared edges.
@@ -160,6 +161,9 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
     holes:          [[(x, z), ...]]: polygons cut out of every region (gmsh OCC boolean
                     difference), e.g. the openings of a transversal wall; none may meet a
                     structured region.
+    inserts:        names of regions cut out of the other regions (which they may overlap),
+                    e.g. a lintel inside the wall; an insert must not meet a structured
+                    region nor another insert.
     Returns a meshio.Mesh (see the module docstring).
     """
     boundaries = {} if boundaries is None else boundaries
@@ -200,9 +204,14 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
                    int(check_range(f"structured[{k!r}].nz", nz, 1, 10 ** 5)),
                    check_range(f"structured[{k!r}].r", r, 0.0, lo_open=True))
     cuts = [_polygon(f"holes[{i}]", v) for i, v in enumerate(holes)]
+    inserts = [_name("insert", k) for k in inserts]
+    for k in inserts:
+        if k not in polys:
+            raise ParameterError(f"insert {k!r} is out of range: allowed one of {sorted(polys)}")
     for k in grid:                       # a structured grid cannot take a hole
         lo, hi = polys[k].min(0), polys[k].max(0)
-        if any(np.all(P.max(0) > lo) and np.all(P.min(0) < hi) for P in cuts):
+        if any(np.all(P.max(0) > lo) and np.all(P.min(0) < hi)
+               for P in cuts + [polys[j] for j in inserts]):
             raise ParameterError(f"holes meet the structured region {k!r}: allowed holes "
                                  "clear of it")
     allp = np.vstack(list(polys.values()))
@@ -218,11 +227,18 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
             return occ.addPlaneSurface([occ.addCurveLoop(cv)])
 
         surf = [plane(P) for P in polys.values()]
-        if cuts:                         # each region less the holes: its surfaces after the cut
-            cutters = [(2, plane(P)) for P in cuts]
-            groups = [[t for d, t in occ.cut([(2, s)], cutters, removeObject=True,
-                                             removeTool=False)[0] if d == 2] for s in surf]
-            occ.remove(cutters, recursive=True)
+        if cuts or inserts:              # each region less the holes (and the inserts)
+            holes_ = [(2, plane(P)) for P in cuts]
+            ins = [(2, plane(polys[k])) for k in inserts]
+            def cut(k, s):
+                tools = holes_ + (ins if k not in inserts else [])
+                if not tools:
+                    return [s]
+                return [t for d, t in occ.cut([(2, s)], tools, removeObject=True,
+                                              removeTool=False)[0] if d == 2]
+
+            groups = [cut(k, s) for k, s in zip(polys, surf)]
+            occ.remove(holes_ + ins, recursive=True)
         else:
             groups = [[s] for s in surf]
         surf = [t for g in groups for t in g]
@@ -463,7 +479,8 @@ def tsection(H: float, b: float, L: float, size: float, *,
              refine_points: Sequence = (), refine_segments: Sequence = (),
              strip: str = "free", n_b: int = 4, rows: float | None = None,
              h_outer: float | None = None, growth: float = OUTER_GROWTH, size_map=None,
-             holes: Sequence = (), verbosity: int = 0) -> meshio.Mesh:
+             holes: Sequence = (), lintels: Sequence = (),
+             verbosity: int = 0) -> meshio.Mesh:
     """Mesh of the x–z section: façade 0 <= x <= b, transversal wall b <= x <= b + L,
     z0 <= z <= H (the failing part of height h = H − z0 when z0 > 0).
 
@@ -483,9 +500,10 @@ def tsection(H: float, b: float, L: float, size: float, *,
     width ``h_outer`` at the outer face x = 0 (``graded_columns``: at least n_b columns,
     growth at most ``growth``), where an overturning façade bears (docs/static.md, "The
     outer face"). ``holes``: rectangles (x0, x1, z0, z1) cut out of the wall (its openings,
-    ``TSection.holes``), clipped to the part z >= z0.
+    ``TSection.holes``), clipped to the part z >= z0; ``lintels``: rectangles of the wall over
+    them, regions "lintel<k>" (``TSection.part_lintels``).
     """
-    geo = TSection(H, b, L, z0, holes=tuple(holes))
+    geo = TSection(H, b, L, z0, holes=tuple(holes), lintels=tuple(lintels))
     H, b, z0 = geo.H, geo.b, geo.z0
     size = check_range("size", size, 0.0, geo.span, lo_open=True, unit="m")
     check_choice("strip", strip, STRIPS)
@@ -514,9 +532,11 @@ def tsection(H: float, b: float, L: float, size: float, *,
             s = check_range(f"size_{what}", s, 0.0, size, lo_open=True, unit="m")
             refine.append((*line, s, b if r is None else r))
     regions = {k: list(v) for k, v in geo.regions.items()}
+    lint = geo.part_lintels
+    regions |= {k: list(v) for k, v in lint.items()}
     boundaries = {k: [v] for k, v in seg.items()}
     return polygon_mesh(regions, boundaries, size=size,
                         refine_segments=refine + list(refine_segments),
                         refine_points=refine_points, embed_lines=embed_lines,
                         structured=structured, size_map=size_map, name="tsection",
-                        holes=geo.hole_polygons, verbosity=verbosity)
+                        holes=geo.hole_polygons, inserts=list(lint), verbosity=verbosity)

@@ -393,7 +393,10 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     section are ρ times the façade's, as its density is ρ γ): fc caps the principal
     compressive stress (``strength.Capped``). Ties and floors: ``_ties_and_floors``.
     Wall openings (``case.wall_openings``): holes in the gmsh meshes (``geometry.tsection``
-    holes; the crossed grid refuses them); façade opening bands: ``_facade_bands``.
+    holes; the crossed grid refuses them), each under a rigid lintel (region "lintel<k>",
+    ``strength.Rigid``, the wall's weight: one course above the hole, bearing a half block c
+    beyond either side), since a dry no-tension continuum cannot span a hole (gravity alone
+    drops the masonry above it); façade opening bands: ``_facade_bands``.
     Reference: the prototype's hinge + fan mechanism (docs/kinematic.md); no closed form.
     """
     w, mas = case.wall, case.masonry
@@ -417,10 +420,11 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
                              "allowed mesher = 'gmsh' or 'gmsh-strip'")
     if mesher == "gmsh":
         m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0,
-                              holes=geo.holes))
+                              holes=geo.holes, lintels=geo.lintels))
     elif mesher == "gmsh-strip":
         m = to_skfem(tsection(H, b, geo.L, size=min(max(h, b / n_b), geo.span),
                               size_junction=min(h, b / n_b), holes=geo.holes,
+                              lintels=geo.lintels,
                               z0=z0, strip="structured", n_b=n_b, rows=h, h_outer=h_outer))
     else:
         xf = (np.linspace(0.0, b, n_b + 1) if h_outer is None else
@@ -450,13 +454,17 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     if case.ties or case.floors:
         m, real, meta["real_wall"] = _ties_and_floors(m, case, z0)
     m, live_open, dead_open = _facade_bands(m, case)
+    # the openings' lintels (geometry.TSection.lintels): rigid parts of the wall, its weight
+    lint = [k for k in (m.subdomains or {}) if k.startswith("lintel")]
+    live_open |= {k: (-wg, 0.0) for k in lint}
+    dead_open |= {k: (0.0, -wg) for k in lint}
     if mas.fc:
         meta["fc"] = {"facade": rho * mas.fc, "wall": mas.fc}
     supports = {"base": "fixed"} | real.get("supports", {})
     return Problem(
         name=f"t_section[{case.name}]", mesh=m,
         domains={"facade": strength.capped(fac, rho * mas.fc),
-                 "wall": strength.capped(wall, mas.fc)},
+                 "wall": strength.capped(wall, mas.fc)} | {k: strength.Rigid() for k in lint},
         supports=supports,
         live_body={"facade": (-wf, 0.0), "wall": (-wg, 0.0)} | live_open,
         dead_body={"facade": (0.0, -wf), "wall": (0.0, -wg)} | real.get("dead_body", {})

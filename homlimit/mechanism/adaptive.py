@@ -102,7 +102,7 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
     fans = [(0.0, z0, 0, 90), (0.0, w.H, -90, 0), (w.b, w.H, -180, 0)] if corners else []
     base = [r for x, z, a0, a1 in fans for r in fe_adapt.fan_rays((x, z), a0, a1, 6, w.b)]
 
-    holes = TSection.from_case(case).holes      # the wall's openings, cut from every mesh
+    geo = TSection.from_case(case)      # the wall's openings and their lintels, every mesh
 
     def remesh(size_map, last=None):
         rays, points = list(base), []
@@ -123,7 +123,7 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
                                           size_junction=min(size, w.b / n_b),
                                           embed_lines=rays, refine_points=points,
                                           refine_segments=segs, size_map=size_map,
-                                          holes=holes, **grid))
+                                          holes=geo.holes, lintels=geo.lintels, **grid))
     return remesh
 
 

@@ -62,6 +62,8 @@ def densities(case: Case) -> dict[str, float]:
     out = {"facade": case.rho * w.gamma * w.s, "wall": w.gamma * w.s}
     for k, op in enumerate(case.facade_openings):
         out[f"facade_open{k}"] = (1 - op.fraction) * case.rho * w.gamma * w.s
+    for k in range(len(case.wall_openings)):    # the lintels are the wall's masonry
+        out[f"lintel{k}"] = w.gamma * w.s
     return out
 
 

@@ -100,7 +100,7 @@ def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
         rays.append(((x_apex, z_hinge), (x_apex + T * (z_end - z_hinge), z_end)))
     return to_skfem(tsection(H, b, geo.L, size=h, z0=z0, embed_lines=rays + list(extra_lines),
                              refine_points=[(x_apex, z_hinge, h_hinge, 1.0)],
-                             holes=geo.holes))
+                             holes=geo.holes, lintels=geo.lintels))
 
 
 @dataclass(frozen=True)
