@@ -337,3 +337,32 @@ def test_fe_refuses_what_cannot_take_holes():
     with pytest.raises(ConfigError, match="lintels"):
         load_case(b1(analysis={"hinge_check": False}, wall_opening=hole + [
             {"x": 3.1, "z": 5.1, "width": 0.5, "height": 0.5}]))
+
+
+def test_blocks_cut_the_holes_under_whole_lintels():
+    from homlimit.blocks.geometry import t_section_blocks
+    case = dataclasses.replace(B1, wall_openings=HOLES)
+    A = t_section_blocks(case)
+    free = ~A.fixed
+    # by hand (a = 0.3): the courses whose mid-height lies in the hole open, 3.0..5.1 m
+    # (7 courses) over x 2..3 and 0.9..2.4 m (5) over x 4..5: γ s × (2.1 + 1.5) m² less
+    full = 12000 * 0.5 * 9.0 + 1000 * 6.0 * 9.0
+    assert A.mass[free].sum() == pytest.approx(full - 1000 * 3.6, rel=1e-12)
+    bb = A.bounds()
+    G = A.centroid
+    for op, z_open, z_top in ((HOLES[0], 3.0, 5.1), (HOLES[1], 0.9, 2.4)):
+        x0, x1, z0, z1 = op.box
+        assert not np.any(free & (G[:, 0] > x0) & (G[:, 0] < x1) & (G[:, 1] > z0)
+                          & (G[:, 1] < z1))
+        # nothing at all in the opened courses over the opening
+        assert not np.any(free & (bb[:, 0] < x1 - 1e-9) & (bb[:, 2] > x0 + 1e-9)
+                          & (bb[:, 1] < z_top - 1e-9) & (bb[:, 3] > z_open + 1e-9))
+        # one whole block spans it in the course above
+        over = free & np.isclose(bb[:, 1], z_top) & (bb[:, 0] <= x0) & (bb[:, 2] >= x1)
+        assert over.sum() == 1
+
+
+def test_blocks_refuse_an_opening_without_a_course_above():
+    with pytest.raises(ConfigError, match="leaves no course above it for its lintel"):
+        load_case(b1(analysis={"hinge_check": False, "fe": False, "blocks": True},
+                     wall_opening=[{"x": 2.0, "z": 8.0, "width": 1.0, "height": 0.86}]))

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..blocks.geometry import course_levels, open_courses
 from ..errors import ParameterError
 from ..geometry import TSection, lintel_boxes
 from ..params import opening_problems
@@ -14,8 +15,7 @@ from ..params import opening_problems
 __all__ = ["OPENINGS_REFUSED", "openings_refused"]
 
 #: the models that do not take an opening yet: (array, [analysis] key) → what says so
-OPENINGS_REFUSED = {("wall_opening", "blocks"): "the rigid blocks",
-                    ("wall_opening", "dem"): "the DEM"}
+OPENINGS_REFUSED = {("wall_opening", "dem"): "the DEM"}
 
 
 def openings_refused(v: dict[str, Any], an: dict[str, Any]) -> list[str]:
@@ -31,7 +31,8 @@ def openings_refused(v: dict[str, Any], an: dict[str, Any]) -> list[str]:
             for _ in [0] if holes and an.get("fe") and an.get("stress_degree") == 2]
     w, m = v.get("wall", {}), v.get("masonry", {})
     keys = ("x", "z", "width", "height")
-    if holes and an.get("fe") and all(k in w for k in "HbL") and all(k in m for k in "ac") \
+    model = "fe" if an.get("fe") else "blocks"
+    if holes and an.get(model) and all(k in w for k in "HbL") and all(k in m for k in "ac") \
             and all(all(k in e for k in keys) for e in v["wall_opening"]) \
             and not opening_problems(w["H"], w["b"], w["L"], (), v["wall_opening"]):
         boxes = tuple((e["x"], e["x"] + e["width"], e["z"], e["z"] + e["height"])
@@ -39,8 +40,11 @@ def openings_refused(v: dict[str, Any], an: dict[str, Any]) -> list[str]:
         try:
             TSection(w["H"], w["b"], w["L"], holes=boxes, lintels=lintel_boxes(
                 boxes, w["H"], w["b"], w["L"], m["a"], m["c"]))
+            if an.get("blocks"):
+                for k, box in enumerate(boxes):
+                    open_courses(course_levels(w["H"], m["a"]), box, k)
         except ParameterError as e:
-            out.append(f"[[wall_opening]] with [analysis] fe = true: {e}")
+            out.append(f"[[wall_opening]] with [analysis] {model} = true: {e}")
     return out + [f"[[{arr}]] ({len(v[arr])} entries) with [analysis] {model} = true: {what} "
                   f"does not take a {arr.replace('_', ' ')} yet; allowed [analysis] {model} = "
                   "false with it (docs/real-walls.md \"Openings\")"
