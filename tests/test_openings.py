@@ -366,3 +366,32 @@ def test_blocks_refuse_an_opening_without_a_course_above():
     with pytest.raises(ConfigError, match="leaves no course above it for its lintel"):
         load_case(b1(analysis={"hinge_check": False, "fe": False, "blocks": True},
                      wall_opening=[{"x": 2.0, "z": 8.0, "width": 1.0, "height": 0.86}]))
+
+
+def test_sweep_keys_address_opening_entries():
+    c = load_case(b1(analysis={"hinge_check": False}),
+                  ["facade_opening.0.z_bottom=1", "facade_opening.0.z_top=2.5",
+                   "facade_opening.0.fraction=0.2", "wall_opening.0.x=2",
+                   "wall_opening.0.z=3", "wall_opening.0.width=1", "wall_opening.0.height=2"])
+    assert c.case.facade_openings == (BAND,) and c.case.wall_openings == (HOLES[0],)
+    assert c.as_dict()["wall_opening"] == [{"x": 2.0, "z": 3.0, "width": 1.0, "height": 2.0}]
+
+
+def test_a_remesh_keeps_the_band_and_the_lintels():
+    from homlimit.fe.geometry import tsection
+    from homlimit.fe.mesh import to_skfem
+    from homlimit.fe.problems import t_section, t_section_on_mesh
+    from homlimit.geometry import TSection
+    case = dataclasses.replace(B1, facade_openings=(BAND,), wall_openings=HOLES[:1])
+    p = t_section(case, h=0.5, mesher="gmsh-strip", facade="bedjoints")
+    geo = TSection.from_case(case)
+    mesh = to_skfem(tsection(9.0, 0.5, 6.0, size=0.25, strip="structured", rows=0.25,
+                             holes=geo.holes, lintels=geo.lintels))
+    q = t_section_on_mesh(p, case, mesh)
+    g = B1.wall.g
+    # by hand: façade less the band's 20 %, the wall less the hole (lintel included)
+    weight = 12 * 2000 * g * 0.5 * (9.0 - 0.2 * 1.5) + 2000 * g * (6.0 * 9.0 - 2.0)
+    dead, live = _weights(q)
+    assert dead == pytest.approx([0.0, -weight], rel=1e-12, abs=1e-6)
+    assert live == pytest.approx([-weight, 0.0], rel=1e-12, abs=1e-6)
+    assert q.mesh.t.shape[1] > p.mesh.t.shape[1] and "lintel0" in q.domains

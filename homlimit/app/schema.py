@@ -291,7 +291,10 @@ ARRAYS: dict[str, dict[str, Key]] = {
                      doc="its width along x (x + width < b + L)"),
         "height": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
                       doc="its height along z (z + height < H); openings must not overlap or "
-                          "touch (docs/real-walls.md \"Openings\")"),
+                          "touch. The closed forms take it in mechanism II's wedge, the FE "
+                          "as a hole under a rigid lintel, the blocks as courses cut under "
+                          "a lintel block; the DEM refuses it (docs/real-walls.md "
+                          "\"Openings\")"),
     },
 }
 MAX_ARRAY = 100                   # entries of a [[tie]], [[floor]], ... array

@@ -510,16 +510,15 @@ def t_section_on_mesh(problem: Problem, case: Case, mesh: MeshTri) -> Problem:
     (``_ties_and_floors``: their bands and patch forces depend on the mesh)."""
     mesh, live_open, dead_open = _facade_bands(mesh, case)
     no_band = lambda d: {k: v for k, v in d.items() if not _band_tag(k)}  # noqa: E731
-    problem = dataclasses.replace(problem, mesh=mesh,
-                                  live_body=no_band(problem.live_body) | live_open,
-                                  dead_body=no_band(problem.dead_body) | dead_open)
+    live = no_band(problem.live_body) | live_open
+    dead = no_band(problem.dead_body) | dead_open
     if not (case.ties or case.floors):
-        return problem
+        return dataclasses.replace(problem, mesh=mesh, live_body=live, dead_body=dead)
     keep = lambda d: {k: v for k, v in d.items() if not _real_tag(k)}  # noqa: E731
     m, real, placed = _ties_and_floors(mesh, case, float(problem.meta.get("z0", 0.0)))
     return dataclasses.replace(
-        problem, mesh=m, supports=keep(problem.supports) | real["supports"],
-        dead_body=keep(problem.dead_body) | real["dead_body"], ties=real["ties"],
+        problem, mesh=m, supports=keep(problem.supports) | real["supports"], live_body=live,
+        dead_body=keep(dead) | real["dead_body"], ties=real["ties"],
         meta={**problem.meta, "real_wall": placed})
 
 
