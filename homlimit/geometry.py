@@ -120,16 +120,19 @@ class TSection:
     def part_holes(self) -> tuple[tuple[float, float, float, float], ...]:
         """The wall's openings (x0, x1, z0, z1) in the part z >= z0, clipped to it (a hole
         the base cuts is a notch in it)."""
-        return tuple((x0, x1, max(z0, self.z0), z1) for x0, x1, z0, z1 in self.holes
-                     if z1 > self.z0)
+        t = 1e-6 * self.H              # no sliver of wall between the base and a hole
+        return tuple((x0, x1, self.z0 if z0 < self.z0 + t else z0, z1)
+                     for x0, x1, z0, z1 in self.holes if z1 > self.z0 + t)
 
     @property
     def part_lintels(self) -> dict[str, tuple[Point, ...]]:
         """The openings' lintels in the part z >= z0, clipped to it: "lintel<k>" → its
         counter-clockwise polygon (regions of the wall, ``fe.problems.t_section``)."""
-        return {f"lintel{k}": ((x0, max(z0, self.z0)), (x1, max(z0, self.z0)), (x1, z1),
-                               (x0, z1))
-                for k, (x0, x1, z0, z1) in enumerate(self.lintels) if z1 > self.z0}
+        t = 1e-6 * self.H
+        z = [self.z0 if z0 < self.z0 + t else z0 for _, _, z0, _ in self.lintels]
+        return {f"lintel{k}": ((x0, zk), (x1, zk), (x1, z1), (x0, z1))
+                for k, ((x0, x1, _, z1), zk) in enumerate(zip(self.lintels, z))
+                if z1 > self.z0 + t}
 
     @property
     def hole_polygons(self) -> tuple[tuple[Point, ...], ...]:
