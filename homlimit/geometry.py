@@ -23,7 +23,7 @@ from .errors import ParameterError, check_range
 from .fields import check_fields, ranged, set_fields
 from .params import Case
 
-__all__ = ["TSection", "REGIONS", "BOUNDARIES"]
+__all__ = ["TSection", "REGIONS", "BOUNDARIES", "lintel_boxes"]
 
 REGIONS = ("facade", "wall")
 BOUNDARIES = ("base", "outer", "top", "end", "junction")
@@ -35,19 +35,40 @@ Point = tuple[float, float]
 class TSection:
     """Façade strip [0, b] and transversal wall [b, b + L] over z0 <= z <= H [m].
 
+    ``holes``: the transversal wall's openings, rectangles (x0, x1, z0, z1) strictly inside
+    it (``params.WallOpening.box``); ``lintels``: the wall's rectangles over them that the FE
+    makes rigid (``from_case``: one course above each, a half block beyond either side).
     Validated on construction (ParameterError naming the parameter): 0 < H, 0 < b, 0 < L,
-    0 <= z0 < H.
+    0 <= z0 < H, the holes inside the wall, holes and lintels not overlapping.
     """
 
     H: float = ranged(0.0, lo_open=True, unit="m")
     b: float = ranged(0.0, lo_open=True, unit="m")
     L: float = ranged(0.0, lo_open=True, unit="m")
     z0: float = 0.0
+    holes: tuple = ()
+    lintels: tuple = ()
 
     def __post_init__(self):
         check_fields(self)
         # the upper bound is a field's: checked here
-        set_fields(self, z0=check_range("z0", self.z0, 0.0, self.H, hi_open=True, unit="m"))
+        set_fields(self, z0=check_range("z0", self.z0, 0.0, self.H, hi_open=True, unit="m"),
+                   holes=tuple(tuple(float(v) for v in box) for box in self.holes),
+                   lintels=tuple(tuple(float(v) for v in box) for box in self.lintels))
+        boxes = [("holes", k, box) for k, box in enumerate(self.holes)]
+        boxes += [("lintels", k, box) for k, box in enumerate(self.lintels)]
+        for i, (n1, k1, (a0, a1, c0, c1)) in enumerate(boxes):
+            for n2, k2, (d0, d1, e0, e1) in boxes[i + 1:]:
+                if a0 < d1 and d0 < a1 and c0 < e1 and e0 < c1:
+                    raise ParameterError(f"{n1}[{k1}] = {(a0, a1, c0, c1)!r} m overlaps {n2}"
+                                         f"[{k2}] = {(d0, d1, e0, e1)!r} m: allowed openings "
+                                         "whose lintels (one course above each, a half block "
+                                         "beyond each side) clear the other openings")
+        for k, (x0, x1, z0, z1) in enumerate(self.holes):
+            if not (self.b < x0 < x1 < self.b + self.L and 0 < z0 < z1 < self.H):
+                raise ParameterError(f"holes[{k}] = {(x0, x1, z0, z1)!r} is out of range: "
+                                     f"allowed b = {self.b:g} < x0 < x1 < b + L = "
+                                     f"{self.b + self.L:g}, 0 < z0 < z1 < H = {self.H:g} m")
 
     @classmethod
     def from_case(cls, case: Case, z0: float = 0.0) -> TSection:
@@ -55,8 +76,10 @@ class TSection:
         if not isinstance(case, Case):
             raise ParameterError(f"case = {type(case).__name__} is out of range: allowed a "
                                  "homlimit.params.Case")
-        w = case.wall
-        return cls(w.H, w.b, w.L, z0)
+        w, m = case.wall, case.masonry
+        holes = tuple(o.box for o in case.wall_openings)
+        return cls(w.H, w.b, w.L, z0, holes=holes,
+                   lintels=lintel_boxes(holes, w.H, w.b, w.L, m.a, m.c))
 
     # ------------------------------------------------------------------ lengths
     @property
@@ -91,7 +114,31 @@ class TSection:
 
     def part(self, z0: float) -> TSection:
         """The failing part above the base z0 (0 <= z0 < H), same walls."""
-        return TSection(self.H, self.b, self.L, z0)
+        return TSection(self.H, self.b, self.L, z0, self.holes, self.lintels)
+
+    @property
+    def part_holes(self) -> tuple[tuple[float, float, float, float], ...]:
+        """The wall's openings (x0, x1, z0, z1) in the part z >= z0, clipped to it (a hole
+        the base cuts is a notch in it)."""
+        t = 1e-6 * self.H              # no sliver of wall between the base and a hole
+        return tuple((x0, x1, self.z0 if z0 < self.z0 + t else z0, z1)
+                     for x0, x1, z0, z1 in self.holes if z1 > self.z0 + t)
+
+    @property
+    def part_lintels(self) -> dict[str, tuple[Point, ...]]:
+        """The openings' lintels in the part z >= z0, clipped to it: "lintel<k>" → its
+        counter-clockwise polygon (regions of the wall, ``fe.problems.t_section``)."""
+        t = 1e-6 * self.H
+        z = [self.z0 if z0 < self.z0 + t else z0 for _, _, z0, _ in self.lintels]
+        return {f"lintel{k}": ((x0, zk), (x1, zk), (x1, z1), (x0, z1))
+                for k, ((x0, x1, _, z1), zk) in enumerate(zip(self.lintels, z))
+                if z1 > self.z0 + t}
+
+    @property
+    def hole_polygons(self) -> tuple[tuple[Point, ...], ...]:
+        """``part_holes`` as counter-clockwise polygons."""
+        return tuple(((x0, z0), (x1, z0), (x1, z1), (x0, z1))
+                     for x0, x1, z0, z1 in self.part_holes)
 
     # ------------------------------------------------------------------ regions and segments
     @property
@@ -117,7 +164,9 @@ class TSection:
             raise ParameterError(f"region = {region!r} is out of range: allowed one of "
                                  f"{sorted(polys)}")
         names = polys if region is None else (region,)
-        return float(sum(_shoelace(np.asarray(polys[n], float)) for n in names))
+        holes = sum((x1 - x0) * (z1 - z0) for x0, x1, z0, z1 in self.part_holes)
+        return float(sum(_shoelace(np.asarray(polys[n], float)) for n in names)
+                     - (holes if region in (None, "wall") else 0.0))
 
     # ------------------------------------------------------------------ membership
     def tol(self) -> float:
@@ -148,7 +197,18 @@ class TSection:
                                  f"{sorted(polys)}")
         (x0, z0), _, (x1, z1), _ = polys[name]
         x = np.asarray(x, float)
-        return (x[0] > x0) & (x[0] < x1) & (x[1] > z0) & (x[1] < z1)
+        inside = (x[0] > x0) & (x[0] < x1) & (x[1] > z0) & (x[1] < z1)
+        for a0, a1, c0, c1 in self.part_holes:        # the wall's openings are no region's
+            inside &= ~((x[0] > a0) & (x[0] < a1) & (x[1] > c0) & (x[1] < c1))
+        return inside
+
+
+def lintel_boxes(holes, H: float, b: float, L: float, a: float, c: float) -> tuple:
+    """The lintel (x0, x1, z0, z1) of each wall opening (x0, x1, z0, z1) of ``holes``: one
+    course of height a above it, bearing a half block c beyond either side, within the wall
+    (b <= x <= b + L, z <= H)."""
+    return tuple((max(b, x0 - c), min(b + L, x1 + c), z1, min(H, z1 + a))
+                 for x0, x1, _, z1 in holes)
 
 
 def _shoelace(P: np.ndarray) -> float:

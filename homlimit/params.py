@@ -12,7 +12,8 @@ from dataclasses import dataclass, fields
 from .errors import ParameterError, check_range
 from .fields import check_fields, ranged, set_fields
 
-__all__ = ["Wall", "Masonry", "Case", "Tie", "Floor", "G_STANDARD", "FACADE_DEFAULT",
+__all__ = ["Wall", "Masonry", "Case", "Tie", "Floor", "FacadeOpening", "WallOpening",
+           "opening_problems", "G_STANDARD", "FACADE_DEFAULT",
            "FACADE_MODELS", "MESHERS", "MESHER_DEFAULT", "PART_DIVISIONS"]
 
 G_STANDARD = 9.81  # m/s², the value used throughout the paper's examples
@@ -138,6 +139,96 @@ class Floor:
 
 
 @dataclass(frozen=True)
+class FacadeOpening:
+    """A band of openings in the façade, z_bottom <= z <= z_top [m] above the ground, open
+    over ``fraction`` of the façade's length (0 <= fraction < 1). In the section plane the
+    façade's weight and mass over the band scale by (1 − fraction); its strength does not
+    (docs/real-walls.md "Openings")."""
+
+    z_bottom: float = ranged(0.0, unit="m")
+    z_top: float = ranged(0.0, lo_open=True, unit="m")
+    fraction: float = ranged(0.0, 1.0, hi_open=True)
+
+    def __post_init__(self):
+        check_fields(self, prefix="facade_opening ")
+        if self.z_top <= self.z_bottom:
+            raise ParameterError(f"facade_opening z_top = {self.z_top!r} m is out of range: "
+                                 f"allowed z_top > z_bottom = {self.z_bottom:g} m")
+
+
+@dataclass(frozen=True)
+class WallOpening:
+    """A rectangular opening in the transversal wall, in the section plane: lower-left corner
+    (x, z) [m] (x from the façade's outer face), ``width`` along x and ``height`` along z [m];
+    it must lie inside the wall, b < x, x + width < b + L, 0 < z, z + height < H."""
+
+    x: float = ranged(0.0, lo_open=True, unit="m")
+    z: float = ranged(0.0, lo_open=True, unit="m")
+    width: float = ranged(0.0, lo_open=True, unit="m")
+    height: float = ranged(0.0, lo_open=True, unit="m")
+
+    def __post_init__(self):
+        check_fields(self, prefix="wall_opening ")
+
+    @property
+    def box(self) -> tuple[float, float, float, float]:
+        """(x0, x1, z0, z1)."""
+        return self.x, self.x + self.width, self.z, self.z + self.height
+
+
+def opening_problems(H: float, b: float, L: float, facade=(), wall=()) -> list[str]:
+    """The openings' checks against the wall and each other, one message per problem
+    (``facade``, ``wall``: dicts of [[facade_opening]] / [[wall_opening]] entries, the keys
+    given): a façade band within 0 <= z <= H with z_bottom < z_top, the bands disjoint; a wall
+    rectangle strictly inside the transversal wall (b < x, x + width < b + L, 0 < z,
+    z + height < H: it touches no edge), the rectangles neither overlapping nor touching."""
+    out = []
+    bands = []
+    for k, e in enumerate(facade):
+        z1, z2 = e.get("z_bottom"), e.get("z_top")
+        if z2 is not None and z2 > H:
+            out.append(f"[[facade_opening]] {k} z_top = {z2!r} m is out of range: allowed "
+                       f"z_top <= H = {H:g} m")
+        if z1 is not None and z2 is not None:
+            if z2 <= z1:
+                out.append(f"[[facade_opening]] {k} z_top = {z2!r} m is out of range: allowed "
+                           f"z_top > z_bottom = {z1:g} m (a band of positive height)")
+            else:
+                bands.append((k, z1, z2))
+    for i, (k, lo, hi) in enumerate(bands):
+        for j, lo2, hi2 in bands[i + 1:]:
+            if lo < hi2 and lo2 < hi:
+                out.append(f"[[facade_opening]] {k} z = [{lo:g}, {hi:g}] m overlaps "
+                           f"[[facade_opening]] {j} z = [{lo2:g}, {hi2:g}] m: allowed "
+                           "disjoint bands")
+    boxes = []
+    for k, e in enumerate(wall):
+        if not all(n in e for n in ("x", "z", "width", "height")):
+            continue
+        x0, x1, z0, z1 = e["x"], e["x"] + e["width"], e["z"], e["z"] + e["height"]
+        bad = []
+        if not x0 > b:
+            bad.append(f"x = {x0!r} m: allowed x > b = {b:g} m")
+        if not x1 < b + L:
+            bad.append(f"x + width = {x1!r} m: allowed x + width < b + L = {b + L:g} m")
+        if not z1 < H:
+            bad.append(f"z + height = {z1!r} m: allowed z + height < H = {H:g} m")
+        for msg in bad:
+            out.append(f"[[wall_opening]] {k} {msg.split(':')[0]} is out of range "
+                       f"(the opening must lie inside the transversal wall, touching no "
+                       f"edge):{msg.split(':', 1)[1]}")
+        if not bad:
+            boxes.append((k, x0, x1, z0, z1))
+    for i, (k, a0, a1, c0, c1) in enumerate(boxes):
+        for j, d0, d1, e0, e1 in boxes[i + 1:]:
+            if a0 <= d1 and d0 <= a1 and c0 <= e1 and e0 <= c1:
+                out.append(f"[[wall_opening]] {k} (x {a0:g}..{a1:g}, z {c0:g}..{c1:g} m) "
+                           f"overlaps or touches [[wall_opening]] {j} (x {d0:g}..{d1:g}, "
+                           f"z {e0:g}..{e1:g} m): allowed separate openings")
+    return out
+
+
+@dataclass(frozen=True)
 class Case:
     """One wall built of one masonry, with its tie-rods and floors; checks that the blocks
     fit the wall and the ties and floors lie on it."""
@@ -147,10 +238,18 @@ class Case:
     name: str = "case"
     ties: tuple = ()
     floors: tuple = ()
+    facade_openings: tuple = ()
+    wall_openings: tuple = ()
 
     def __post_init__(self):
         w, m = self.wall, self.masonry
-        set_fields(self, ties=tuple(self.ties), floors=tuple(self.floors))
+        set_fields(self, ties=tuple(self.ties), floors=tuple(self.floors),
+                   facade_openings=tuple(self.facade_openings),
+                   wall_openings=tuple(self.wall_openings))
+        bad = opening_problems(w.H, w.b, w.L, [_entry(o) for o in self.facade_openings],
+                               [_entry(o) for o in self.wall_openings])
+        if bad:
+            raise ParameterError(bad[0])
         for k, t in enumerate(self.ties):
             check_range(f"tie {k} z", t.z, 0.0, w.H, lo_open=True, unit="m")
         for k, fl in enumerate(self.floors):
@@ -186,9 +285,10 @@ class Case:
     @property
     def real(self) -> bool:
         """Whether the case has any input of a real wall beyond the paper's (finite fc,
-        cohesion, tension, ties, floors): docs/real-walls.md."""
+        cohesion, tension, ties, floors, openings): docs/real-walls.md."""
         m = self.masonry
-        return bool(self.ties or self.floors or m.fc or m.cohesion or m.tension)
+        return bool(self.ties or self.floors or m.fc or m.cohesion or m.tension
+                    or self.facade_openings or self.wall_openings)
 
     def real_inputs(self) -> list[str]:
         """The case-file keys of the real-wall inputs this case sets (for the messages of the
@@ -197,6 +297,8 @@ class Case:
         out = [f"[masonry] {k}" for k in ("fc", "cohesion", "tension") if getattr(m, k)]
         out += [f"[[tie]] {k}" for k in range(len(self.ties))]
         out += [f"[[floor]] {k}" for k in range(len(self.floors))]
+        out += [f"[[facade_opening]] {k}" for k in range(len(self.facade_openings))]
+        out += [f"[[wall_opening]] {k}" for k in range(len(self.wall_openings))]
         return out
 
     def as_dict(self) -> dict:
@@ -204,5 +306,11 @@ class Case:
                 "wall": {f.name: getattr(self.wall, f.name) for f in fields(self.wall)},
                 "masonry": {f.name: getattr(self.masonry, f.name) for f in fields(self.masonry)},
                 "tie": [{f.name: getattr(t, f.name) for f in fields(t)} for t in self.ties],
-                "floor": [{f.name: getattr(x, f.name) for f in fields(x)}
-                          for x in self.floors]}
+                "floor": [_entry(x) for x in self.floors],
+                "facade_opening": [_entry(x) for x in self.facade_openings],
+                "wall_opening": [_entry(x) for x in self.wall_openings]}
+
+
+def _entry(obj) -> dict:
+    """A [[...]] entry's dataclass as a dict of its fields."""
+    return {f.name: getattr(obj, f.name) for f in fields(obj)}

@@ -12,8 +12,9 @@ import math
 import unicodedata
 from typing import Any
 
-from ..params import MESHER_DEFAULT, PART_DIVISIONS, Case
+from ..params import MESHER_DEFAULT, PART_DIVISIONS, Case, opening_problems
 from . import budget, registry
+from .case_openings import openings_refused
 from .schema import ARRAYS, MAX_ARRAY, OPTIONAL_SECTIONS, REQUIRED_SECTIONS, SCHEMA, TOP_LEVEL, Key
 
 __all__ = ["LAM_MIN_CLOSED", "MAX_NAME", "array_key", "check_key", "collect", "cross_checks",
@@ -191,6 +192,9 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
             if "b" in w and "eccentricity" in e and e["eccentricity"] > w["b"]:
                 out.append(f"[[{arr}]] {k} eccentricity = {e['eccentricity']!r} m is out of "
                            f"range: allowed 0 <= eccentricity <= b = {w['b']:g} m")
+    if all(k in w for k in ("H", "b", "L")):
+        out += opening_problems(w["H"], w["b"], w["L"], v.get("facade_opening") or (),
+                                v.get("wall_opening") or ())
     closed = an.get("closed_form") or an.get("overturning")
     held = [(k, e["z"]) for k, e in enumerate(v.get("floor") or ())
             if e.get("restrains") and "z" in e]
@@ -201,8 +205,10 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
                        f"forms a failing body of (H − z)/b = {(w['H'] - zr) / w['b']:.4g}: out "
                        f"of range: allowed z <= H − {LAM_MIN_CLOSED:g} b = "
                        f"{w['H'] - LAM_MIN_CLOSED * w['b']:g} m (the body lies above it)")
+    out += openings_refused(v, an)
     keys = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("fc", "cohesion", "tension") if m.get(k)]
-    keys += [f"[[{arr}]] ({len(v[arr])} entries)" for arr in ("tie", "floor") if v.get(arr)]
+    keys += [f"[[{arr}]] ({len(v[arr])} entries)"
+             for arr in ("tie", "floor", "facade_opening", "wall_opening") if v.get(arr)]
     if not keys:
         return out
     given = ", ".join(keys)

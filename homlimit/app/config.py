@@ -36,7 +36,7 @@ from pathlib import Path
 from .._io import json_bytes
 from ..check.site import Site
 from ..errors import ParameterError
-from ..params import Case, Floor, Masonry, Tie, Wall
+from ..params import Case, FacadeOpening, Floor, Masonry, Tie, Wall, WallOpening
 from .case_checks import array_key, collect, cross_checks, shown, warnings_of
 from .schema import (
     ARRAYS,
@@ -100,7 +100,10 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
     name = data.get("name") or default_name
     case = Case(wall=Wall(**values["wall"]), masonry=Masonry(**values["masonry"]), name=name,
                 ties=tuple(Tie(**e) for e in values.get("tie", ())),
-                floors=tuple(Floor(**e) for e in values.get("floor", ())))
+                floors=tuple(Floor(**e) for e in values.get("floor", ())),
+                facade_openings=tuple(FacadeOpening(**e)
+                                      for e in values.get("facade_opening", ())),
+                wall_openings=tuple(WallOpening(**e) for e in values.get("wall_opening", ())))
     site = Site(**values["site"], g=case.wall.g) if "site" in values else None
     return CaseConfig(case=case, source=source, warnings=warnings_of(case, values), site=site,
                       **{sec: cls(**{k: tuple(v) if isinstance(v, list) else v

@@ -49,6 +49,7 @@ from .models_rigid import (
     run_dem,
 )
 from .registry import Mechanism, Model
+from .schema import ARRAYS
 from .stages import finite, solver_options, stage
 
 __all__ = ["FERocker", "adaptive", "adaptive_bracket_of", "closed_forms", "fe_cache_inputs",
@@ -168,7 +169,7 @@ def fe_cache_inputs(config: CaseConfig) -> dict:
     opts = dataclasses.asdict(solver_options(config.analysis.tol, config.analysis.stress_degree))
     opts.pop("verbose")                       # the solver log changes no number
     d = config.as_dict()
-    real = {k: d[k] for k in ("tie", "floor") if d.get(k)}     # none: the paper's inputs
+    real = {k: d[k] for k in ARRAYS if d.get(k)}     # none: the paper's inputs
     return {"format": FE_CACHE_FORMAT, **{k: d[k] for k in ("wall", "masonry", "mesh",
                                                             "analysis")}, **real,
             "solver": opts, "homlimit_version": package_version(), "code": _fe_code_digest()}

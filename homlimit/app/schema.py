@@ -244,8 +244,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "vtu": Key(bool, True, doc="write the mesh and mechanism as .vtu (ParaView)"),
     },
 }
-#: arrays of tables ([[tie]], [[floor]]): name -> key -> Key, each entry validated like a
-#: section; a sweep or --set addresses an entry's key as tie.0.yield_force
+#: arrays of tables ([[tie]], [[floor]], [[facade_opening]], [[wall_opening]]): name -> key
+#: -> Key, each entry validated like a section; a sweep or --set addresses an entry's key as
+#: tie.0.yield_force
 ARRAYS: dict[str, dict[str, Key]] = {
     "tie": {
         "z": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
@@ -272,8 +273,35 @@ ARRAYS: dict[str, dict[str, Key]] = {
                          doc="the floor holds the façade horizontally at z: a failing body "
                              "lies above it"),
     },
+    "facade_opening": {
+        "z_bottom": Key(float, unit="m", lo=0.0, hi=1e4,
+                        doc="bottom of a band of openings in the façade (windows, doors), "
+                            "above the ground"),
+        "z_top": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
+                     doc="top of the band (z_bottom < z_top <= H; bands disjoint)"),
+        "fraction": Key(float, unit="", lo=0.0, hi=1.0, hi_open=True,
+                        doc="the part of the façade's length l that is open over the band "
+                            "(0 <= fraction < 1): the façade's weight and mass there scale by "
+                            "1 − fraction in every model, its strength does not "
+                            "(docs/real-walls.md \"Openings\")"),
+    },
+    "wall_opening": {
+        "x": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
+                 doc="left edge of a rectangular opening in the transversal wall, from the "
+                     "façade's outer face (b < x)"),
+        "z": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
+                 doc="bottom edge of the opening above the ground (0 < z)"),
+        "width": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
+                     doc="its width along x (x + width < b + L)"),
+        "height": Key(float, unit="m", lo=0.0, hi=1e4, lo_open=True,
+                      doc="its height along z (z + height < H); openings must not overlap or "
+                          "touch. The closed forms take it in mechanism II's wedge, the FE "
+                          "as a hole under a rigid lintel, the blocks as courses cut under "
+                          "a lintel block; the DEM refuses it (docs/real-walls.md "
+                          "\"Openings\")"),
+    },
 }
-MAX_ARRAY = 100                   # entries of a [[tie]] or [[floor]] array
+MAX_ARRAY = 100                   # entries of a [[tie]], [[floor]], ... array
 REQUIRED_SECTIONS = ("wall", "masonry")
 #: sections that exist only when the case file has them (the code check runs with [site])
 OPTIONAL_SECTIONS = ("site",)

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 from ..check.site import Site
 from ..params import Case
-from .schema import SCHEMA
+from .schema import ARRAYS, SCHEMA
 from .schema_doc import toml_value
 
 __all__ = ["AdaptConfig", "AnalysisConfig", "BlocksConfig", "CaseConfig", "DemConfig",
@@ -182,7 +182,7 @@ class CaseConfig:
         """Every input, in the case-file layout (round-trips through ``load_case``)."""
         d = self.case.as_dict()
         out = {"name": d["name"], "wall": d["wall"], "masonry": d["masonry"],
-               "tie": d["tie"], "floor": d["floor"]}
+               **{arr: d[arr] for arr in ARRAYS}}
         for sec in SECTIONS:
             obj = getattr(self, sec)
             out[sec] = {k: (list(v) if isinstance(v, tuple) else v)

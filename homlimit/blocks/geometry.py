@@ -419,13 +419,87 @@ def _course_breaks(geo: TSection, c: float, toothed: bool, facade: str, tol: flo
     return np.unique(np.r_[0.0, xs, x_end])
 
 
+def course_levels(H: float, a: float, tol: float | None = None) -> np.ndarray:
+    """The course boundaries 0, a, 2a, ..., H of ``t_section_blocks`` (a top course shorter
+    than a kept when it is taller than ``tol``, default 1e-9 H)."""
+    tol = 1e-9 * H if tol is None else tol
+    zs = a * np.arange(int(math.floor(H / a + 1e-9)) + 1)
+    if H - zs[-1] > tol:
+        zs = np.r_[zs, H]
+    zs[-1] = H
+    return zs
+
+
+def open_courses(zs: np.ndarray, hole, k: int = 0):
+    """(opened, top): the courses (boundaries ``zs``) a wall opening (x0, x1, z0, z1) opens,
+    those whose mid-height lies in [z0, z1] (or, if none, the one holding its mid-height), and
+    the course of its lintel, the one above them. ParameterError naming [[wall_opening]] k if
+    there is none."""
+    _, _, hz0, hz1 = hole
+    n_c = zs.size - 1
+    mid = (zs[:-1] + zs[1:]) / 2
+    opened = (mid >= hz0) & (mid <= hz1)
+    if not opened.any():
+        opened[min(int(np.searchsorted(zs, (hz0 + hz1) / 2)) - 1, n_c - 1)] = True
+    top = int(np.flatnonzero(opened).max()) + 1
+    if top >= n_c:
+        raise ParameterError(f"[[wall_opening]] {k} z + height = {hz1!r} m leaves no course "
+                             f"above it for its lintel in the blocks: allowed an opening "
+                             f"whose courses end below the top course ({zs[-2]:g} m)")
+    return opened, top
+
+
+def _open_courses(x0, x1, course, zs, hole, k: int, tol: float):
+    """The blocks (x0, x1, course) with the wall opening ``hole`` = (x0, x1, z0, z1) cut out
+    (docs/real-walls.md "Openings"): the courses whose mid-height lies in [z0, z1] (or, if
+    none, the one holding the opening's mid-height) lose what lies between x0 and x1, a block
+    across a jamb cut there; in the course above the last one opened, the blocks over the
+    opening become one block, the lintel, from the first one's start to the last one's end.
+    ParameterError if no course is left above the opening."""
+    hx0, hx1, hz0, hz1 = hole
+    opened, top = open_courses(zs, hole, k)
+    hit = opened[course] & (x0 < hx1 - tol) & (x1 > hx0 + tol)
+    left, right = hit & (x0 < hx0 - tol), hit & (x1 > hx1 + tol)
+    x0, x1, course = (np.r_[x0[~hit], x0[left], np.full(right.sum(), hx1)],
+                      np.r_[x1[~hit], np.full(left.sum(), hx0), x1[right]],
+                      np.r_[course[~hit], course[left], course[right]])
+    over = (course == top) & (x0 < hx1 - tol) & (x1 > hx0 + tol)
+    x0, x1, course = (np.r_[x0[~over], x0[over].min()], np.r_[x1[~over], x1[over].max()],
+                      np.r_[course[~over], top])
+    order = np.lexsort((x0, course))
+    return x0[order], x1[order], course[order]
+
+
+def _band_parts(rects, on_facade, z_lo: float, z_hi: float, scale: float):
+    """Rectangular parts (x0, x1, z0, z1, block, density) with the façade's (``on_facade``)
+    cut at z_lo and z_hi: a part crossing the band [z_lo, z_hi] becomes its pieces below, in
+    and above it, the piece in it at ``scale`` × its density (docs/real-walls.md "Openings":
+    the façade's mass over an opening band times 1 − fraction). Returns the new arrays and
+    their façade flags."""
+    x0, x1, z0, z1, pb, pd = (np.asarray(a) for a in rects)
+    hit = on_facade & (z0 < z_hi) & (z1 > z_lo)
+    keep = ~hit
+    lo, hi = np.maximum(z0, z_lo), np.minimum(z1, z_hi)
+    pieces = [(z0, lo, 1.0), (lo, hi, scale), (hi, z1, 1.0)]   # below, in, above the band
+    out = [[a[keep]] for a in (x0, x1, z0, z1, pb, pd, on_facade)]
+    for a, b, f in pieces:
+        sel = hit & (b > a)
+        for lst, v in zip(out, (x0[sel], x1[sel], a[sel], b[sel], pb[sel], pd[sel] * f,
+                                on_facade[sel])):
+            lst.append(v)
+    return tuple(np.concatenate(lst) for lst in out)
+
+
 def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "through"
                      ) -> Assembly:
     """The paper's T-section as rigid blocks (module docstring): façade strip [0, b], transversal
     wall [b, b + L] in running bond 2c × a, toothed at the abutment with overlap c, on a fixed
     ground; any H, L, b, a, c of ``case``. The bottom course is toothed if ``toothed_first``.
     A top course shorter than a (H not a multiple of a) is kept with its own height.
-    Masses per slab of thickness s: façade ρ·γ·s, wall γ·s; a block straddling x = b has a
+    The wall's openings (``case.wall_openings``) are cut out of the courses they hold, each
+    under one lintel block (``_open_courses``).
+    Masses per slab of thickness s: façade ρ·γ·s (times 1 − fraction over an opening band:
+    the façade parts cut at its edges), wall γ·s; a block straddling x = b has a
     façade part and a wall part.
 
     facade: "through" (default, the paper's: one block across the façade's thickness per
@@ -438,11 +512,7 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     w, mas = case.wall, case.masonry
     H, L, b, a, c = geo.H, geo.L, geo.x_junction, mas.a, mas.c
     tol = 1e-9 * geo.extent
-    n_full = int(math.floor(H / a + 1e-9))
-    zs = a * np.arange(n_full + 1)
-    if H - zs[-1] > tol:
-        zs = np.r_[zs, H]
-    zs[-1] = H
+    zs = course_levels(H, a, tol)
     n_c = zs.size - 1
     toothed = (np.arange(n_c) % 2 == 0) == bool(toothed_first)
     xt = _course_breaks(geo, c, True, facade, tol)
@@ -454,6 +524,8 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     jt, jp = np.minimum(j, xt.size - 2), np.minimum(j, xp.size - 2)
     x0 = np.where(tt, xt[jt], xp[jp])
     x1 = np.where(tt, xt[jt + 1], xp[jp + 1])
+    for k, hole in enumerate(geo.holes):    # the wall's openings, each under a lintel block
+        x0, x1, course = _open_courses(x0, x1, course, zs, hole, k, tol)
     z0, z1 = zs[course], zs[course + 1]
     kind = np.where(x1 <= b + tol, FACADE, np.where(x0 >= b - tol, WALL, TOOTHING))
     gs = w.gamma * w.s
@@ -474,8 +546,13 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     px0 = np.r_[X0, np.full(tooth.size, b)]
     px1 = np.r_[last, X1[tooth]]
     pz0, pz1 = np.r_[Z0, Z0[tooth]], np.r_[Z1, Z1[tooth]]
+    pb, pd = np.r_[np.arange(n), tooth], np.r_[dens, np.full(tooth.size, gs)]
+    on_facade = np.r_[(kind == FACADE) | (kind == TOOTHING), np.zeros(tooth.size, bool)]
+    for op in case.facade_openings:     # the façade parts cut at the band, its part lighter
+        px0, px1, pz0, pz1, pb, pd, on_facade = _band_parts(
+            (px0, px1, pz0, pz1, pb, pd), on_facade, op.z_bottom, op.z_top, 1 - op.fraction)
     pv, po = _rectangles(px0, px1, pz0, pz1)
-    parts = (pv, po, np.r_[np.arange(n), tooth], np.r_[dens, np.full(tooth.size, gs)])
+    parts = (pv, po, pb, pd)
     meta = {"H": H, "L": L, "b": b, "a": a, "c": c, "f": mas.f, "rho": case.rho,
             "gamma": w.gamma, "s": w.s, "g": w.g, "n_courses": n_c,
             "toothed_first": bool(toothed_first), "facade": facade, "name": case.name}

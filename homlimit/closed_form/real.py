@@ -57,15 +57,85 @@ def _tanpsi(case: Case, kind: str, tanpsi: float | None) -> float:
 def _body(case: Case, kind: str, lam, t_psi: float):
     """Mass m [kg], x_G, z_G [m] from the outer toe, I_O and J_z = ∫z² dm [kg m²] of the
     failing body (arrays over λ): the façade strip (I, overturning) or strip + wedge (II,
-    eqs 17, 20)."""
+    eqs 17, 20), less what the openings remove (``_removed``: the real body integrated)."""
     w = case.wall
     b, h = w.b, lam * w.b
     if kind == "crack":
         xg, zg, i = geometry_II(lam, w.rho, t_psi)
         m = w.gamma * (w.l * b * h + w.s * t_psi * h ** 2 / 2)
-        return m, xg * b, zg * b, m * i * b ** 2, wedge_Jz(w.gamma, w.l, w.s, b, h, t_psi)
-    m = w.gamma * w.l * b * h
-    return m, np.full_like(h, b / 2), h / 2, m * (h ** 2 + b ** 2) / 3, m * h ** 2 / 3
+        full = m, xg * b, zg * b, m * i * b ** 2, wedge_Jz(w.gamma, w.l, w.s, b, h, t_psi)
+    else:
+        m = w.gamma * w.l * b * h
+        full = m, np.full_like(h, b / 2), h / 2, m * (h ** 2 + b ** 2) / 3, m * h ** 2 / 3
+    if not (case.facade_openings or (kind == "crack" and case.wall_openings)):
+        return full
+    m, xg, zg, I_O, Jz = full
+    mr, sx, sz, io, jz = _removed(case, kind, h, t_psi)
+    mn = m - mr
+    return mn, (m * xg - sx) / mn, (m * zg - sz) / mn, I_O - io, Jz - jz
+
+
+def _rect_moments(x0, x1, z0, z1):
+    """∫1, ∫x, ∫z, ∫(x² + z²), ∫z² over [x0, x1] × [z0, z1] (zero where empty), elementwise."""
+    dx, dz = np.maximum(x1 - x0, 0.0), np.maximum(z1 - z0, 0.0)
+    A = dx * dz
+    x1, z1 = np.maximum(x1, x0), np.maximum(z1, z0)
+    ix2 = (x1 ** 3 - x0 ** 3) / 3 * dz
+    iz2 = (z1 ** 3 - z0 ** 3) / 3 * dx
+    return A, A * (x0 + x1) / 2, A * (z0 + z1) / 2, ix2 + iz2, iz2
+
+
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(4)     # exact to degree 7 (here <= 5)
+
+
+def _wedge_hole_moments(x0, x1, z0, z1, b, t):
+    """∫1, ∫x, ∫z, ∫(x² + z²), ∫z² over the rectangle [x0, x1] × [z0, z1] (b < x0, z from
+    the hinge) cut by the wedge's crack x <= b + t z (mechanism II's wedge: its part of a
+    wall opening), elementwise: over x the column runs from max(z0, (x − b)/t) to z1, a
+    polynomial of degree <= 5 in x on each of two pieces, integrated exactly by 4-point
+    Gauss–Legendre."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xa, xb = b + t * z0, b + t * z1            # the crack crosses z0 and z1 here
+    out = [0.0] * 5
+    for lo_x, hi_x, cut in ((x0, np.minimum(x1, xa), False),
+                            (np.maximum(x0, xa), np.minimum(x1, xb), True)):
+        width = np.maximum(hi_x - lo_x, 0.0)
+        for xi, wi in zip(_GL_X, _GL_W):
+            x = lo_x + (xi + 1) / 2 * width
+            lo = np.maximum((x - b) / t, z0) if cut else z0
+            hi = np.maximum(z1, lo)
+            c0, c1, c2 = hi - lo, (hi ** 2 - lo ** 2) / 2, (hi ** 3 - lo ** 3) / 3
+            wt = wi * width / 2
+            for k, v in enumerate((c0, x * c0, c1, x * x * c0 + c2, c2)):
+                out[k] = out[k] + wt * v
+    return tuple(np.where(z1 > z0, v, 0.0) for v in out)
+
+
+def _removed(case: Case, kind: str, h, t_psi: float):
+    """What the openings take from the failing body of height h (arrays over λ), about the
+    outer toe (0, H − h): mass, ∫x dm, ∫z dm, ∫(x² + z²) dm, ∫z² dm [SI]. A façade band
+    removes ``fraction`` of the strip's mass over its part of the body (density γ l,
+    x in [0, b]); mechanism II also loses the part of each wall opening inside its wedge
+    (density γ s). Mechanism I and the overturning take the façade only: a wall opening
+    does not change them (docs/real-walls.md "Openings")."""
+    w = case.wall
+    z_hinge = w.H - h
+    tot = [np.zeros_like(h) for _ in range(5)]
+    for op in case.facade_openings:
+        lo = np.clip(op.z_bottom - z_hinge, 0.0, h)
+        hi = np.clip(op.z_top - z_hinge, 0.0, h)
+        mom = _rect_moments(0.0, w.b, lo, hi)
+        for k in range(5):
+            tot[k] = tot[k] + op.fraction * w.gamma * w.l * mom[k]
+    if kind == "crack" and t_psi > 0:
+        for op in case.wall_openings:
+            x0, x1, z0, z1 = op.box
+            lo = np.clip(z0 - z_hinge, 0.0, h)
+            hi = np.clip(z1 - z_hinge, 0.0, h)
+            mom = _wedge_hole_moments(x0, x1, lo, hi, w.b, t_psi)
+            for k in range(5):
+                tot[k] = tot[k] + w.gamma * w.s * mom[k]
+    return tuple(tot)
 
 
 def _loads(case: Case, lam):

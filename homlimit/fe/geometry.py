@@ -131,6 +131,8 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
                  embed_lines: Sequence[Segment] = (),
                  structured: Mapping[str, tuple] | None = None,
                  size_map=None,
+                 holes: Sequence[Sequence[Point]] = (),
+                 inserts: Sequence[str] = (),
                  name: str = "polygon",
                  verbosity: int = 0) -> meshio.Mesh:
     """Triangulate polygonal regions, conforming across shared edges.
@@ -156,6 +158,12 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
                     grow geometrically by r (> 0) from the region's left side (x min).
     size_map:       (points (2, n), triangles (3, nt), sizes (nt,)): a background mesh whose
                     element sizes [m] also bound the size (``homlimit.fe.adapt``).
+    holes:          [[(x, z), ...]]: polygons cut out of every region (gmsh OCC boolean
+                    difference), e.g. the openings of a transversal wall; none may meet a
+                    structured region.
+    inserts:        names of regions cut out of the other regions (which they may overlap),
+                    e.g. a lintel inside the wall; an insert must not meet a structured
+                    region nor another insert.
     Returns a meshio.Mesh (see the module docstring).
     """
     boundaries = {} if boundaries is None else boundaries
@@ -195,6 +203,17 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
         grid[k] = (int(check_range(f"structured[{k!r}].nx", nx, 1, 10 ** 5)),
                    int(check_range(f"structured[{k!r}].nz", nz, 1, 10 ** 5)),
                    check_range(f"structured[{k!r}].r", r, 0.0, lo_open=True))
+    cuts = [_polygon(f"holes[{i}]", v) for i, v in enumerate(holes)]
+    inserts = [_name("insert", k) for k in inserts]
+    for k in inserts:
+        if k not in polys:
+            raise ParameterError(f"insert {k!r} is out of range: allowed one of {sorted(polys)}")
+    for k in grid:                       # a structured grid cannot take a hole
+        lo, hi = polys[k].min(0), polys[k].max(0)
+        if any(np.all(P.max(0) > lo) and np.all(P.min(0) < hi)
+               for P in cuts + [polys[j] for j in inserts]):
+            raise ParameterError(f"holes meet the structured region {k!r}: allowed holes "
+                                 "clear of it")
     allp = np.vstack(list(polys.values()))
     extent = float(np.max(allp.max(0) - allp.min(0)))
     check_range("size", size, 0.0, extent, lo_open=True, unit="m")
@@ -202,11 +221,27 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
 
     with gmsh_session(name, verbosity) as gmsh:
         occ = gmsh.model.occ
-        surf = []
-        for P in polys.values():
+        def plane(P):
             pt = [occ.addPoint(x, z, 0.0) for x, z in P]
             cv = [occ.addLine(pt[i], pt[(i + 1) % len(pt)]) for i in range(len(pt))]
-            surf.append(occ.addPlaneSurface([occ.addCurveLoop(cv)]))
+            return occ.addPlaneSurface([occ.addCurveLoop(cv)])
+
+        surf = [plane(P) for P in polys.values()]
+        if cuts or inserts:              # each region less the holes (and the inserts)
+            holes_ = [(2, plane(P)) for P in cuts]
+            ins = [(2, plane(polys[k])) for k in inserts]
+            def cut(k, s):
+                tools = holes_ + (ins if k not in inserts else [])
+                if not tools:
+                    return [s]
+                return [t for d, t in occ.cut([(2, s)], tools, removeObject=True,
+                                              removeTool=False)[0] if d == 2]
+
+            groups = [cut(k, s) for k, s in zip(polys, surf)]
+            occ.remove(holes_ + ins, recursive=True)
+        else:
+            groups = [[s] for s in surf]
+        surf = [t for g in groups for t in g]
         named = [(k, occ.addLine(occ.addPoint(*p, 0.0), occ.addPoint(*q, 0.0)))
                  for k, ss in segs.items() for p, q in ss]
         free = [occ.addLine(occ.addPoint(*p, 0.0), occ.addPoint(*q, 0.0)) for p, q in lines]
@@ -219,8 +254,9 @@ def polygon_mesh(regions: Mapping[str, Sequence[Point]],
         occ.synchronize()
 
         # which new surfaces came from which region; every triangle must belong to one region
-        reg_surf = {k: sorted({t for d, t in m if d == 2})
-                    for k, m in zip(polys, out_map[:len(surf)])}
+        first = np.cumsum([0] + [len(g) for g in groups])
+        reg_surf = {k: sorted({t for m in out_map[first[i]:first[i + 1]] for d, t in m
+                               if d == 2}) for i, k in enumerate(polys)}
         owners = [t for ts in reg_surf.values() for t in ts]
         if len(owners) != len(set(owners)):
             raise MeshError(f"regions {list(polys)} overlap: allowed disjoint polygons")
@@ -443,6 +479,7 @@ def tsection(H: float, b: float, L: float, size: float, *,
              refine_points: Sequence = (), refine_segments: Sequence = (),
              strip: str = "free", n_b: int = 4, rows: float | None = None,
              h_outer: float | None = None, growth: float = OUTER_GROWTH, size_map=None,
+             holes: Sequence = (), lintels: Sequence = (),
              verbosity: int = 0) -> meshio.Mesh:
     """Mesh of the x–z section: façade 0 <= x <= b, transversal wall b <= x <= b + L,
     z0 <= z <= H (the failing part of height h = H − z0 when z0 > 0).
@@ -462,9 +499,11 @@ def tsection(H: float, b: float, L: float, size: float, *,
     strip then. ``h_outer`` (with "structured"): the strip's columns grow geometrically from
     width ``h_outer`` at the outer face x = 0 (``graded_columns``: at least n_b columns,
     growth at most ``growth``), where an overturning façade bears (docs/static.md, "The
-    outer face").
+    outer face"). ``holes``: rectangles (x0, x1, z0, z1) cut out of the wall (its openings,
+    ``TSection.holes``), clipped to the part z >= z0; ``lintels``: rectangles of the wall over
+    them, regions "lintel<k>" (``TSection.part_lintels``).
     """
-    geo = TSection(H, b, L, z0)
+    geo = TSection(H, b, L, z0, holes=tuple(holes), lintels=tuple(lintels))
     H, b, z0 = geo.H, geo.b, geo.z0
     size = check_range("size", size, 0.0, geo.span, lo_open=True, unit="m")
     check_choice("strip", strip, STRIPS)
@@ -493,9 +532,11 @@ def tsection(H: float, b: float, L: float, size: float, *,
             s = check_range(f"size_{what}", s, 0.0, size, lo_open=True, unit="m")
             refine.append((*line, s, b if r is None else r))
     regions = {k: list(v) for k, v in geo.regions.items()}
+    lint = geo.part_lintels
+    regions |= {k: list(v) for k, v in lint.items()}
     boundaries = {k: [v] for k, v in seg.items()}
     return polygon_mesh(regions, boundaries, size=size,
                         refine_segments=refine + list(refine_segments),
                         refine_points=refine_points, embed_lines=embed_lines,
                         structured=structured, size_map=size_map, name="tsection",
-                        verbosity=verbosity)
+                        holes=geo.hole_polygons, inserts=list(lint), verbosity=verbosity)

@@ -392,6 +392,11 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     cohesion and tension enter both domains, the façade's times ρ = l/s (its stresses in the
     section are ρ times the façade's, as its density is ρ γ): fc caps the principal
     compressive stress (``strength.Capped``). Ties and floors: ``_ties_and_floors``.
+    Wall openings (``case.wall_openings``): holes in the gmsh meshes (``geometry.tsection``
+    holes; the crossed grid refuses them), each under a rigid lintel (region "lintel<k>",
+    ``strength.Rigid``, the wall's weight: one course above the hole, bearing a half block c
+    beyond either side), since a dry no-tension continuum cannot span a hole (gravity alone
+    drops the masonry above it); façade opening bands: ``_facade_bands``.
     Reference: the prototype's hinge + fan mechanism (docs/kinematic.md); no closed form.
     """
     w, mas = case.wall, case.masonry
@@ -409,11 +414,17 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
         if mesher == "gmsh":
             raise ParameterError(f"h_outer = {h_outer} with mesher = {mesher!r} is out of "
                                  f"range: allowed only with mesher = 'crossed' or 'gmsh-strip'")
+    if geo.holes and mesher == "crossed":
+        raise ParameterError(f"mesher = {mesher!r} with [[wall_opening]] ({len(geo.holes)} "
+                             "entries) is out of range: the crossed grid does not cut holes; "
+                             "allowed mesher = 'gmsh' or 'gmsh-strip'")
     if mesher == "gmsh":
-        m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0))
+        m = to_skfem(tsection(H, b, geo.L, size=h, size_junction=min(h, b / n_b), z0=z0,
+                              holes=geo.holes, lintels=geo.lintels))
     elif mesher == "gmsh-strip":
         m = to_skfem(tsection(H, b, geo.L, size=min(max(h, b / n_b), geo.span),
-                              size_junction=min(h, b / n_b),
+                              size_junction=min(h, b / n_b), holes=geo.holes,
+                              lintels=geo.lintels,
                               z0=z0, strip="structured", n_b=n_b, rows=h, h_outer=h_outer))
     else:
         xf = (np.linspace(0.0, b, n_b + 1) if h_outer is None else
@@ -442,17 +453,45 @@ def t_section(case: Case = Case(), z0: float = 0.0, facade: str = "homogenised",
     real = {}
     if case.ties or case.floors:
         m, real, meta["real_wall"] = _ties_and_floors(m, case, z0)
+    m, live_open, dead_open = _facade_bands(m, case)
+    # the openings' lintels (geometry.TSection.lintels): rigid parts of the wall, its weight
+    lint = [k for k in (m.subdomains or {}) if k.startswith("lintel")]
+    live_open |= {k: (-wg, 0.0) for k in lint}
+    dead_open |= {k: (0.0, -wg) for k in lint}
     if mas.fc:
         meta["fc"] = {"facade": rho * mas.fc, "wall": mas.fc}
     supports = {"base": "fixed"} | real.get("supports", {})
     return Problem(
         name=f"t_section[{case.name}]", mesh=m,
         domains={"facade": strength.capped(fac, rho * mas.fc),
-                 "wall": strength.capped(wall, mas.fc)},
+                 "wall": strength.capped(wall, mas.fc)} | {k: strength.Rigid() for k in lint},
         supports=supports,
-        live_body={"facade": (-wf, 0.0), "wall": (-wg, 0.0)},
-        dead_body={"facade": (0.0, -wf), "wall": (0.0, -wg)} | real.get("dead_body", {}),
-        ties=real.get("ties", {}), meta=meta)
+        live_body={"facade": (-wf, 0.0), "wall": (-wg, 0.0)} | live_open,
+        dead_body={"facade": (0.0, -wf), "wall": (0.0, -wg)} | real.get("dead_body", {})
+        | dead_open, ties=real.get("ties", {}), meta=meta)
+
+
+def _facade_bands(m: MeshTri, case: Case):
+    """The façade's opening bands (``case.facade_openings``, docs/real-walls.md "Openings"):
+    the façade triangles whose centroid lies in a band form region "facade_open<k>" (always
+    present, maybe empty), on which body forces of −fraction times the façade's weight and
+    horizontal load are added (regions' loads add up), so the band carries (1 − fraction) of
+    them; its strength is the façade's. The band's edges are those of the rows of triangles
+    its centroids select (within one row of z_bottom and z_top). Returns the mesh with the
+    regions, and the live and dead body forces to add."""
+    live, dead, sub = {}, {}, {}
+    if not case.facade_openings:
+        return m, live, dead
+    w = case.wall
+    wf = case.rho * w.gamma * w.g
+    fac = np.asarray(m.subdomains["facade"])
+    zc = m.p[1, m.t[:, fac]].mean(axis=0)
+    for k, op in enumerate(case.facade_openings):
+        sub[f"facade_open{k}"] = fac[(zc >= op.z_bottom) & (zc <= op.z_top)]
+        if op.fraction > 0 and sub[f"facade_open{k}"].size:
+            live[f"facade_open{k}"] = (op.fraction * wf, 0.0)
+            dead[f"facade_open{k}"] = (0.0, op.fraction * wf)
+    return m.with_subdomains(sub), live, dead
 
 
 def _real_tag(name: str) -> bool:
@@ -460,17 +499,26 @@ def _real_tag(name: str) -> bool:
     return name.startswith(("tie", "floor"))
 
 
+def _band_tag(name: str) -> bool:
+    """Whether a region name is one ``_facade_bands`` adds."""
+    return name.startswith("facade_open")
+
+
 def t_section_on_mesh(problem: Problem, case: Case, mesh: MeshTri) -> Problem:
     """The T-section ``problem`` of ``case`` carried to ``mesh`` (the same regions and
     boundaries, e.g. a remesh of ``fe.adapt``): its ties and floors placed anew there
     (``_ties_and_floors``: their bands and patch forces depend on the mesh)."""
+    mesh, live_open, dead_open = _facade_bands(mesh, case)
+    no_band = lambda d: {k: v for k, v in d.items() if not _band_tag(k)}  # noqa: E731
+    live = no_band(problem.live_body) | live_open
+    dead = no_band(problem.dead_body) | dead_open
     if not (case.ties or case.floors):
-        return dataclasses.replace(problem, mesh=mesh)
+        return dataclasses.replace(problem, mesh=mesh, live_body=live, dead_body=dead)
     keep = lambda d: {k: v for k, v in d.items() if not _real_tag(k)}  # noqa: E731
     m, real, placed = _ties_and_floors(mesh, case, float(problem.meta.get("z0", 0.0)))
     return dataclasses.replace(
-        problem, mesh=m, supports=keep(problem.supports) | real["supports"],
-        dead_body=keep(problem.dead_body) | real["dead_body"], ties=real["ties"],
+        problem, mesh=m, supports=keep(problem.supports) | real["supports"], live_body=live,
+        dead_body=keep(dead) | real["dead_body"], ties=real["ties"],
         meta={**problem.meta, "real_wall": placed})
 
 

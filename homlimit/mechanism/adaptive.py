@@ -30,6 +30,7 @@ from ..fe import geometry
 from ..fe.mesh import to_skfem
 from ..fe.problems import t_section, t_section_on_mesh
 from ..fe.solver import SolverOptions
+from ..geometry import TSection
 from ..params import Case
 from .analysis import densities
 from .crack import fan_edges
@@ -101,6 +102,8 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
     fans = [(0.0, z0, 0, 90), (0.0, w.H, -90, 0), (w.b, w.H, -180, 0)] if corners else []
     base = [r for x, z, a0, a1 in fans for r in fe_adapt.fan_rays((x, z), a0, a1, 6, w.b)]
 
+    geo = TSection.from_case(case)      # the wall's openings and their lintels, every mesh
+
     def remesh(size_map, last=None):
         rays, points = list(base), []
         hf = hinge_fan(case, last.kinematic) if follow and last is not None else None
@@ -119,7 +122,8 @@ def tsection_remesher(case: Case, *, size: float, z0: float = 0.0, n_b: int = 4,
         return to_skfem(geometry.tsection(w.H, w.b, w.L, size=size, z0=z0,
                                           size_junction=min(size, w.b / n_b),
                                           embed_lines=rays, refine_points=points,
-                                          refine_segments=segs, size_map=size_map, **grid))
+                                          refine_segments=segs, size_map=size_map,
+                                          holes=geo.holes, lintels=geo.lintels, **grid))
     return remesh
 
 

@@ -55,9 +55,16 @@ log = logging.getLogger(__name__)
 
 def densities(case: Case) -> dict[str, float]:
     """Mass per unit area of each T-section region in the section plane, times the
-    transversal wall's thickness s [kg/m²]: façade ρ·γ·s (the paper's 2D reduction), wall γ·s."""
+    transversal wall's thickness s [kg/m²]: façade ρ·γ·s (the paper's 2D reduction), wall γ·s;
+    a façade opening band's region (``problems._facade_bands``) (1 − fraction) ρ·γ·s, after
+    the façade's (``p2_nodes`` sets them in order)."""
     w = case.wall
-    return {"facade": case.rho * w.gamma * w.s, "wall": w.gamma * w.s}
+    out = {"facade": case.rho * w.gamma * w.s, "wall": w.gamma * w.s}
+    for k, op in enumerate(case.facade_openings):
+        out[f"facade_open{k}"] = (1 - op.fraction) * case.rho * w.gamma * w.s
+    for k in range(len(case.wall_openings)):    # the lintels are the wall's masonry
+        out[f"lintel{k}"] = w.gamma * w.s
+    return out
 
 
 @dataclass(frozen=True)

@@ -68,8 +68,9 @@ def p2_nodes(solution, densities: dict | None = None):
     X = sb.doflocs.T.copy()
     V = np.asarray(solution.u, float).reshape(-1, 2)  # vector P2 DOFs interleave (x, z)
     rho = np.ones(mesh.t.shape[1])
-    for name, idx in (densities or {}).items():
-        rho[solution.regions[name]] = idx
+    for name, idx in (densities or {}).items():     # in order: a later region overrides
+        if name in solution.regions:
+            rho[solution.regions[name]] = idx
     return X, V, sb.element_dofs.T.copy(), rho
 
 
@@ -98,7 +99,8 @@ def ray_conforming_mesh(case, z_hinge: float, slopes, h: float, z0: float = 0.0,
         z_end = min(H, z_hinge + (geo.x_end - x_apex) / T)
         rays.append(((x_apex, z_hinge), (x_apex + T * (z_end - z_hinge), z_end)))
     return to_skfem(tsection(H, b, geo.L, size=h, z0=z0, embed_lines=rays + list(extra_lines),
-                             refine_points=[(x_apex, z_hinge, h_hinge, 1.0)]))
+                             refine_points=[(x_apex, z_hinge, h_hinge, 1.0)],
+                             holes=geo.holes, lintels=geo.lintels))
 
 
 @dataclass(frozen=True)
