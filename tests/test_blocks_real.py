@@ -220,10 +220,39 @@ def test_cli_blocks_take_ties_and_fc(tmp_path):
     assert blk["W_ties"] > 0 and blk["W_crushing"] > 0
     real = s["blocks"]["settings"]["real"]
     assert real["fc"] == 2e6 and real["ties"][0]["yield_force_N"] == 12000.0
-    r = run_cli(tmp_path, {**CASE, "masonry": {**CASE["masonry"], "cohesion": 1e4}}, "run",
-                out="bad")
-    assert r.returncode == 2 and "the rigid blocks do not take [masonry] cohesion" in r.stderr
+    # cohesion: the closed forms (the overturning) refuse it, the blocks alone take it
+    bond = {**CASE, "masonry": {**CASE["masonry"], "cohesion": 1e4}}
+    r = run_cli(tmp_path, bond, "run", out="bad")
+    assert r.returncode == 2 and "[masonry] cohesion = 10000.0 Pa: the closed forms" in r.stderr
     assert not (tmp_path / "bad").exists() and "Traceback" not in r.stderr
+    r = run_cli(tmp_path, {**bond, "blocks": {"step": 10, "friction": "non-associative"},
+                           "analysis": {**CASE["analysis"], "overturning": False}},
+                "run", out="bad")
+    assert r.returncode == 2 and "the non-associative scheme does not take them" in r.stderr
+    assert not (tmp_path / "bad").exists() and "Traceback" not in r.stderr
+
+
+@pytest.mark.slow
+def test_cli_blocks_take_cohesion_and_tension(tmp_path):
+    # the blocks' λ takes them (its hand checks: tests/test_blocks_bond.py); v̄_g is not
+    # available (no softening rule), said in the summary and the terminal, and the run writes
+    import json
+
+    case = {**CASE, "masonry": {**CASE["masonry"], "cohesion": 1e4, "tension": 5e3},
+            "analysis": {**CASE["analysis"], "overturning": False}}
+    r = run_cli(tmp_path, case, "run", "-q")
+    assert r.returncode == 0, r.stderr
+    assert "no unit registered" not in r.stderr
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    blk = s["mechanisms"]["blocks"]
+    assert blk["vg"] is None and blk["method"].startswith("not available: [masonry] cohesion")
+    assert "softening rule" in blk["method"] and s["critical"] is None
+    assert blk["multiplier"] > 0 and blk["bond_rate"] > 0
+    real = s["blocks"]["settings"]["real"]
+    assert (real["cohesion"], real["tension"], real["tension_effective"]) == (1e4, 5e3, 5e3)
+    assert all(rec["vg"] is None for rec in s["blocks"]["scan"])
+    # the LA is the whole wall's: its multiplier is the least of the scan's
+    assert blk["multiplier"] == min(rec["multiplier"] for rec in s["blocks"]["scan"])
 
 
 def test_dem_takes_a_finite_fc_as_caps_along_the_joints():
@@ -306,5 +335,7 @@ def test_t_section_of_a_real_case_carries_its_actions_per_bay():
     assert real.floors.tolist() == [[4.5, 2e4 * l, 0.1, 1.0]]
     assert (real.fc, real.depth_facade, real.depth_wall) == (2e6, l, s)
     assert "real" not in t_section_blocks(Case()).meta
-    with pytest.raises(ParameterError, match=r"\[masonry\] cohesion = 1000.0 Pa: the rigid"):
-        t_section_blocks(dataclasses.replace(case, masonry=Masonry(cohesion=1e3)))
+    # cohesion and tension are stresses: the contacts' depth (l, s) carries them, not × l
+    bond = t_section_blocks(dataclasses.replace(case, masonry=Masonry(cohesion=1e3,
+                                                                      tension=500.0)))
+    assert (bond.meta["real"].cohesion, bond.meta["real"].tension) == (1e3, 500.0)

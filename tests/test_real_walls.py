@@ -169,9 +169,15 @@ BAD = [
     (dict(masonry={"fc": 2e6, "tension": 1e4}, analysis={"fe": True, "hinge_check": False}),
      "does not take [masonry] tension = 10000.0 Pa (the FE bounds do"),
     (dict(masonry={"tension": 1e5}, analysis={"fe": False, "blocks": True,
-                                              "hinge_check": False, "closed_form": False,
-                                              "overturning": True}),
-     "[analysis] blocks = true: the rigid blocks do not take [masonry] tension = 100000.0 Pa"),
+                                              "hinge_check": False, "closed_form": False},
+          blocks={"friction": "non-associative"}),
+     "[blocks] friction = non-associative (or non_associative_check) with [masonry] tension "
+     "= 100000.0 Pa: the non-associative scheme does not take them"),
+    (dict(masonry={"cohesion": 1e4}, analysis={"fe": False, "blocks": True,
+                                               "hinge_check": False, "closed_form": False,
+                                               "overturning": True}),
+     "[masonry] cohesion = 10000.0 Pa: the closed forms (mechanisms I, II, overturning) do "
+     "not take a joint cohesion"),
     (dict(tie=[{"z": 9.0, "yield_force": 1.0}], analysis={"fe": False, "blocks": True,
                                                           "hinge_check": False},
           blocks={"friction": "non-associative"}),

@@ -228,12 +228,9 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
         out.append(f"[analysis] dem = true: the DEM does not take {', '.join(dem_no)} yet "
                    "(its joints are no-tension Coulomb contacts); allowed 0 Pa with "
                    "[analysis] dem = true (docs/real-walls.md)")
-    if an.get("blocks"):        # the blocks take fc, ties, floors (associative friction only)
-        joint = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("cohesion", "tension") if m.get(k)]
-        if joint:
-            out.append(f"[analysis] blocks = true: the rigid blocks do not take "
-                       f"{', '.join(joint)} yet; allowed 0 Pa with [analysis] blocks = true "
-                       "(docs/real-walls.md)")
+    # the blocks' LA takes fc, ties, floors, cohesion and tension (associative friction
+    # only); with cohesion or tension their v̄_g is "not available" (blocks.impulse.no_bond)
+    if an.get("blocks"):
         bl = v.get("blocks", {})
         if bl.get("friction") == "non-associative" or bl.get("non_associative_check"):
             out.append(f"[blocks] friction = non-associative (or non_associative_check) with "
@@ -278,9 +275,9 @@ def cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> li
         out.append(f"[masonry] c = {m['c']!r} m is out of range: a block must fit the "
                    f"transversal wall, allowed 0.001 <= 2c <= L = {w['L']:g} m")
     if (not mesh_only and an.get("closed_form") is False and an.get("fe") is False
-            and not an.get("overturning")):
+            and not an.get("overturning") and not an.get("blocks")):
         out.append("[analysis] closed_form = false and fe = false: nothing to compute; allowed "
-                   "at least one of them true")
+                   "at least one of them true (or overturning, blocks)")
     closed = not mesh_only and an.get("closed_form", False)
     if closed and has(w, "H", "b") and w["H"] / w["b"] < LAM_MIN_CLOSED:
         out.append(f"[wall] H = {w['H']!r} m, b = {w['b']!r} m: H/b = {w['H'] / w['b']:.4g} is "

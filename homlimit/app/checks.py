@@ -17,11 +17,14 @@ def check_results(result: Result):
     """Every result a run reports is a finite number: ResultError naming the mechanism and
     the quantity otherwise (never a summary with ``null`` where a number belongs). Quantities
     that do not apply (mechanism I's tan ψ, the crack of a distributed mechanism, a scan
-    height without a block, whose ``vg_method`` says why) are exempt."""
+    height without a block, whose ``vg_method`` says why; v̄_g of a mechanism whose
+    ``vg_unavailable`` says why, as the rigid blocks with a joint cohesion or tension) are
+    exempt; a run whose only mechanisms say why they have no v̄_g has no governing one."""
     for name, m in result.mechanisms.items():
         entry = registry.mechanism(name)
+        exempt = ("vg", "vnorm") if getattr(m, "vg_unavailable", "") else ()
         for q in entry.checked:
-            if not finite(getattr(m, q)):
+            if q not in exempt and not finite(getattr(m, q)):
                 raise ResultError(f"mechanism {name}: {q} = {getattr(m, q)!r} is not a finite "
                                   f"number for this case ({_what(q)}); nothing written")
         for q in entry.body_checked:
@@ -31,7 +34,8 @@ def check_results(result: Result):
     for model in registry.models():
         if model.check is not None:
             model.check(result)
-    if result.critical() is None:
+    if result.critical() is None and not any(getattr(m, "vg_unavailable", "")
+                                             for m in result.mechanisms.values()):
         raise ResultError("no mechanism gave a collapse velocity vg; nothing written")
 
 

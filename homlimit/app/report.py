@@ -104,6 +104,8 @@ def summary_text(result) -> str:
     if crit:
         out += ["", f"governing: {crit['mechanism']}, collapse ground velocity "
                     f"vg = {crit['vg']:.3f} m/s (vg/sqrt(gb) = {crit['vnorm']:.3f})"]
+    out += [f"  {k}: vg {m.vg_unavailable}" for k, m in result.mechanisms.items()
+            if getattr(m, "vg_unavailable", "")]
     if result.files:
         out += ["", "files:"] + [f"  {v}" for v in result.files.values()]
     return "\n".join(out)

@@ -69,12 +69,14 @@ SCHEMA: dict[str, dict[str, Key]] = {
                       "along the bed joints ([dem] joint_segments; docs/dem.md)"),
         "cohesion": Key(float, default_of(Masonry, "cohesion"), "Pa", 0.0, 1e10,
                         doc="cohesion of the joints (the strength domains' name); the FE "
-                            "bounds of fe.problems.t_section take it, no model of a run takes "
-                            "a non-zero value yet (docs/real-walls.md)"),
+                            "bounds of fe.problems.t_section and the rigid blocks' limit "
+                            "analysis ([analysis] blocks, associative; their v̄_g is then not "
+                            "available) take it; the other models of a run refuse a "
+                            "non-zero value (docs/real-walls.md)"),
         "tension": Key(float, default_of(Masonry, "tension"), "Pa", 0.0, 1e10,
-                       doc="tensile strength of the joints (the strength domains' name); the "
-                           "FE bounds of fe.problems.t_section take it, no model of a run "
-                           "takes a non-zero value yet (docs/real-walls.md)"),
+                       doc="tensile strength of the joints (the strength domains' name), "
+                           "acting up to the Coulomb apex cohesion/f (none without a "
+                           "cohesion); taken and refused as cohesion (docs/real-walls.md)"),
     },
     "mesh": {
         "size": Key(float, 0.25, "m", 0.0, 1e4, lo_open=True,

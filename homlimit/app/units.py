@@ -61,8 +61,10 @@ UNITS: dict[str, str] = {
                     .split(), ""),
     "vg_rigid": "m/s", "m_body": "kg", "time": "s",
     # a real wall's blocks (blocks.studies.scan_record): the ties' total force at collapse,
-    # the crushing dissipation rate of the mechanism, the parts of W(θ_m)
-    "tie_force": "N", "crushing_rate": "W", "W_crushing": "J", "W_floors": "J", "W_ties": "J",
+    # the crushing and the bond's (cohesion, tension) dissipation rates of the mechanism,
+    # the parts of W(θ_m)
+    "tie_force": "N", "crushing_rate": "W", "bond_rate": "W", "W_crushing": "J",
+    "W_floors": "J", "W_ties": "J",
     "loads_rule": "",                 # the FE path's summary: how ties and floors enter W
     "N": "N", "T": "N",              # contact forces per slab of thickness s (blocks.limit)
     "opening": "m/s", "slip": "m/s",  # velocity jumps of the normalised mechanism

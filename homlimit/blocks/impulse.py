@@ -33,6 +33,14 @@ a rigid-plastic stress block keeps its depth), a floor's load turning with its b
 on the body, to first order on the rest) and the closed forms' tie law (``closed_form.real.
 tie_work``) on the elongation (z_T − z_O) sin θ (body) or −φ_u θ (rest).
 
+Not with a joint cohesion or tension (``blocks.real``): the limit analysis takes them as
+rigid-plastic strengths, but their dissipation at finite rotation is not rigid-plastic (a
+joint's bond softens and is lost once it has opened or slid a little, while θ D/|ω| would
+count it over the whole rotation), so W(θ) would hang on a softening rule the case file does
+not state. ``block_impulse`` refuses such an assembly (a ParameterError: the h-scan reports
+v̄_g "not available" with the reason), as the FE path's impulse does (docs/real-walls.md
+"FE impulse").
+
 Approximations (stated, not hidden): the mechanism is followed with a fixed shape (no
 geometry update of the contacts, no change of mechanism during the motion); the rest's lift
 is linear in θ; the friction forces are those at collapse, reduced only by the lost overlap.
@@ -51,7 +59,8 @@ from .geometry import Assembly
 from .limit import BlockLimitResult, check_result, fit_rotation
 from .real import real_of
 
-__all__ = ["BlockImpulse", "failing_body", "block_impulse", "participation"]
+__all__ = ["BlockImpulse", "failing_body", "block_impulse", "participation", "no_bond",
+           "rigid_body_of"]
 
 
 @dataclass(frozen=True)
@@ -154,6 +163,7 @@ def block_impulse(assembly: Assembly, result: BlockLimitResult, g: float | None 
                   ) -> BlockImpulse:
     """v̄_g of the discrete mechanism ``result`` of ``assembly`` (module docstring)."""
     check_result(assembly, result)
+    no_bond(assembly)
     g = check_range("g", assembly.meta.get("g", 9.81) if g is None else g, 0.0, lo_open=True,
                     unit="m/s^2")
     body_mask, O, omega = failing_body(assembly, result)  # noqa: E741 (the paper's O)
@@ -209,6 +219,28 @@ def block_impulse(assembly: Assembly, result: BlockLimitResult, g: float | None 
                         W_friction=W_fric, M_rest_share=float(e[rest].sum()) / M,
                         multiplier=result.multiplier, body_mask=body_mask,
                         W_real=W_real or {})
+
+
+def no_bond(assembly: Assembly) -> None:
+    """A ParameterError naming [masonry] cohesion and tension if ``assembly``'s joints have a
+    bond (module docstring: W(θ) would need a softening rule)."""
+    real = real_of(assembly)
+    if real is not None and real.bond:
+        raise ParameterError(
+            f"[masonry] cohesion = {real.cohesion!r} Pa, tension = {real.tension!r} Pa: v̄_g "
+            "(eq. 7) of the blocks does not take a joint cohesion or tension: their "
+            "dissipation at finite rotation needs a softening rule the case file does not "
+            "state (the blocks' multiplier takes them; docs/real-walls.md \"FE impulse\"); "
+            "allowed 0 Pa for v̄_g")
+
+
+def rigid_body_of(assembly: Assembly, result: BlockLimitResult) -> tuple:
+    """(RigidBody, O) of the blocks of participation >= 1/2 in ``result``'s mechanism about
+    its fitted centre O (``failing_body``), without the impulse: the static check's body."""
+    check_result(assembly, result)
+    mask, O, _ = failing_body(assembly, result)  # noqa: E741 (the paper's O)
+    pts, tri, dens, _ = assembly.triangles(mask & ~assembly.fixed)
+    return RigidBody.from_triangles(pts, tri, dens, O=O), O
 
 
 N_THETA = 2049          # the θ grid of W's peak (a real wall), then bounded refinement

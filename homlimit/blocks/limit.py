@@ -8,10 +8,10 @@ relative velocity [v] = v_b(p) − v_a(p) has the opening δ_n = [v]·n and the 
 Relative velocities are linear along a rigid interface, so the conditions at the two end
 points hold on the whole segment.
 
-Associative Coulomb joints without cohesion or tension (the flow rule eq. 15 is derived from,
-de Buhan & de Felice 1997): δ_n >= f |δ_t|, i.e. δ_n − f δ_t >= 0 and δ_n + f δ_t >= 0, and
-no dissipation. Loads: self-weight dead, a horizontal body force λ g per unit mass towards −x
-live. The kinematic theorem gives
+Associative Coulomb joints (the flow rule eq. 15 is derived from, de Buhan & de Felice
+1997): δ_n >= f |δ_t|, i.e. δ_n − f δ_t >= 0 and δ_n + f δ_t >= 0, and no dissipation
+without cohesion or tension (with them: below). Loads: self-weight dead, a horizontal body
+force λ g per unit mass towards −x live. The kinematic theorem gives
 
     λ = min_q  −P_dead(q) / κ   s.t.  P_live(q) / κ = 1,   C q >= 0,
 
@@ -24,6 +24,29 @@ point, the force F = N n + T t exerted by block a on block b,
 N = κ (y⁻ + y⁺) >= 0 (compression) and T = κ f (y⁺ − y⁻) (so |T| <= f N): stationarity of the
 Lagrangian is the virtual-power statement P_dead + λ P_live + Σ_p (N δ_n + T δ_t) = 0 for
 every q, i.e. equilibrium of every block (``equilibrium_residual`` checks it block by block).
+
+Cohesion C and tension T (a real wall, ``blocks.real``; the end-point-force formulation of
+rigid-block limit analysis: Livesley 1978, Int. J. Numer. Meth. Eng. 12:1853–1871). Pointwise
+a contact carries σ >= −T_h, |τ| <= f σ + C, with T_h = min(T, C/f) (beyond the Coulomb apex
+C/f a tension cannot act: the FE's ``BedJoints`` rule). Over its area A = d L (d: l in the
+façade, s in the transversal wall, as the f_c cap) the end-point forces take exactly
+
+    N_e >= −T_h A/2  (e = 0, 1; the tension cut-off),    |V| <= f N + C A  (V = T_0 + T_1),
+
+both linear; equivalently N_e = N'_e − t_e, |T_e| <= f N'_e + r_e with N'_e >= 0, t_e =
+T_h A/2, r_e = (C − f T_h) A/2 >= 0 (the domain is the cone of the rows above, shifted by the
+uniform tension and widened by r_e). The kinematic program keeps the rows δ_n ∓ f δ_t >= 0
+(associative: a cohesive joint dilates as a dry one) and gains the dissipation
+
+    D = Σ_e t_e δ_n,e + r_e |δ_t,e| = d [C L |δ_t| + T_h ∫₀ᴸ (δ_n(s) − f |δ_t|) ds],
+
+(|δ_t| is uniform along a contact): the cohesion's C A |slip| and the tension's T_h × the
+opening beyond the dilatancy. Pure sliding (δ_n = f |δ_t|) costs C A |δ_t|, a block rocking
+about its toe T_h d L² θ̇/2. Its static dual adds −t_e to N_e and the
+multipliers of σ_e >= ±δ_t,e to T_e. With f_c as well the pointwise domain is
+−T_h <= σ <= f_c, |τ| <= f σ + C, which is clean: the stress block of ``_RealTerms`` for
+σ + T_h in [0, f_c + T_h] (C' = (f_c + T_h) d L) shifted by t_e, its support function
+C |δ_t| + f_c (f|δ_t| − δ_n)⁺ + T_h (δ_n − f|δ_t|)⁺ per unit area.
 
 Non-associative friction (``friction="non-associative"``): the iterative scheme of Gilbert,
 Casapulla & Ahmed (2006, Computers & Structures 84:873–887), in this variant. Each iteration
@@ -335,15 +358,16 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
     C = sp.vstack([Dnf - f * Dtf, Dnf + f * Dtf]).tocsr()
     real = real_of(assembly)
     if real is not None and friction != "associative":
-        raise ParameterError(f"friction = {friction!r} with ties, floors or fc is out of "
-                             "range: allowed 'associative' (docs/real-walls.md)")
+        raise ParameterError(f"friction = {friction!r} with ties, floors, fc, cohesion or "
+                             "tension is out of range: allowed 'associative' "
+                             "(docs/real-walls.md)")
     if real is None:                                     # the paper's program, unchanged
         cone = C @ x >= 0
         norm = l_vec @ x == 1.0
         prob = cp.Problem(cp.Minimize(c_obj @ x), [norm, cone])
         extra = None
     else:
-        extra = _RealTerms(assembly, real, x, free, ell, kappa, rows, C, c_obj)
+        extra = _RealTerms(assembly, real, x, free, ell, kappa, rows, C, c_obj, f, Dnf, Dtf)
         cone, norm = extra.cone, l_vec @ x == 1.0
         prob = cp.Problem(cp.Minimize(extra.objective), [norm, cone, *extra.constraints])
     run, times = _solve(prob, options, free.size)
@@ -357,6 +381,10 @@ def solve_blocks(assembly: Assembly, f: float | None = None, friction: str = "as
     Tp = np.zeros(2 * jt.count)
     Np[rows] = kappa * (ym + yp)
     Tp[rows] = kappa * f * (yp - ym)
+    if extra is not None and extra.bond:      # the shifted domain's forces (_RealTerms)
+        dN, dT = extra.bond_forces(kappa)
+        Np[rows] += dN
+        Tp[rows] += dT
     sizes = {"blocks": assembly.n_blocks, "free_blocks": int(free_blk.sum()),
              "interfaces": jt.count, "contact_points": int(P), "unknowns": int(free.size),
              "rows": int(C.shape[0]), "nnz": int(C.nnz),
@@ -395,9 +423,14 @@ class _RealTerms:
       min Σ_e C (w_e − v_e) over (w_e, u_e, v_e) in the second-order cone, with the closing
       velocity ξ_e = −(w_e + v_e + √2 (u_0 + u_1)) added to the Coulomb rows
       (δ_n ∓ f δ_t + ξ >= 0). As f_c → ∞ the cost forces ξ → 0: the paper's rows. Its value
-      is f_c d ∫ (f |δ_t| − δ_n(s))⁺ ds over the contact (``crushing_rate``)."""
+      is f_c d ∫ (f |δ_t| − δ_n(s))⁺ ds over the contact (``crushing_rate``);
+    - cohesion C and tension T_h = min(T, C/f) (``blocks.real``): the domain shifted by the
+      uniform tension, N_e = N'_e − t_e with t_e = T_h A/2 per end (A = d L), |T_e| <= f N'_e
+      + r_e with r_e = (C − f T_h) A/2, and (with f_c) N' in the stress block of
+      C' = (f_c + T_h) d L. Its support function adds t_e δ_n,e + r_e |δ_t,e| per end
+      (an auxiliary σ_e >= ±δ_t,e, cost r_e σ_e) to the rows above, which keep their form."""
 
-    def __init__(self, assembly, real, x, free, ell, kappa, rows, C, c_obj):
+    def __init__(self, assembly, real, x, free, ell, kappa, rows, C, c_obj, f, Dnf, Dtf):
         n = assembly.n_blocks
         self.assembly, self.real = assembly, real
         col = np.full(3 * n, -1)
@@ -430,12 +463,22 @@ class _RealTerms:
             obj = obj + (ti[on_t, 1] / kappa) @ s
             self.tie_s = s
         self.on_t = on_t
+        jt = assembly.interfaces
+        P = rows.size
+        k = rows // 2
+        x_mid = 0.5 * (jt.p[k, 0, 0] + jt.p[k, 1, 0])
+        area = real.depth(x_mid) * jt.length[k]                     # A = d L per point [m²]
+        self.bond = real.bond
+        self.t_h = real.tension_effective(f) if real.bond else 0.0
+        if real.bond:                   # the uniform tension t_e and the cohesion's r_e [N]
+            self.t_pt = self.t_h * area / 2.0
+            r_pt = (real.cohesion - f * self.t_h) * area / 2.0
+            sig = cp.Variable(P, nonneg=True)
+            self.slip_m, self.slip_p = sig - Dtf @ x >= 0, sig + Dtf @ x >= 0
+            cons += [self.slip_m, self.slip_p]
+            obj = obj + (self.t_pt / kappa) @ (Dnf @ x) + (r_pt / kappa) @ sig
         if real.fc > 0:
-            jt = assembly.interfaces
-            P = rows.size
-            k = rows // 2
-            x_mid = 0.5 * (jt.p[k, 0, 0] + jt.p[k, 1, 0])
-            cap = real.fc * real.depth(x_mid) * jt.length[k]        # C per end point [N]
+            cap = (real.fc + self.t_h) * real.depth(x_mid) * jt.length[k]  # C' per point [N]
             w, u, v = cp.Variable(P), cp.Variable(P), cp.Variable(P)
             pair = sp.kron(sp.identity(P // 2), np.ones((2, 2))).tocsr()  # u_0 + u_1 per end
             xi = -(w + v + math.sqrt(2.0) * (pair @ u))
@@ -445,6 +488,13 @@ class _RealTerms:
         else:
             self.cone = C @ x >= 0
         self.objective, self.constraints = obj, cons
+
+    def bond_forces(self, kappa):
+        """(ΔN, ΔT) per contact point [N] to add to the Coulomb rows' forces: the uniform
+        tension −t_e and the cohesion's shear κ (z₊ − z₋) (the duals of σ ± δ_t >= 0)."""
+        zm = np.asarray(self.slip_m.dual_value, float).ravel()
+        zp = np.asarray(self.slip_p.dual_value, float).ravel()
+        return -self.t_pt, kappa * (zp - zm)
 
     def _rows(self, blocks, z, xe, vertical: bool, n_free: int):
         """Sparse rows on x: u_i(z) = u_i − ω_i (z − z_Gi) or, ``vertical``, the vertical
@@ -489,8 +539,10 @@ class _RealTerms:
         return {"tie_block": self.tie_block, "tie_force": F,
                 "tie_rate": np.maximum(-u_at(self.tie_block, ti[:, 0]), 0.0),
                 "floor_block": self.floor_block, "floor_load": fl[:, 1].copy(),
-                "restraint_force": R, "fc": real.fc,
-                "crushing_rate": crushing_rate(self.assembly, real, f, opening, slip)}
+                "restraint_force": R, "fc": real.fc, "cohesion": real.cohesion,
+                "tension_effective": self.t_h,
+                "crushing_rate": crushing_rate(self.assembly, real, f, opening, slip),
+                "bond_rate": bond_rate(self.assembly, real, f, opening, slip)}
 
 
 def crushing_rate(assembly, real, f, opening, slip) -> np.ndarray:
@@ -500,14 +552,31 @@ def crushing_rate(assembly, real, f, opening, slip) -> np.ndarray:
     jt = assembly.interfaces
     if not real.fc:
         return np.zeros(jt.count)
-    a = f * np.abs(slip) - opening                         # closing rate at the two ends
-    lo, hi = a.min(axis=1), a.max(axis=1)
-    L = jt.length
-    with np.errstate(divide="ignore", invalid="ignore"):
-        part = np.where(lo >= 0, 0.5 * L * (lo + hi),
-                        np.where(hi <= 0, 0.0, 0.5 * L * hi ** 2 / (hi - lo)))
     x_mid = 0.5 * (jt.p[:, 0, 0] + jt.p[:, 1, 0])
-    return real.fc * real.depth(x_mid) * part
+    return real.fc * real.depth(x_mid) * _positive_integral(f * np.abs(slip) - opening,
+                                                             jt.length)
+
+
+def bond_rate(assembly, real, f, opening, slip) -> np.ndarray:
+    """Per interface, d [C L |δ_t| + T_h ∫₀ᴸ (δ_n(s) − f |δ_t|)⁺ ds] [W]: the dissipation of
+    the cohesion and the tension (pointwise max of −σ δ_n + τ δ_t over σ >= −T_h, |τ| <= f σ
+    + C, less the crushing part; zero without cohesion). δ_t is uniform along a contact."""
+    jt = assembly.interfaces
+    if not real.bond:
+        return np.zeros(jt.count)
+    th = real.tension_effective(f)
+    x_mid = 0.5 * (jt.p[:, 0, 0] + jt.p[:, 1, 0])
+    L = jt.length
+    return real.depth(x_mid) * (real.cohesion * L * np.abs(slip).mean(axis=1)
+                                + th * _positive_integral(opening - f * np.abs(slip), L))
+
+
+def _positive_integral(a, L) -> np.ndarray:
+    """∫₀ᴸ a(s)⁺ ds for a linear between its end values a (K, 2)."""
+    lo, hi = a.min(axis=1), a.max(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(lo >= 0, 0.5 * L * (lo + hi),
+                        np.where(hi <= 0, 0.0, 0.5 * L * hi ** 2 / (hi - lo)))
 
 
 def _non_associative(Dnf, Dtf, rows, c_obj, l_vec, kappa, f, N0, options, n_free, max_iter,

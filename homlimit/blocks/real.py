@@ -1,6 +1,6 @@
-"""The actions of a real wall on a rigid-block assembly: finite compressive strength, tie-rods
-and floors (issue 30; conventions of docs/real-walls.md, the blocks' terms: docs/real-walls.md
-"Rigid blocks").
+"""The actions of a real wall on a rigid-block assembly: finite compressive strength, the
+joints' cohesion and tensile strength, tie-rods and floors (issue 30; conventions of
+docs/real-walls.md, the blocks' terms: docs/real-walls.md "Rigid blocks").
 
 The section's forces are per slab (the assembly's masses are per slab: the façade's ρ γ s is
 γ l, the bay of length l), so a tie or a floor given per metre of façade carries its value × l,
@@ -13,6 +13,11 @@ keeps it), so the h-scan and every solve see them.
   stresses 0 <= σ <= f_c: with the end-point forces N_0, N_1 of ``limit`` the domain is
   exactly N_e >= (N_0 + N_1)² / (2 C), C = f_c d L, per end (the rectangular stress block: the
   resultant at least w/2 = N/(2 f_c d) from either end).
+- cohesion C and tension T: every contact carries, pointwise, a normal stress σ >= −T_h
+  (tension) and a shear |τ| <= f σ + C (Mohr–Coulomb), T_h = min(T, C/f): a tension beyond
+  the Coulomb apex C/f, or without cohesion, has no effect (the FE's ``fe.strength.
+  BedJoints`` and ``Homogenised`` rule). Over the contact's area A = L d (d as for f_c):
+  N_e >= −T_h A/2 per end and |V| <= f N + C A (``limit``, module docstring).
 - a tie at height z: a force 0 <= F <= T_y pulling the façade block at that height towards the
   wall (+x), at the outer face (x = 0): the block whose outer face holds z (the lower one at a
   joint, as the closed forms: a tie at a hinge does not act on the part above).
@@ -35,9 +40,13 @@ __all__ = ["RealActions", "from_case", "real_of", "anchor_blocks"]
 
 @dataclass(frozen=True)
 class RealActions:
-    """Ties, floors and f_c of an assembly in the section's units (module docstring).
+    """Ties, floors, f_c, cohesion and tension of an assembly in the section's units (module
+    docstring).
 
     fc            compressive strength [Pa]; 0: infinite (no cap)
+    cohesion      the joints' cohesion C [Pa] (0: none)
+    tension       the joints' tensile strength T [Pa]; it acts up to the Coulomb apex,
+                  T_h = min(T, C/f) (``tension_effective``)
     depth_facade  out-of-plane depth of a contact in the façade (x_mid < x_junction) [m]
     depth_wall    ... elsewhere (the transversal wall) [m]
     x_junction    the façade's inner face b [m] (inf: every contact is the façade's)
@@ -51,9 +60,13 @@ class RealActions:
     x_junction: float = math.inf
     ties: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
     floors: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+    cohesion: float = 0.0
+    tension: float = 0.0
 
     def __post_init__(self):
-        set_fields(self, fc=check_range("fc", self.fc, 0.0, unit="Pa"))
+        for name in ("fc", "cohesion", "tension"):
+            set_fields(self, **{name: check_range(name, getattr(self, name), 0.0,
+                                                  unit="Pa")})
         for name in ("depth_facade", "depth_wall"):
             set_fields(self, **{name: check_range(name, getattr(self, name), 0.0, lo_open=True,
                                                   unit="m")})
@@ -66,8 +79,19 @@ class RealActions:
 
     @property
     def active(self) -> bool:
-        """Whether there is anything to add to the paper's program."""
-        return bool(self.fc > 0 or len(self.ties) or len(self.floors))
+        """Whether there is anything to add to the paper's program (a tension acts only with
+        a cohesion: ``tension_effective``)."""
+        return bool(self.fc > 0 or len(self.ties) or len(self.floors) or self.cohesion > 0)
+
+    @property
+    def bond(self) -> bool:
+        """Whether the joints have a strength of their own (a cohesion; a tension acts only
+        with one: ``tension_effective``)."""
+        return self.cohesion > 0
+
+    def tension_effective(self, f: float) -> float:
+        """T_h = min(T, C/f) [Pa]: the tension cut-off inside the Coulomb apex."""
+        return min(self.tension, self.cohesion / f)
 
     def depth(self, x_mid: np.ndarray) -> np.ndarray:
         """Out-of-plane depth [m] of contacts with midpoints at x_mid."""
@@ -75,7 +99,8 @@ class RealActions:
                         self.depth_wall)
 
     def as_dict(self) -> dict:
-        return {"fc": self.fc, "fc_infinite": not self.fc, "depth_facade": self.depth_facade,
+        return {"fc": self.fc, "fc_infinite": not self.fc, "cohesion": self.cohesion,
+                "tension": self.tension, "depth_facade": self.depth_facade,
                 "depth_wall": self.depth_wall,
                 "ties": [dict(zip(("z", "yield_force_N", "stiffness_N_per_m", "ductility"),
                                   map(float, t))) for t in self.ties],
@@ -86,19 +111,15 @@ class RealActions:
 
 def from_case(case) -> RealActions | None:
     """The case's real-wall actions per bay (a value per metre of façade × l), or None when
-    the case has none (the paper's program, unchanged); a ParameterError for a joint
-    cohesion or tension, which the blocks do not take."""
+    the case has none (the paper's program, unchanged). Cohesion and tension are stresses:
+    the contact's depth carries them (``RealActions.depth``)."""
     w, m = case.wall, case.masonry
-    for k in ("cohesion", "tension"):
-        if getattr(m, k):
-            raise ParameterError(f"[masonry] {k} = {getattr(m, k)!r} Pa: the rigid blocks do "
-                                 f"not take a joint {k} yet; allowed 0 Pa "
-                                 "(docs/real-walls.md)")
-    if not (case.ties or case.floors or m.fc):
+    if not (case.ties or case.floors or m.fc or m.cohesion or m.tension):
         return None
     ties = [(t.z, t.yield_force * w.l, t.stiffness * w.l, t.ductility) for t in case.ties]
     floors = [(f.z, f.load * w.l, f.eccentricity, float(f.restrains)) for f in case.floors]
-    return RealActions(fc=m.fc, depth_facade=w.l, depth_wall=w.s, x_junction=w.b,
+    return RealActions(fc=m.fc, cohesion=m.cohesion, tension=m.tension,
+                       depth_facade=w.l, depth_wall=w.s, x_junction=w.b,
                        ties=np.array(ties, float).reshape(-1, 4),
                        floors=np.array(floors, float).reshape(-1, 4))
 

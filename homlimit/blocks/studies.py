@@ -44,6 +44,10 @@ REAL_CHOICES = {
                "on the body (the closed forms' rule)",
     "impulse": "W(theta) maximised over 0..pi/2 with the ties' work, the floors' loads "
                "turning with their blocks and the crushing work (rate of the mechanism) x theta",
+    "bond": "cohesion C and tension T per contact over its area (depth as fc): "
+            "sigma >= -T_h, |tau| <= f sigma + C, T_h = min(T, C/f) (the Coulomb apex); "
+            "associative; v_g not available with them (their dissipation at finite rotation "
+            "needs a softening rule), the critical record is the whole wall's (lowest lambda)",
 }
 
 DEM_RATIOS = {"B4/B1": 0.564 / 0.377, "B5/B2": 0.720 / 0.443, "B6/B3": 0.846 / 0.509}
@@ -60,12 +64,15 @@ def scan_record(assembly: Assembly, result: BlockLimitResult, z0: float) -> tupl
            "friction": result.friction, "n_moving": int(result.moving.sum()),
            "n_open": result.n_open, "n_sliding": result.n_sliding,
            "z_base": result.z_base, "solve_time": result.times.get("total", math.nan)}
+    act = result.actions    # a real wall: the ties' total force at collapse, the dissipation
+    real = {} if not act else {k: float(np.sum(act[k])) for k in ("tie_force", "crushing_rate",
+                                                                   "bond_rate")}
     try:
         bi = block_impulse(assembly, result)
     except ParameterError as exc:
         rec.update({"vg": math.nan, "vnorm": math.nan, "vg_rigid": math.nan,
                     "vnorm_rigid": math.nan, "h": math.nan, "lam": math.nan,
-                    "method": f"not available: {exc}"})
+                    "method": f"not available: {exc}", **real})
         return rec, None
     v_rigid = collapse_velocity(bi.body, g=g)
     rec.update({"vg": bi.vg, "vnorm": bi.vnorm, "vg_rigid": v_rigid,
@@ -73,11 +80,7 @@ def scan_record(assembly: Assembly, result: BlockLimitResult, z0: float) -> tupl
                 "x_O": bi.O[0], "z_O": bi.O[1], "method": bi.method, "n_body": bi.n_body,
                 "m_body": bi.body.m, "theta_m": bi.theta_m,
                 "W_rest_share": bi.W_rest / bi.W_m, "W_friction_share": bi.W_friction / bi.W_m,
-                "M_rest_share": bi.M_rest_share, **bi.W_real})
-    act = result.actions
-    if act:                 # a real wall: the ties' total force at collapse, the crushing
-        rec["tie_force"] = float(np.sum(act["tie_force"]))
-        rec["crushing_rate"] = float(np.sum(act["crushing_rate"]))
+                "M_rest_share": bi.M_rest_share, **bi.W_real, **real})
     return rec, bi
 
 
@@ -121,7 +124,7 @@ class BlocksAnalysis:
     critical: dict
     critical_assembly: Assembly
     critical_result: BlockLimitResult
-    critical_impulse: BlockImpulse
+    critical_impulse: BlockImpulse | None
     non_associative: dict | None = None
     settings: dict = field(default_factory=dict)
     times: dict = field(default_factory=dict)
@@ -150,8 +153,20 @@ class BlocksAnalysis:
         return self.critical["vnorm"]
 
     @property
+    def vg_unavailable(self) -> str:
+        """Why v̄_g is not available ("" when it is): a joint cohesion or tension
+        (``impulse.no_bond``); ``app.checks`` exempts v̄_g then."""
+        if self.critical_impulse is not None:
+            return ""
+        return (f"{self.critical.get('method', 'not available')} (the whole wall's collapse "
+                f"multiplier a/g = {self.whole.multiplier:.4g} takes them)")
+
+    @property
     def hinge_ratio(self) -> float:
-        """|P_x/P_z| of the ideal impulse at the critical body's hinge (``impulse``)."""
+        """|P_x/P_z| of the ideal impulse at the critical body's hinge (``impulse``); NaN
+        without an impulse (a joint cohesion or tension)."""
+        if self.critical_impulse is None:
+            return math.nan
         return hinge_impulse_ratio(self.critical_impulse.body)
 
     @property
@@ -160,6 +175,15 @@ class BlocksAnalysis:
         activates first: it chooses its hinge) and the body of its blocks of participation
         >= 1/2 about that hinge; the critical height's if the whole wall's mechanism has no
         such body (``block_impulse`` refuses it)."""
+        from .impulse import rigid_body_of
+
+        if self.critical_impulse is None:       # a bond: no impulse, the whole wall's body
+            try:
+                body, O = rigid_body_of(self.assembly, self.whole)  # noqa: E741
+            except ParameterError:
+                return None
+            return StaticMechanism(self.whole.multiplier, body, float(O[1]),
+                                   "multiplier of the whole wall, its body of p >= 1/2")
         try:
             bi, r, what = block_impulse(self.assembly, self.whole), self.whole, "whole wall"
         except ParameterError:
@@ -180,7 +204,7 @@ class BlocksAnalysis:
         from .output import blocks_mesh, contact_records, contacts_mesh
 
         A, r, bi = self.critical_assembly, self.critical_result, self.critical_impulse
-        return {"blocks.vtu": blocks_mesh(A, r, bi.body_mask),
+        return {"blocks.vtu": blocks_mesh(A, r, None if bi is None else bi.body_mask),
                 "blocks_contacts.vtu": contacts_mesh(A, r),
                 "blocks_contacts.csv": contact_records(A, r),
                 "blocks_mechanism.png": lambda path: _mechanism_pngs(self, path, "critical"),
@@ -220,16 +244,24 @@ def analyse_blocks(case: Case, facade: str = "through", friction: str = "associa
     scan = [whole_rec] + h_scan_blocks(case, step, friction=friction, options=options,
                                        assembly=A, **kw)[1:]
     ok = [r for r in scan if np.isfinite(r["vg"])]
-    if not ok:
+    real = A.meta.get("real")
+    bond = real is not None and real.bond
+    if bond:                    # no v̄_g (impulse.no_bond): the whole wall, of lowest λ
+        crit = dict(whole_rec, h=whole.h, lam=whole.h / case.wall.b,
+                    critical_at="the whole wall (lowest multiplier): v̄_g not available "
+                                "with a joint cohesion or tension")
+        Ac, rc, bi = A, whole, None
+    elif not ok:
         raise ParameterError("no analysed height gave an overturning mechanism (all slide): "
                              "eq. 7 needs a rotation")
-    crit = dict(min(ok, key=lambda r: r["vg"]))
-    z0 = crit["z0"]
-    Ac = A.fix_below(z0) if z0 > 0 else A
-    rc = whole if z0 == 0 else solve_blocks(Ac, friction=friction, options=options, **kw)
-    bi = block_impulse(Ac, rc)
+    else:
+        crit = dict(min(ok, key=lambda r: r["vg"]))
+        z0 = crit["z0"]
+        Ac = A.fix_below(z0) if z0 > 0 else A
+        rc = whole if z0 == 0 else solve_blocks(Ac, friction=friction, options=options, **kw)
+        bi = block_impulse(Ac, rc)
     na = None
-    if non_associative_check and friction == "associative":
+    if non_associative_check and friction == "associative" and not bond:
         rn = solve_blocks(Ac, friction="non-associative", options=options, max_iter=max_iter,
                           relax=relax)
         na, _ = scan_record(Ac, rn, z0)
@@ -241,9 +273,9 @@ def analyse_blocks(case: Case, facade: str = "through", friction: str = "associa
     settings = {"facade": facade, "friction": friction, "step": step,
                 "toothed_first": toothed_first, "collapse_height": "h-scan over course "
                 "boundaries, lowest v_g (h = H - z_O)"}
-    real = A.meta.get("real")
     if real is not None:            # ties, floors, fc per bay and the choices made
         settings["real"] = {**real.as_dict(), "choices": dict(REAL_CHOICES)}
+        settings["real"]["tension_effective"] = real.tension_effective(A.meta["f"])
     return BlocksAnalysis(case, A, whole, whole_rec, scan, crit, Ac, rc, bi, na, settings,
                           times)
 
@@ -256,6 +288,11 @@ def _mechanism_pngs(analysis: BlocksAnalysis, path: Path, which: str) -> Path:
     if which == "critical":
         A, r, bi = (analysis.critical_assembly, analysis.critical_result,
                     analysis.critical_impulse)
+        if bi is None:                  # a bond: no impulse (the whole wall, its fitted O)
+            return plot_blocks_mechanism(
+                path, A, r, None, r.fit.O,
+                title=f"{name}: blocks, whole wall, λ = {r.multiplier:.4f} (cohesion/tension; "
+                      "v_g not available)")
         return plot_blocks_mechanism(
             path, A, r, bi.body_mask, bi.O,
             title=f"{name}: blocks, critical height h = {bi.h:.2f} m, λ = {r.multiplier:.4f}, "
