@@ -72,6 +72,9 @@ def test_elastic_spectrum_at_its_corners_by_hand():
         assert s.Se(T) == pytest.approx(want, rel=1e-13), T
     assert np.allclose(s.Se(list(cases)), list(cases.values()), rtol=1e-13, atol=0)
     assert plateau == pytest.approx(8.193312, rel=1e-6)   # 2.4525 × 1.392 × 2.4
+    # the impulse view's PGV, NTC 2018 §3.2.3.3: v_g = 0.16 a_g S T_C
+    assert s.pgv() == pytest.approx(0.16 * ag * S * T_C, rel=1e-14)
+    assert s.pgv() == pytest.approx(0.259427, rel=1e-5)   # 0.16 × 2.4525 × 1.392 × 0.474949
 
 
 def test_the_spectrum_has_eurocode_8s_shape_at_F0_2_5():
@@ -244,6 +247,13 @@ def test_run_prints_the_code_check_and_writes_it(tmp_path):
     assert d["inputs"]["site"]["ag"] == 1.962 and d["units"]["results"]["a0_star"] == "m/s^2"
     assert cc["governing"] in ("I", "II") and cc["not_checked"] == []
     assert None not in d["units"]["results"].values()
+    # the impulse view: soil A, T1: S = 1, T_C = T_C* = 0.3 s, PGV = 0.16 × 1.962 × 0.3
+    pgv = 0.16 * 1.962 * 1.0 * 0.3
+    assert cc["site"]["pgv"] == pytest.approx(pgv, rel=1e-14)
+    for k in ("I", "II"):
+        vg = d["mechanisms"][k]["vg"]
+        assert cc["impulse"][k] == {"vg": vg, "vg_over_pgv": pytest.approx(vg / pgv, rel=1e-14)}
+    assert "impulse view: site PGV = 0.16 a_g S T_C = 0.09418 m/s" in res.stdout
 
 
 def test_run_without_site_says_so(tmp_path):

@@ -7,6 +7,7 @@ computed and the readings."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from ..check import LinearKinematic, Site, linear_kinematic
@@ -30,6 +31,9 @@ READING = {
     "source_reading":
         "NTC 2018 §3.2.3.2.1 and Circolare 2019 §C8.7.1.2 as known to the authors; "
               "the texts were not on hand (docs/code-check.md)",
+    "impulse_reading":
+        "beside the code check: the site's PGV 0.16 a_g S T_C (NTC 2018 §3.2.3.3) against "
+              "each mechanism's collapse ground velocity vg (eq. 7): vg_over_pgv >= 1 holds",
 }
 
 
@@ -42,6 +46,7 @@ class CodeCheck:
     wall_H: float
     checks: dict
     skipped: dict
+    vg: dict            # name → the mechanism's v̄_g [m/s] (the impulse view), where it has one
 
     @property
     def governing(self) -> LinearKinematic | None:
@@ -57,6 +62,8 @@ class CodeCheck:
                 "mechanisms": {k: c.as_dict() for k, c in self.checks.items()},
                 "not_checked": [{"mechanism": k, "reason": why}
                                 for k, why in self.skipped.items()],
+                "impulse": {k: {"vg": v, "vg_over_pgv": v / s.pgv()}
+                            for k, v in self.vg.items()},
                 "governing": None if gov is None else gov.name,
                 "ratio": None if gov is None else gov.ratio}
 
@@ -67,8 +74,11 @@ def code_check(result) -> CodeCheck | None:
     if site is None:
         return None
     H = result.case.wall.H
-    checks, skipped = {}, {}
+    checks, skipped, vg = {}, {}, {}
     for name, m in result.mechanisms.items():
+        v = getattr(m, "vg", None)
+        if isinstance(v, (int, float)) and math.isfinite(v) and v > 0:
+            vg[name] = float(v)
         entry = next((e for e in registry.mechanisms() if e.name == name), None)
         sm = (entry.static_of(result) if entry is not None and entry.static_of is not None
               else getattr(m, "static_mechanism", None))
@@ -76,4 +86,4 @@ def code_check(result) -> CodeCheck | None:
             skipped[name] = "no static multiplier with a rigid body"
             continue
         checks[name] = linear_kinematic(name, sm, site, H)
-    return CodeCheck(site, H, checks, skipped)
+    return CodeCheck(site, H, checks, skipped, vg)

@@ -173,6 +173,12 @@ def _code_check_lines(result) -> list[str]:
     out.append("  ratio = a0*/demand (used: e* by integration over the body); beside it "
                "e* = 1 (weights lumped at G); demand = max(ground, at height where Z > 0)")
     out += [f"  {k}: not checked ({why})" for k, why in cc.skipped.items()]
+    if cc.vg:
+        pgv = s.pgv()
+        out.append(f"  impulse view: site PGV = 0.16 a_g S T_C = {pgv:.4g} m/s (NTC 2018 "
+                   "§3.2.3.3); vg/PGV " + ", ".join(f"{k} {v / pgv:.3g}"
+                                                   for k, v in cc.vg.items())
+                   + " (>= 1: the mechanism's collapse velocity exceeds the site's PGV)")
     gov = cc.governing
     if gov is not None:
         out.append(f"  governing in the code check: {gov.name}, ratio {gov.ratio:.3f} "

@@ -45,7 +45,8 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("a0_star a0_star_lumped demand demand_ground demand_height Se_T1"
                     .split(), "m/s^2"),
     **dict.fromkeys("T_B T_C T_D first_period".split(), "s"),
-    "M_star": "kg", "Z": "m", "H_building": "m",
+    "M_star": "kg", "Z": "m", "H_building": "m", "vg_over_pgv": "-",   # pgv: the DEM's m/s
+    "impulse_reading": "", "impulse": "",
     **dict.fromkeys("what passes governing not_checked e_star_reading alpha0_reading "
                     "demand_reading source_reading".split(), ""),
     "omega": "1/s", "p": "rad/s", "period": "s",

@@ -168,8 +168,14 @@ class Site:
         Se = self.Se(self.first_period(wall_H))
         return Se * psi * gam / self.q, Se, psi, gam
 
+    def pgv(self) -> float:
+        """The site's peak ground velocity v_g = 0.16 a_g S T_C [m/s] (NTC 2018 §3.2.3.3), the
+        demand of the impulse view beside the code check (docs/code-check.md)."""
+        return 0.16 * self.ag * self.S * self.periods[1]
+
     def as_dict(self) -> dict:
         T_B, T_C, T_D = self.periods
         return {"S_S": self.S_S, "C_C": self.C_C, "S_T": self.S_T, "S": self.S,
-                "T_B": T_B, "T_C": T_C, "T_D": T_D, "demand_ground": self.demand_ground()}
+                "T_B": T_B, "T_C": T_C, "T_D": T_D, "demand_ground": self.demand_ground(),
+                "pgv": self.pgv()}
 
