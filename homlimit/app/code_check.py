@@ -29,8 +29,9 @@ READING = {
               "the weights pushed horizontally are its body's (floor loads bear, their mass "
               "moves with the building: docs/real-walls.md)",
     "source_reading":
-        "NTC 2018 §3.2.3.2.1 and Circolare 2019 §C8.7.1.2 as known to the authors; "
-              "the texts were not on hand (docs/code-check.md)",
+        "NTC 2018 §3.2.3.2.1 and Circolare 2019 §C8.7.1.2 as known to the authors, "
+              "cross-checked against an unreviewed public transcription of the Circolare "
+              "(a0*, e* agree; its floor masses Q_k differ: docs/code-check.md)",
     "impulse_reading":
         "beside the code check: the site's PGV 0.16 a_g S T_C (NTC 2018 §3.2.3.3) against "
               "each mechanism's collapse ground velocity vg (eq. 7): vg_over_pgv >= 1 holds",
