@@ -186,6 +186,8 @@ class FEMechanism:
 
     @property
     def label(self) -> str:
+        if self.vg_unavailable:             # a cohesion: the whole wall's λ⁺ and body only
+            return f"FE whole wall, {self.kind} (vg not available)"
         return f"FE body, {self.kind} (one-DOF eqs 4-7)"
 
     def record(self) -> dict:
