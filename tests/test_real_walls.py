@@ -163,11 +163,12 @@ BAD = [
      "[[floor]] 0 z = 9.0 m with restrains = true leaves the closed forms a failing body"),
     (dict(masonry={"cohesion": 1e5}), "[masonry] cohesion = 100000.0 Pa: the closed forms"),
     (dict(masonry={"cohesion": 1e4}, tie=[{"z": 9.0, "yield_force": 1.0}],
-          analysis={"fe": True, "hinge_check": False, "closed_form": False}),
-     "[analysis] fe = true: the FE path's impulse scan (v̄_g of the FE mechanism) does not "
-     "take [masonry] cohesion = 10000.0 Pa (the FE bounds do"),
+          analysis={"fe": True, "closed_form": False}),
+     "[analysis] hinge_check = true: the hinge check's rockers do not take [masonry] "
+     "cohesion = 10000.0 Pa"),
     (dict(masonry={"fc": 2e6, "tension": 1e4}, analysis={"fe": True, "hinge_check": False}),
-     "does not take [masonry] tension = 10000.0 Pa (the FE bounds do"),
+     "[masonry] tension = 10000.0 Pa: the closed forms (mechanisms I, II, overturning) do "
+     "not take a joint tension"),
     (dict(masonry={"tension": 1e5}, analysis={"fe": False, "blocks": True,
                                               "hinge_check": False, "closed_form": False},
           blocks={"friction": "non-associative"}),

@@ -212,17 +212,9 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
     if not keys:
         return out
     given = ", ".join(keys)
-    # the FE path takes fc, ties and floors (both bounds, and the impulse scan's W(θ):
-    # mechanism.fe_impulse.BodyLoads); its impulse has no joint-strength work: a cohesion's or
-    # tension's dissipation at finite rotation is not rigid-plastic (docs/real-walls.md
-    # "FE impulse"), though both bounds take them (fe.problems.t_section)
-    not_fe = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("cohesion", "tension") if m.get(k)]
-    if an.get("fe") and not_fe:
-        out.append(f"[analysis] fe = true: the FE path's impulse scan (v̄_g of the FE "
-                   f"mechanism) does not take {', '.join(not_fe)} (the FE bounds do, "
-                   "through homlimit.fe.problems.t_section); allowed 0 Pa with [analysis] "
-                   "fe = true, or [analysis] fe = false with these inputs "
-                   "(docs/real-walls.md)")
+    # the FE path takes fc, ties, floors, cohesion and tension (both bounds, the mechanism);
+    # with a cohesion its impulse scan's v̄_g is "not available" (mechanism.fe_impulse.
+    # bond_reason: a bond's dissipation at finite rotation needs a softening rule)
     dem_no = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("cohesion", "tension") if m.get(k)]
     if an.get("dem") and dem_no:      # the DEM takes fc, ties and floors, not these
         out.append(f"[analysis] dem = true: the DEM does not take {', '.join(dem_no)} yet "

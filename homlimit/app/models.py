@@ -41,6 +41,7 @@ from .models_rigid import (
     closed_form_alone,
     closed_form_files,
     closed_forms,
+    no_joint_strength,
     real_closed_forms,
     rigid_rocker,
     rocker_I,
@@ -245,6 +246,7 @@ def fe_rocker(config: CaseConfig) -> FERocker:
     """The FE path's critical mechanism for the pulse spectra: read from the FE cache (which
     ``run`` fills) when the entry is sound, else computed (``fe_result``, as ``run`` without
     the static bound) and written to the cache."""
+    no_joint_strength(config.case, "the FE body's rocker (pulse spectra)")   # before any work
     cached = read_fe_cache(config)
     if cached is not None:
         log.info("FE result read from cache %s", cached.cache)
@@ -283,7 +285,8 @@ def run_fe(config, result) -> None:
                               static_problem=None if adapted else static_problem(config))
     if result.fe.critical is not None:
         result.mechanisms[result.fe.critical.name] = result.fe.critical
-
+    elif result.fe.vg_unavailable:      # a cohesion: the whole wall, its v̄_g not available
+        result.mechanisms[result.fe.whole.name] = result.fe.whole
 
 
 def check_fe(result) -> None:
@@ -297,7 +300,7 @@ def check_fe(result) -> None:
     if fe.static is not None and not finite(fe.lower_bound):
         raise ResultError(f"mechanism FE: the static lower bound = {fe.lower_bound!r} is "
                           "not a finite number; nothing written")
-    if fe.critical is None:
+    if fe.critical is None and not fe.vg_unavailable:
         raise ResultError("mechanism FE: no collapse height of the scan gave a collapse "
                           f"velocity vg (whole wall: {fe.whole.vg_method}); nothing "
                           "written ([analysis] fe = false skips the FE path)")
@@ -335,7 +338,9 @@ def fe_files(result) -> dict:
 def rocker_fe(case, mechanism, gravity_I="linearised", restitution=0.0):
     """The FE body's one-DOF rocker: the body inside the 50 % line turning exactly, the rest
     linearised (``mechanism`` an ``FEMechanism`` or an ``FERocker``: its ``impulse``). It has
-    no tie or floor work: a case with ties or floors is refused (ParameterError)."""
+    no tie or floor work, nor a joint cohesion's or tension's: a case with them is refused
+    (ParameterError)."""
+    no_joint_strength(case, "the FE body's rocker (pulse spectra, hinge check)")
     if case.ties or case.floors:
         keys = [k for k in case.real_inputs() if k.startswith("[[")]
         raise ParameterError(f"{', '.join(keys)}: the FE body's rocker (pulse spectra, hinge "

@@ -68,11 +68,11 @@ SCHEMA: dict[str, dict[str, Key]] = {
                       "contact point's normal spring at fc × tributary × depth, on points "
                       "along the bed joints ([dem] joint_segments; docs/dem.md)"),
         "cohesion": Key(float, default_of(Masonry, "cohesion"), "Pa", 0.0, 1e10,
-                        doc="cohesion of the joints (the strength domains' name); the FE "
-                            "bounds of fe.problems.t_section and the rigid blocks' limit "
-                            "analysis ([analysis] blocks, associative; their v̄_g is then not "
-                            "available) take it; the other models of a run refuse a "
-                            "non-zero value (docs/real-walls.md)"),
+                        doc="cohesion of the joints (the strength domains' name); both FE "
+                            "bounds ([analysis] fe: the bracket, the mechanism) and the rigid "
+                            "blocks' limit analysis ([analysis] blocks, associative) take it, "
+                            "their v̄_g is then not available; the closed forms, the DEM and "
+                            "the rockers refuse a non-zero value (docs/real-walls.md)"),
         "tension": Key(float, default_of(Masonry, "tension"), "Pa", 0.0, 1e10,
                        doc="tensile strength of the joints (the strength domains' name), "
                            "acting up to the Coulomb apex cohesion/f (none without a "

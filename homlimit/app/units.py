@@ -88,8 +88,8 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("vnorm_udec dem_over_udec rel_tol n_trials n_blocks".split(), "-"),
     **dict.fromkeys("loading base_slid hinge_slid collapsed settle_converged".split(), ""),
     # real walls (issue 30; closed_form.real, docs/real-walls.md)
-    **dict.fromkeys("fc cohesion tension peak_compression".split(), "Pa"),
-    "fc_rule": "",
+    **dict.fromkeys("fc cohesion tension tension_effective peak_compression".split(), "Pa"),
+    "fc_rule": "", "bond_rule": "", "vg_unavailable": "",   # the FE path with a cohesion
     **dict.fromkeys("yield_force load".split(), "N/m"),
     "stiffness": "N/m^2", "normal_force": "N",
     **dict.fromkeys("ductility eccentricity hinge_retreat tie_elongation".split(), "m"),

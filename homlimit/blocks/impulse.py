@@ -54,7 +54,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ParameterError, check_range
-from ..impulse import RigidBody, peak_of
+from ..impulse import RigidBody, no_bond_reason, peak_of
 from .geometry import Assembly
 from .limit import BlockLimitResult, check_result, fit_rotation
 from .real import real_of
@@ -226,12 +226,8 @@ def no_bond(assembly: Assembly) -> None:
     bond (module docstring: W(θ) would need a softening rule)."""
     real = real_of(assembly)
     if real is not None and real.bond:
-        raise ParameterError(
-            f"[masonry] cohesion = {real.cohesion!r} Pa, tension = {real.tension!r} Pa: v̄_g "
-            "(eq. 7) of the blocks does not take a joint cohesion or tension: their "
-            "dissipation at finite rotation needs a softening rule the case file does not "
-            "state (the blocks' multiplier takes them; docs/real-walls.md \"FE impulse\"); "
-            "allowed 0 Pa for v̄_g")
+        raise ParameterError(no_bond_reason(real.cohesion, real.tension, "the blocks",
+                                            "the blocks' multiplier takes them"))
 
 
 def rigid_body_of(assembly: Assembly, result: BlockLimitResult) -> tuple:

@@ -4,12 +4,12 @@ from .body import RigidBody, triangle_moments
 from .criterion import (
     collapse_velocity,
     hinge_impulse_ratio,
+    no_bond_reason,
     peak_of,
     peak_work,
     rigid_restoring_work,
     theta_dot0,
 )
 
-__all__ = ["RigidBody", "collapse_velocity", "hinge_impulse_ratio", "peak_of", "peak_work",
-           "rigid_restoring_work", "theta_dot0",
-           "triangle_moments"]
+__all__ = ["RigidBody", "collapse_velocity", "hinge_impulse_ratio", "no_bond_reason", "peak_of",
+           "peak_work", "rigid_restoring_work", "theta_dot0", "triangle_moments"]

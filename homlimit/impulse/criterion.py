@@ -21,9 +21,21 @@ from ..params import G_STANDARD
 from .body import RigidBody
 
 __all__ = ["theta_dot0", "peak_work", "peak_of", "rigid_restoring_work", "collapse_velocity",
-           "hinge_impulse_ratio"]
+           "hinge_impulse_ratio", "no_bond_reason"]
 
 N_PEAK = 2049           # the grid of ``peak_of``, then bounded Brent
+
+
+def no_bond_reason(cohesion: float, tension: float, model: str, takes: str) -> str:
+    """Why eq. 7 gives ``model`` no v̄_g with a joint cohesion or tension (the rigid blocks'
+    ``blocks.impulse.no_bond``, the FE path's ``mechanism.fe_impulse.no_bond``): their
+    dissipation at finite rotation is not rigid-plastic (a bond softens once it has opened or
+    slid a little), so W(θ) would hang on a softening rule the case file does not state.
+    ``takes``: what of ``model`` does take them (docs/real-walls.md "FE impulse")."""
+    return (f"[masonry] cohesion = {cohesion!r} Pa, tension = {tension!r} Pa: v̄_g (eq. 7) of "
+            f"{model} does not take a joint cohesion or tension: their dissipation at finite "
+            f"rotation needs a softening rule the case file does not state ({takes}; "
+            "docs/real-walls.md \"FE impulse\"); allowed 0 Pa for v̄_g")
 
 
 def theta_dot0(body: RigidBody, v_g: float) -> float:

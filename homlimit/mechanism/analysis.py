@@ -16,6 +16,12 @@ geometrically over that range and bisects around its minimum until the neighbour
 are one ``step`` (default a) apart, or two steps apart and within ``rtol`` (0.5 %) of the
 minimum (``scan_midpoints``); the result says
 whether the minimum is interior or sits at a bound (one course, or the whole wall).
+
+With a joint cohesion (``fe_impulse.bond_reason``) no height has a v̄_g: both bounds, the
+mechanism, its crack and the body inside its 50 % line (the code check's) are computed with
+the cohesion and the tension, the scan runs its starting heights only (there is no minimum
+to bisect around) and the whole wall stands for the FE mechanism, its v̄_g "not available"
+with the reason, as the rigid blocks' (docs/real-walls.md "FE impulse").
 """
 
 from __future__ import annotations
@@ -37,6 +43,8 @@ from .crack import FanEdges, fan_edges, mechanism_type
 from .fe_impulse import (
     GeneralisedImpulse,
     body_loads,
+    bond_reason,
+    contour_body,
     contour_pieces,
     generalised_impulse,
     p2_nodes,
@@ -79,6 +87,9 @@ class FEMechanism:
     impulse             the one-degree-of-freedom criterion of the whole mechanism
     vg, vg_method       the collapse ground velocity [m/s] and how it was obtained (NaN and
                         the reason when the mechanism has no block with a restoring lever)
+    vg_unavailable      why eq. 7 has no v̄_g for this case at all ("" when it has one): a
+                        joint cohesion (``fe_impulse.bond_reason``); the body is then kept
+                        for the code check, and ``app.checks`` exempts v̄_g
     """
 
     case: Case
@@ -94,6 +105,7 @@ class FEMechanism:
     facade: str
     mesh_size: float
     z0: float = 0.0
+    vg_unavailable: str = ""
     name = "FE"
 
     @property
@@ -158,18 +170,24 @@ class FEMechanism:
 
     @property
     def vg_body(self) -> float:
-        """Eq. 7 + eq. 18 of the body inside the 50 % line alone [m/s] (NaN without one)."""
-        return math.nan if self.body is None else collapse_velocity(self.body,
-                                                                     g=self.case.wall.g)
+        """Eq. 7 + eq. 18 of the body inside the 50 % line alone [m/s] (NaN without one, or
+        without a v̄_g: ``vg_unavailable``)."""
+        if self.body is None or self.vg_unavailable:
+            return math.nan
+        return collapse_velocity(self.body, g=self.case.wall.g)
 
     @property
     def hinge_ratio(self) -> float:
         """|P_x/P_z| the hinge must transmit under the ideal impulse (``impulse``), for the
-        body inside the 50 % line (NaN without a body)."""
-        return math.nan if self.body is None else hinge_impulse_ratio(self.body)
+        body inside the 50 % line (NaN without a body, or without a v̄_g)."""
+        if self.body is None or self.vg_unavailable:
+            return math.nan
+        return hinge_impulse_ratio(self.body)
 
     @property
     def label(self) -> str:
+        if self.vg_unavailable:             # a cohesion: the whole wall's λ⁺ and body only
+            return f"FE whole wall, {self.kind} (vg not available)"
         return f"FE body, {self.kind} (one-DOF eqs 4-7)"
 
     def record(self) -> dict:
@@ -249,6 +267,15 @@ def analyse(case: Case, problem: Problem, options=None, solution=None) -> FEMech
     common = dict(case=case, problem=problem, solution=sol, measures=mm, edges=edges,
                   kind=kind, facade=meta.get("facade", ""), z0=float(meta.get("z0", 0.0)),
                   mesh_size=float(meta.get("h", math.nan)))
+    reason = bond_reason(case)
+    if reason:      # a cohesion: no W(q) (fe_impulse.bond_reason); the body for the code check
+        try:
+            body = contour_body(X, el, rho, mm)
+        except ParameterError:
+            body = None
+        why = f"not available: {reason}"
+        return FEMechanism(**common, body=body, impulse=None, vg=math.nan, vg_method=why,
+                           vg_unavailable=why)
     loads = body_loads(case, problem)
     try:
         gi = generalised_impulse(X, V, el, rho, mm, g=w.g, loads=loads)
@@ -315,9 +342,19 @@ class FEResult:
         return self.scan[-1]
 
     @property
+    def vg_unavailable(self) -> str:
+        """Why no height has a v̄_g ("" when they may): a joint cohesion
+        (``FEMechanism.vg_unavailable``)."""
+        return self.whole.vg_unavailable
+
+    @property
     def critical_at(self) -> str:
         """Where the scan's minimum lies: "interior", "bound: one course" or "bound: whole
-        wall" (a minimum at a bound is set by that bound, not by the mechanics)."""
+        wall" (a minimum at a bound is set by that bound, not by the mechanics); with a
+        joint cohesion, the whole wall (no v̄_g to minimise)."""
+        if self.vg_unavailable:
+            return ("the whole wall (no v̄_g to minimise: not available with a joint "
+                    "cohesion or tension)")
         crit = self.critical
         if crit is None or len(self.scan) < 2:
             return "interior" if crit is not None else "none"
@@ -347,6 +384,7 @@ class FEResult:
         """The summary's "fe" section: the whole wall, its bracket, the critical height and
         every height of the scan."""
         full, crit, case = self.whole, self.critical, self.whole.case
+        at = full if self.vg_unavailable else crit    # with a cohesion: the whole wall
         return {
             "multiplier": full.multiplier, "n_triangles": full.n_triangles,
             "facade": full.facade, "mesh_size": full.mesh_size,
@@ -362,13 +400,30 @@ class FEResult:
             "adapt": None if self.adapt is None else self.adapt.as_dict(),
             "vg": None if crit is None else crit.vg,
             "vnorm": None if crit is None else crit.vnorm,
-            "lam": None if crit is None else crit.lam,
-            "h": None if crit is None else crit.h,
-            "critical_mechanism": None if crit is None else crit.kind,
-            "critical_multiplier": None if crit is None else crit.multiplier,
-            "vg_method": None if crit is None else crit.vg_method,
+            "lam": None if at is None else at.lam,
+            "h": None if at is None else at.h,
+            "critical_mechanism": None if at is None else at.kind,
+            "critical_multiplier": None if at is None else at.multiplier,
+            "vg_method": None if at is None else at.vg_method,
             "critical_at": self.critical_at, "h_min": self.h_min,
-            "scan": [m.record() for m in self.scan]} | self._fc_dict() | self._loads_dict()
+            "scan": [m.record() for m in self.scan]} | self._fc_dict() | self._loads_dict() \
+            | self._bond_dict()
+
+    def _bond_dict(self) -> dict:
+        """With a joint cohesion or tension (issue 30): both, the tension that acts and how
+        they enter, and why v̄_g is not available; nothing for the dry wall."""
+        m = self.whole.case.masonry
+        if not (m.cohesion or m.tension):
+            return {}
+        return {"cohesion": m.cohesion, "tension": m.tension,
+                "tension_effective": min(m.tension, m.cohesion / m.f),
+                "bond_rule": "both bounds, the mechanism and its crack: the domains' "
+                             "cohesive forms (bed joints |tau| <= C + f p, p the compression; "
+                             "eq. 15 with cohesion C), a tension up to T_h = min(T, C/f) (none "
+                             "without a cohesion), the facade strip's times rho = l/s "
+                             "(fe.strength); v_g not available with a cohesion (no softening "
+                             "rule for W(theta))",
+                "vg_unavailable": self.vg_unavailable or None}
 
     def _loads_dict(self) -> dict:
         """With ties or floors (issue 30): the critical mechanism's W(q_m) and its floors'
@@ -460,7 +515,9 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
                                     mesher)))
 
     run(list(np.geomspace(a, w.H, heights)[:-1]) + [w.H])
-    while new := scan_midpoints(sorted(done), [done[h].vg for h in sorted(done)], step, rtol):
+    # with a cohesion no height has a v̄_g: no minimum to bisect around (module docstring)
+    while not done[w.H].vg_unavailable and (new := scan_midpoints(
+            sorted(done), [done[h].vg for h in sorted(done)], step, rtol)):
         run(new)
     sta = None if adapted is None else adapted.bracket.static
     if static and sta is None:

@@ -38,6 +38,15 @@ rigid-plastic T_y δ, or elastic–plastic, up to the ductility limit). W is the
 0 <= q <= π/2 (``impulse.peak_of``: a grid, then bounded Brent, as the blocks). A restraining
 floor is a support v_x = 0 of the FE problem; the body must not carry the restrained point
 away from its hinge (checked: a ParameterError otherwise).
+
+Not with a joint cohesion (and the tension it carries; ``bond_reason``): both FE bounds take
+them as rigid-plastic strengths (``fe.problems.t_section``), but their dissipation at finite
+rotation is not rigid-plastic (a joint's bond softens and is lost once it has opened or slid a
+little, while θ D/|ω| would count it over the whole rotation), so W(q) would hang on a
+softening rule the case file does not state: v̄_g is then "not available", as the rigid
+blocks' (``blocks.impulse.no_bond``; docs/real-walls.md "FE impulse"). A tension without a
+cohesion does not act (``fe.strength``: beyond the Coulomb apex C/f it is cut off), so v̄_g is
+the dry wall's.
 """
 
 from __future__ import annotations
@@ -50,11 +59,11 @@ from skfem import Basis, ElementTriP2
 
 from ..errors import ParameterError, check_range
 from ..geometry import TSection
-from ..impulse import RigidBody, peak_of, peak_work
+from ..impulse import RigidBody, no_bond_reason, peak_of, peak_work
 from .crack import p2_subtriangles
 
 __all__ = ["p2_nodes", "ray_conforming_mesh", "BodyLoads", "GeneralisedImpulse",
-           "body_loads", "generalised_impulse", "contour_body", "contour_pieces"]
+           "body_loads", "bond_reason", "generalised_impulse", "contour_body", "contour_pieces"]
 
 N_THETA = 2049          # the q grid of W's peak with ties or floors, then bounded Brent
 
@@ -166,6 +175,17 @@ def body_loads(case, problem) -> BodyLoads:
                      tie.ductility or math.inf))
     held = tuple(f["z"] for f in placed.get("floors", ()) if f["restrains"])
     return BodyLoads(floors, tuple(ties), held, case.masonry.a / 2)
+
+
+def bond_reason(case) -> str:
+    """Why the FE mechanism of ``case`` has no v̄_g: "" when its joints have no cohesion (a
+    tension acts only with one: ``fe.strength``), else the reason (module docstring), worded
+    as the rigid blocks' (``impulse.no_bond_reason``)."""
+    m = case.masonry
+    if not m.cohesion > 0:
+        return ""
+    return no_bond_reason(m.cohesion, m.tension, "the FE mechanism",
+                          "both FE bounds and the mechanism take them")
 
 
 @dataclass(frozen=True)
