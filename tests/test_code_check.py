@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from homlimit.app import registry
+from homlimit.app import pipeline, registry
 from homlimit.app.cli import app
 from homlimit.app.code_check import code_check
 from homlimit.app.config import load_case
@@ -363,3 +363,19 @@ def test_B1_mechanism_I_with_a_floor_by_hand(b1):
     c = linear_kinematic("I", sm, Site(ag=1.0, F0=2.5, Tc_star=0.3, g=G), 9.0)
     assert c.e_star == pytest.approx(0.75, rel=1e-12)
     assert c.a0_star == pytest.approx(hand(lam) * G / (0.75 * 1.35), rel=1e-12)
+
+
+def test_code_check_png_sets_both_views_side_by_side(tmp_path):
+    """With [site] and [output] png, code_check.png: a₀*/demand and v̄_g/PGV per mechanism (the
+    overturning of B1 fails the acceleration check, 0.57, and passes the velocity one)."""
+    d = tomllib.loads(B1_TEXT + SITE)
+    d["analysis"]["overturning"] = True
+    d["output"]["png"] = True
+    res = pipeline.run(d, out=tmp_path / "o")
+    png = tmp_path / "o" / "code_check.png"
+    assert res.files["code_check_png"] == png and png.stat().st_size > 1000
+    cc = res.to_dict()["code_check"]
+    over = cc["mechanisms"]["overturning"]["ratio"], cc["impulse"]["overturning"]["vg_over_pgv"]
+    assert over[0] < 1 < over[1]
+    d["output"]["png"] = False
+    assert "code_check_png" not in pipeline.run(d, out=tmp_path / "p").files

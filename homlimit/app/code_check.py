@@ -11,9 +11,9 @@ import math
 from dataclasses import dataclass
 
 from ..check import LinearKinematic, Site, linear_kinematic
-from . import registry
+from . import plots, registry
 
-__all__ = ["READING", "CodeCheck", "code_check"]
+__all__ = ["READING", "CodeCheck", "code_check", "code_check_files"]
 
 #: the readings taken, as summary.json records them
 READING = {
@@ -88,3 +88,13 @@ def code_check(result) -> CodeCheck | None:
             continue
         checks[name] = linear_kinematic(name, sm, site, H)
     return CodeCheck(site, H, checks, skipped, vg)
+
+
+def code_check_files(result) -> dict:
+    """code_check.png (with [output] png and a [site]): ``plots.plot_code_check``."""
+    cc = result.code_check
+    if cc is None or not result.config.output.png or not (cc.checks or cc.vg):
+        return {}
+    pgv = cc.site.pgv()
+    return {"code_check_png": ("code_check.png", lambda p: plots.plot_code_check(
+        p, cc.checks, {k: v / pgv for k, v in cc.vg.items()}, title=f"case {result.name}"))}

@@ -35,6 +35,7 @@ from ..impulse import RigidBody
 from ..mechanism.analysis import FEResult, fe_result
 from ..mechanism.fe_impulse import GeneralisedImpulse
 from . import plots, registry, report
+from .code_check import code_check_files
 from .config import CaseConfig
 from .models_rigid import (
     blocks_files,
@@ -359,6 +360,10 @@ registry.register(
     Model("fe", lambda config: config.analysis.fe, run_fe, check_fe, files=fe_files),
     Model("blocks", lambda config: config.analysis.blocks, run_blocks, files=blocks_files),
     Model("dem", lambda config: config.analysis.dem, run_dem),
+    # the check itself runs after the results' checks (pipeline.compute, and in a sweep's
+    # closed-form batches); this entry adds its picture to a run's files
+    Model("code_check", lambda config: config.site is not None, lambda config, result: None,
+          batched=True, files=code_check_files),
     Mechanism("I", rocker=rocker_I, alone=closed_form_alone("detachment"),
               colour="tab:blue", **CLOSED),
     Mechanism("II", rocker=rigid_rocker, alone=closed_form_alone("crack"),

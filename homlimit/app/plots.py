@@ -303,3 +303,26 @@ def plot_spectra(path: str | Path, points, *, dem_vnorm: float | None = None,
     return save_png(fig, path)
 
 
+
+
+def plot_code_check(path: str | Path, checks: dict, impulse: dict, title: str = "") -> Path:
+    """code_check.png: per mechanism, the code check's capacity/demand a₀*/demand (NTC 2018 /
+    Circolare 2019 §C8.7.1.2, e* by integration) beside the impulse view's v̄_g/PGV (PGV =
+    0.16 a_g S T_C, §3.2.3.3), on one log axis with the limit 1 (docs/code-check.md)."""
+    plt = pyplot()
+    names = list(dict.fromkeys([*checks, *impulse]))
+    y = np.arange(len(names))
+    fig, ax = plt.subplots(figsize=(8, 1.2 + 0.6 * len(names)), layout="constrained")
+    acc = [checks[n].ratio if n in checks else np.nan for n in names]
+    vel = [impulse[n] if n in impulse else np.nan for n in names]
+    ax.barh(y - 0.2, acc, 0.4, color="C0", label="code check: a0*/demand (acceleration)")
+    ax.barh(y + 0.2, vel, 0.4, color="C3", label="impulse view: v̄_g/PGV (velocity)")
+    ax.axvline(1.0, color="k", lw=1.0, ls="--")
+    ax.set_xscale("log")
+    ax.set_yticks(y, names)
+    ax.invert_yaxis()
+    ax.set_xlabel("capacity / demand [-] (>= 1: met)")
+    fig.legend(loc="outside lower center", ncols=2, fontsize=8)
+    ax.set_title(f"{title}: the code check and the impulse view" if title
+                 else "the code check and the impulse view")
+    return save_png(fig, path)

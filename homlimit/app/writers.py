@@ -117,7 +117,7 @@ OUTPUTS: dict[str, Output] = {o.name: o for o in [
     *_outputs("verify", "keys", "verify.json"),
     *_outputs("verify", "columns", "verify.csv"),
     *_outputs("run", "columns", "fe_adapt.csv"),
-    *_outputs("run", "axes", "adapt.png"),
+    *_outputs("run", "axes", "adapt.png code_check.png"),
     *_outputs("run", "", "dem.pvd", by="dem.output.write_series"),
     *_outputs("run", "axes", "dem_snapshots.png", by="dem.output.plot_snapshots"),
     *_outputs("table1", "columns", "table1_dem.csv"),
