@@ -42,13 +42,13 @@ from ..errors import ParameterError
 from ..fields import set_fields
 from ..impulse import RigidBody, peak_of
 from ..params import Case
-from .rocking import RESTITUTION, Rocker, friction_moment_I
+from .rocking import RESTITUTION, BodyRocker, friction_moment_I
 
 __all__ = ["RealWallRocker"]
 
 
 @dataclass(frozen=True)
-class RealWallRocker(Rocker):
+class RealWallRocker(BodyRocker):
     """Mechanism ``kind`` ("detachment" I, "crack" II, "overturning") of a real wall at
     slenderness ``lam`` (default: its critical λ, ``closed_form.real.real_mechanism``)
     rocking about its retreated hinge, with the floors and ties it carries (module
@@ -138,23 +138,6 @@ class RealWallRocker(Rocker):
     @property
     def exact(self) -> bool:
         return self.geometry == "exact"
-
-    @property
-    def inertia(self):
-        return self.body.I_O
-
-    @property
-    def theta_m(self):
-        return self._theta_m
-
-    @property
-    def W_m(self):
-        return float(self.work(self._theta_m))
-
-    @property
-    def p(self):
-        b = self.body
-        return math.sqrt(b.m * self.g * b.r_G / b.I_O)
 
     @property
     def has_friction(self):

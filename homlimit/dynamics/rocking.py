@@ -49,8 +49,8 @@ from ..fields import Range, check_fields, ranged, set_fields
 from ..impulse import RigidBody, peak_work
 from ..params import G_STANDARD, Case
 
-__all__ = ["Rocker", "RigidRocker", "MechanismIRocker", "GeneralisedRocker", "free_block",
-           "housner_restitution", "friction_moment_I", "THETA_FALL"]
+__all__ = ["Rocker", "BodyRocker", "RigidRocker", "MechanismIRocker", "GeneralisedRocker",
+           "free_block", "housner_restitution", "friction_moment_I", "THETA_FALL"]
 
 THETA_FALL = math.pi / 2  # rad: the body lies on the ground; overturned whatever follows
 
@@ -281,8 +281,31 @@ def friction_moment_I(phi, h, c, a, f, s, gamma, g=G_STANDARD):
     return np.where(phi * h < c, k * h ** 3 * (2 * c - h * phi), right)
 
 
+class BodyRocker(Rocker):
+    """A rocker of a closed-form mechanism's rigid ``body`` about its hinge, whose peak θ_m of
+    W(θ) is kept as ``_theta_m`` (mechanism I's and the real walls' rockers)."""
+
+    @property
+    def inertia(self):
+        return self.body.I_O
+
+    @property
+    def theta_m(self):
+        return self._theta_m
+
+    @property
+    def W_m(self):
+        return float(self.work(self._theta_m))
+
+    @property
+    def p(self):
+        """p = √(m g r_G / I_O) of the body [rad/s]."""
+        bd = self.body
+        return math.sqrt(bd.m * self.g * bd.r_G / bd.I_O)
+
+
 @dataclass(frozen=True)
-class MechanismIRocker(Rocker):
+class MechanismIRocker(BodyRocker):
     """Mechanism I (the façade strip of height h = λ b detaching from the transversal wall),
     rocking about its outer toe, restrained by gravity and by the abutment friction of eq. 9,
     which opposes the motion in both directions (dissipative).
@@ -327,24 +350,6 @@ class MechanismIRocker(Rocker):
     @property
     def body(self) -> RigidBody:
         return self._res.body
-
-    @property
-    def inertia(self):
-        return self.body.I_O
-
-    @property
-    def theta_m(self):
-        return self._theta_m
-
-    @property
-    def W_m(self):
-        return float(self.work(self._theta_m))
-
-    @property
-    def p(self):
-        """p = √(m g r_G / I_O) of the façade strip [rad/s]."""
-        bd = self.body
-        return math.sqrt(bd.m * self.g * bd.r_G / bd.I_O)
 
     @property
     def has_friction(self):
