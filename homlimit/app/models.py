@@ -286,7 +286,7 @@ def run_fe(config, result) -> None:
                               static_problem=None if adapted else static_problem(config))
     if result.fe.critical is not None:
         result.mechanisms[result.fe.critical.name] = result.fe.critical
-    elif result.fe.vg_unavailable:      # a cohesion: the whole wall, its v̄_g not available
+    elif getattr(result.fe, "vg_unavailable", ""):   # a cohesion: the whole wall, no v̄_g
         result.mechanisms[result.fe.whole.name] = result.fe.whole
 
 
@@ -301,7 +301,7 @@ def check_fe(result) -> None:
     if fe.static is not None and not finite(fe.lower_bound):
         raise ResultError(f"mechanism FE: the static lower bound = {fe.lower_bound!r} is "
                           "not a finite number; nothing written")
-    if fe.critical is None and not fe.vg_unavailable:
+    if fe.critical is None and not getattr(fe, "vg_unavailable", ""):
         raise ResultError("mechanism FE: no collapse height of the scan gave a collapse "
                           f"velocity vg (whole wall: {fe.whole.vg_method}); nothing "
                           "written ([analysis] fe = false skips the FE path)")

@@ -138,7 +138,7 @@ def _fe_lines(fe, case) -> str:
               f"(50 % line), edges {_num(e1)} .. {_num(e2)}",
               f"         sqrt(cf/a) = {case.alpha:.3f} (eq. 16), f = {case.masonry.f:.3f}, "
               f"c/a = {case.masonry.c / case.masonry.a:.3f}"]
-    if crit is None and fe.vg_unavailable:
+    if crit is None and getattr(fe, "vg_unavailable", ""):
         lines += [f"  impulse: vg not available at any of {len(fe.scan)} heights of the "
                   f"failing part ({fe.h_min:g} m, one course, to H); the FE mechanism is "
                   f"{fe.critical_at}", f"         ({fe.vg_unavailable})"]
