@@ -119,11 +119,14 @@ def _mechanisms(d: dict, labels: dict) -> str:
     and the DEM's threshold beside them."""
     rows = []
     for k, m in d["mechanisms"].items():
-        model = next((e.model for e in registry.mechanisms() if e.name == k), "")
-        mult = m.get("multiplier")
-        rows.append([f"<td>{escape(k)}</td>", f"<td>{escape(labels.get(k, model))}</td>",
+        entry = next((e for e in registry.mechanisms() if e.name == k), None)
+        smallest = entry is not None and entry.static     # a/g smallest over h, else at h
+        mult = _cell(m.get("multiplier"), f"{k}.multiplier")
+        if m.get("multiplier") is not None and not smallest:
+            mult = mult.replace("</td>", " (at h)</td>")
+        rows.append([f"<td>{escape(k)}</td>", f"<td>{escape(labels.get(k, k))}</td>",
                      _cell(m.get("lam"), f"{k}.lam"), _cell(m.get("h"), f"{k}.h"),
-                     _cell(mult, f"{k}.multiplier"), _cell(m.get("vg"), f"{k}.vg"),
+                     mult, _cell(m.get("vg"), f"{k}.vg"),
                      _cell(m.get("vnorm"), f"{k}.vnorm")])
     dem = d.get("dem")
     if dem:
@@ -144,8 +147,9 @@ def _mechanisms(d: dict, labels: dict) -> str:
     if crit:
         out += (f'<p class="note">governing (lowest v̄_g): {escape(crit["mechanism"])}, '
                 f'v̄_g = {_num(crit["vg"])} m/s. λ, h, v̄_g: the impulse criterion (eq. 7) at '
-                "the height of the smallest v̄_g; static a/g: the smallest over the height "
-                "(the static check's).</p>")
+                "the height of the smallest v̄_g; static a/g: the closed forms' smallest over "
+                "the height (the static check's), the FE's and blocks' of the body at that h "
+                "(\"at h\"; the whole wall's is the code check's α₀).</p>")
     return out
 
 
