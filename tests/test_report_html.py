@@ -109,3 +109,26 @@ def test_the_multistorey_example_loads():
     an = cfg.analysis
     assert an.closed_form and an.overturning and an.fe and an.static and an.blocks and an.dem
     assert cfg.site is not None and cfg.site.storeys == 3 and cfg.output.report
+
+
+def test_a_failing_report_leaves_no_result_set(tmp_path, monkeypatch):
+    """The report is written inside the run's result set: if building it fails, nothing of
+    the run is left (whole or nothing), and an earlier set in the folder is kept."""
+    from homlimit.app import report_html
+
+    out = _run(tmp_path)
+    before = sorted(p.name for p in out.iterdir())
+    old = (out / "report.html").read_bytes()
+
+    def broken(result, folder):
+        raise RuntimeError("report failed")
+
+    monkeypatch.setattr(report_html, "page", broken)
+    with pytest.raises(RuntimeError, match="report failed"):
+        homlimit.run({**CASE, "wall": {**CASE["wall"], "H": 8.0}}, out=out)
+    assert sorted(p.name for p in out.iterdir()) == before
+    assert (out / "report.html").read_bytes() == old
+    fresh = tmp_path / "fresh"
+    with pytest.raises(RuntimeError, match="report failed"):
+        homlimit.run(CASE, out=fresh)
+    assert not fresh.exists() or not any(fresh.iterdir())

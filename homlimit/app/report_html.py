@@ -175,6 +175,14 @@ def _code_check(cc: dict | None) -> str:
                    "met"], rows)
     out += "".join(f'<p class="note">not checked: {escape(n["mechanism"])} '
                    f'({escape(n["reason"])})</p>' for n in cc["not_checked"])
+    impulse = cc.get("impulse")          # the impulse view beside it, where the run has it
+    if impulse and s.get("pgv") is not None:
+        out += (f'<p class="note">beside it, the impulse view: the site\'s PGV = '
+                f'{_num(s["pgv"])} m/s against each mechanism\'s v̄_g</p>')
+        out += _table(["mechanism", "v̄_g [m/s]", "v̄_g/PGV [–]"], [
+            [f"<td>{escape(k)}</td>", _cell(v["vg"], f"impulse.{k}.vg"),
+             _cell(v["vg_over_pgv"], f"impulse.{k}.vg_over_pgv")]
+            for k, v in impulse.items()])
     if cc["governing"] is not None:
         out += (f'<p class="note">governing in the code check: {escape(cc["governing"])}, '
                 f'ratio {_num(cc["ratio"])}</p>')
@@ -184,14 +192,17 @@ def _code_check(cc: dict | None) -> str:
 
 
 def _pictures(folder: Path) -> str:
-    """The run's pictures found in ``folder``, embedded as base64 PNG data URIs."""
+    """The run's pictures found in ``folder`` (those of ``PICTURES`` in its order, any other
+    after them), embedded as base64 PNG data URIs."""
     out = []
-    for name, caption in PICTURES.items():
+    others = sorted(p.name for p in folder.glob("*.png") if p.name not in PICTURES)
+    for name, caption in [*PICTURES.items(), *((n, "") for n in others)]:
         path = folder / name
         if path.is_file():
             data = base64.b64encode(path.read_bytes()).decode("ascii")
             out.append(f'<figure><img alt="{escape(name)}" src="data:image/png;base64,{data}">'
-                       f"<figcaption>{escape(name)}: {escape(caption)}</figcaption></figure>")
+                       f"<figcaption>{escape(name)}{': ' * bool(caption)}{escape(caption)}"
+                       "</figcaption></figure>")
     return "".join(out) or '<p class="note">none ([output] png = false)</p>'
 
 
