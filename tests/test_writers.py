@@ -14,7 +14,8 @@ def test_every_registered_file_has_one_writer():
         assert out.name == name
         if out.by == "app.writers.write":
             assert out.suffix in FORMATS or out.suffix == ".parquet", name
-        assert out.units in ("columns", "keys", "sections", "metadata", "fields", "axes", ""), name
+        assert out.units in ("columns", "keys", "sections", "metadata", "fields", "axes",
+                             "inline", ""), name
     # the CSV files' sidecars are result files too
     assert "blocks_contacts.csv.json" in OUTPUT_NAMES and "summary.json" in OUTPUT_NAMES
     assert len(set(OUTPUT_NAMES)) == len(OUTPUT_NAMES)

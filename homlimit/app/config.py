@@ -8,7 +8,7 @@ One section per parameter object, SI units::
     [mesh]     size ...            → MeshConfig
     [analysis] fe facade ...       → AnalysisConfig
     [dem]      kn dt_fraction ...  → DemConfig (the rigid-block DEM, ``homlimit.dem``)
-    [output]   dir png vtu         → OutputConfig
+    [output]   dir png vtu report  → OutputConfig
 
 Every problem of a case — a file that is not UTF-8 TOML, unknown section or key, wrong type,
 missing required value, value out of its physically meaningful range, the cross-checks between

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from .. import _io
 from .._version import package_version
-from . import registry, report
+from . import registry, report, report_html
 from .config import CaseConfig
 from .dem_stage import write_files as write_dem_files
 from .models import stage
@@ -115,6 +115,9 @@ def write_result(result: Result, staging: Path, out: Path) -> dict[str, Path]:
         if result.dem_run is not None:
             files.update(write_dem_files(result.dem_run, result.config.output, staging, out,
                                      f"case {result.name}"))
+        if result.config.output.report:       # after the pictures it embeds
+            report.write(staging / "report.html", report_html.page(result, staging))
+            files["report_html"] = out / "report.html"
         if result.config.output.json:
             files["summary_json"] = out / "summary.json"
             result.files = files

@@ -244,6 +244,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "json": Key(bool, True, doc="write summary.json (every input, result, version)"),
         "png": Key(bool, True, doc="write the PNG pictures"),
         "vtu": Key(bool, True, doc="write the mesh and mechanism as .vtu (ParaView)"),
+        "report": Key(bool, False, doc="write report.html: one self-contained page of the "
+                                       "run (inputs with units, the pictures embedded, the "
+                                       "multipliers and collapse velocities, the code check "
+                                       "with a [site], the version; docs/report.md)"),
     },
 }
 #: arrays of tables ([[tie]], [[floor]], [[facade_opening]], [[wall_opening]]): name -> key

@@ -136,6 +136,7 @@ class OutputConfig:
     json: bool
     png: bool
     vtu: bool
+    report: bool
 
 
 SECTIONS = {"mesh": MeshConfig, "adapt": AdaptConfig, "analysis": AnalysisConfig,

@@ -85,7 +85,8 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("pga_lo pga_hi".split(), "m/s^2"),
     **dict.fromkeys("h_udec base_slip hinge_slip".split(), "m"),
     **dict.fromkeys("pulse_period t_end cpu dt settle_time".split(), "s"),
-    **dict.fromkeys("vnorm_udec dem_over_udec rel_tol n_trials n_blocks".split(), "-"),
+    **dict.fromkeys("vnorm_udec dem_over_udec rel_tol n_trials n_blocks joint_segments "
+                     "joint_points".split(), "-"),
     **dict.fromkeys("loading base_slid hinge_slid collapsed settle_converged".split(), ""),
     # real walls (issue 30; closed_form.real, docs/real-walls.md)
     **dict.fromkeys("fc cohesion tension tension_effective peak_compression".split(), "Pa"),

@@ -1,6 +1,6 @@
 """The result files: one registry of every file a command writes (``OUTPUTS``: name → its
 writer, where its units are, its schema version) and one writer per file format
-(``FORMATS``: JSON data, CSV records, Parquet tables, a meshio mesh, a picture).
+(``FORMATS``: JSON data, CSV records, Parquet tables, a meshio mesh, a picture, a page).
 
 ``write(path, data)`` writes a file with its format's writer and the schema version its
 entry gives; JSON, CSV and Parquet go through ``_io.write_output`` (whole or nothing, led by
@@ -20,7 +20,7 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._io import SCHEMA_VERSION, write_output
+from .._io import SCHEMA_VERSION, write_output, write_text
 from ..errors import ParameterError
 from ..fe import mesh as fe_mesh
 from .units import UNITS, csv_header, units_of, unknown_units
@@ -55,9 +55,14 @@ def _write_picture(path: Path, draw: Callable[[Path], None], schema: int = SCHEM
     return draw(path)
 
 
+def _write_page(path: Path, text: str, schema: int = SCHEMA_VERSION) -> Path:
+    """A text page (report.html: ``app.report_html.page``), whole or nothing."""
+    return write_text(path, text)
+
+
 #: suffix → the one writer of that format: writer(path, data, schema)
 FORMATS: dict[str, Callable] = {
-    ".json": _write_json, ".csv": _write_csv, ".png": _write_picture,
+    ".json": _write_json, ".csv": _write_csv, ".png": _write_picture, ".html": _write_page,
     **dict.fromkeys((".vtu", ".xdmf", ".msh"), _write_mesh)}
 WRITERS = FORMATS          # the name before the registry
 
@@ -66,7 +71,8 @@ WRITERS = FORMATS          # the name before the registry
 class Output:
     """One result file: its name, the command writing it, where its units are (``units``:
     "columns" a CSV's headers and sidecar, "keys" or "sections" a JSON file's ``units`` map,
-    "metadata" Parquet's, "fields" a mesh's field data, "axes" a picture's labels, "" none),
+    "metadata" Parquet's, "fields" a mesh's field data, "axes" a picture's labels, "inline"
+    a page's table headers and text, "" none),
     the version of its layout (``schema``) and, for a file not written by ``write``, the one
     function that writes it (``by``)."""
 
@@ -122,6 +128,7 @@ OUTPUTS: dict[str, Output] = {o.name: o for o in [
     *_outputs("run", "axes", "dem_snapshots.png", by="dem.output.plot_snapshots"),
     *_outputs("table1", "columns", "table1_dem.csv"),
     *_outputs("table1", "keys", "table1_dem_ratios.json"),
+    *_outputs("run", "inline", "report.html"),
 ]}
 #: every file name a command writes, the CSV files' sidecars (NAME.csv.json) included
 OUTPUT_NAMES = tuple(OUTPUTS) + tuple(n + ".json" for n in OUTPUTS if n.endswith(".csv"))
