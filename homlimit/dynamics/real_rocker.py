@@ -146,13 +146,7 @@ class RealWallRocker(BodyRocker):
     def _delta(self, phi, d):
         return d * (np.sin(phi) if self.exact else phi)
 
-    # -- eq. 1 terms (vectorised over φ)
-    def excitation(self, phi):
-        b = self.body
-        if self.exact:
-            return b.m * (b.z_G * np.cos(phi) + b.x_G * np.sin(phi))
-        return b.m * b.z_G + 0.0 * np.asarray(phi, dtype=float)
-
+    # -- eq. 1 terms (vectorised over φ; Π(φ) is the body's: BodyRocker.excitation)
     def restoring(self, phi):
         phi = np.asarray(phi, dtype=float)
         b, g = self.body, self.g

@@ -138,8 +138,55 @@ class Rocker:
 
 
 # --------------------------------------------------------------------------- rigid bodies
+class BodyRocker(Rocker):
+    """A rigid ``body`` (m, x_G, z_G, I_O about its pivot) rocking on its pivot: its inertia,
+    p, the excitation Π(φ) and gravity's moment and work, at finite rotation (``exact``) or
+    linearised (eq. 10); θ_m, unless a subclass derives it, is kept as ``_theta_m``
+    (RigidRocker, MechanismIRocker and the real walls' RealWallRocker)."""
+
+    @property
+    def inertia(self):
+        return self.body.I_O
+
+    @property
+    def theta_m(self):
+        return self._theta_m
+
+    @property
+    def W_m(self):
+        return float(self.work(self._theta_m))
+
+    @property
+    def p(self):
+        """Frequency parameter p = √(m g r_G / I_O) [rad/s] (Housner 1963)."""
+        bd = self.body
+        return math.sqrt(bd.m * self.g * bd.r_G / bd.I_O)
+
+    def excitation(self, phi):
+        b = self.body
+        if self.exact:
+            return b.m * (b.z_G * np.cos(phi) + b.x_G * np.sin(phi))
+        return b.m * b.z_G + 0.0 * np.asarray(phi, dtype=float)
+
+    def gravity_moment(self, phi):
+        """R of gravity: m g (x_G cos φ − z_G sin φ), linearised m g (x_G − z_G φ) [N m]."""
+        b = self.body
+        if self.exact:
+            return b.m * self.g * (b.x_G * np.cos(phi) - b.z_G * np.sin(phi))
+        return b.m * self.g * (b.x_G - b.z_G * np.asarray(phi, dtype=float))
+
+    def gravity_work(self, phi):
+        """W of gravity: m g (x_G sin φ + z_G (cos φ − 1)), linearised m g (x_G φ − z_G φ²/2)
+        [J]."""
+        b = self.body
+        phi = np.asarray(phi, dtype=float)
+        if self.exact:
+            return b.m * self.g * (b.x_G * np.sin(phi) + b.z_G * (np.cos(phi) - 1.0))
+        return b.m * self.g * (b.x_G * phi - 0.5 * b.z_G * phi ** 2)
+
+
 @dataclass(frozen=True)
-class RigidRocker(Rocker):
+class RigidRocker(BodyRocker):
     """A rigid body (m, x_G, z_G, I_O about its pivot O) rocking on O, restrained by gravity.
 
     geometry = "exact": Π = m (z_G cos φ + x_G sin φ), R = m g (x_G cos φ − z_G sin φ),
@@ -167,10 +214,6 @@ class RigidRocker(Rocker):
         set_fields(self, geometry=_geometry(self.geometry), two_sided=bool(self.two_sided))
 
     @property
-    def inertia(self):
-        return self.body.I_O
-
-    @property
     def exact(self) -> bool:
         return self.geometry == "exact"
 
@@ -186,29 +229,11 @@ class RigidRocker(Rocker):
             return b.m * self.g * (b.r_G - b.z_G)
         return b.m * self.g * b.x_G ** 2 / (2 * b.z_G)
 
-    @property
-    def p(self):
-        """Frequency parameter p = √(m g r_G / I_O) [rad/s] (Housner 1963)."""
-        return math.sqrt(self.body.m * self.g * self.body.r_G / self.body.I_O)
-
-    def excitation(self, phi):
-        b = self.body
-        if self.exact:
-            return b.m * (b.z_G * np.cos(phi) + b.x_G * np.sin(phi))
-        return b.m * b.z_G + 0.0 * np.asarray(phi, dtype=float)
-
     def restoring(self, phi):
-        b = self.body
-        if self.exact:
-            return b.m * self.g * (b.x_G * np.cos(phi) - b.z_G * np.sin(phi))
-        return b.m * self.g * (b.x_G - b.z_G * np.asarray(phi, dtype=float))
+        return self.gravity_moment(phi)
 
     def work(self, phi):
-        b = self.body
-        phi = np.asarray(phi, dtype=float)
-        if self.exact:
-            return b.m * self.g * (b.x_G * np.sin(phi) + b.z_G * (np.cos(phi) - 1.0))
-        return b.m * self.g * (b.x_G * phi - 0.5 * b.z_G * phi ** 2)
+        return self.gravity_work(phi)
 
     def terms(self, phi):
         b = self.body
@@ -281,29 +306,6 @@ def friction_moment_I(phi, h, c, a, f, s, gamma, g=G_STANDARD):
     return np.where(phi * h < c, k * h ** 3 * (2 * c - h * phi), right)
 
 
-class BodyRocker(Rocker):
-    """A rocker of a closed-form mechanism's rigid ``body`` about its hinge, whose peak θ_m of
-    W(θ) is kept as ``_theta_m`` (mechanism I's and the real walls' rockers)."""
-
-    @property
-    def inertia(self):
-        return self.body.I_O
-
-    @property
-    def theta_m(self):
-        return self._theta_m
-
-    @property
-    def W_m(self):
-        return float(self.work(self._theta_m))
-
-    @property
-    def p(self):
-        """p = √(m g r_G / I_O) of the body [rad/s]."""
-        bd = self.body
-        return math.sqrt(bd.m * self.g * bd.r_G / bd.I_O)
-
-
 @dataclass(frozen=True)
 class MechanismIRocker(BodyRocker):
     """Mechanism I (the façade strip of height h = λ b detaching from the transversal wall),
@@ -355,18 +357,13 @@ class MechanismIRocker(BodyRocker):
     def has_friction(self):
         return True
 
-    # -- eq. 1 terms
-    def excitation(self, phi):
-        bd = self.body
-        if self.gravity == "exact":
-            return bd.m * (bd.z_G * np.cos(phi) + bd.x_G * np.sin(phi))
-        return bd.m * bd.z_G + 0.0 * np.asarray(phi, dtype=float)
+    @property
+    def exact(self) -> bool:
+        return self.gravity == "exact"
 
+    # -- eq. 1 terms
     def restoring(self, phi):
-        bd = self.body
-        if self.gravity == "exact":
-            return bd.m * self.g * (bd.x_G * np.cos(phi) - bd.z_G * np.sin(phi))
-        return bd.m * self.g * (bd.x_G - bd.z_G * np.asarray(phi, dtype=float))
+        return self.gravity_moment(phi)
 
     def friction(self, phi):
         w, mas = self.case.wall, self.case.masonry
@@ -396,13 +393,7 @@ class MechanismIRocker(BodyRocker):
         return total - bd.m * self.g * (bd.x_G * phi - 0.5 * bd.z_G * phi ** 2)
 
     def work(self, phi):
-        phi = np.asarray(phi, dtype=float)
-        bd = self.body
-        if self.gravity == "exact":
-            grav = bd.m * self.g * (bd.x_G * np.sin(phi) + bd.z_G * (np.cos(phi) - 1.0))
-        else:
-            grav = bd.m * self.g * (bd.x_G * phi - 0.5 * bd.z_G * phi ** 2)
-        return grav + self.friction_work(phi)
+        return self.gravity_work(phi) + self.friction_work(phi)
 
     def _exact_theta_m(self) -> float:
         """First sign change of R + F (the peak of W) on 0 < φ < π/2, refined by brentq."""
