@@ -81,3 +81,15 @@ def test_a_run_on_the_homogenised_facade_takes_the_searched_bound(monkeypatch):
     assert fe["hinge"][1] == pytest.approx(opt.z0, abs=0.05)   # the mechanism: the searched one
     pipeline.run(case, write=False, overrides=over | {"adapt.conform": False})
     assert len(calls) == 1
+
+
+def test_hinge_fan_of_an_analysed_mechanism_is_hinge_fan_of_its_solution():
+    """The crack study's start (``hinge_fan_of``: the hinge and edges ``analyse`` measured)
+    is what ``hinge_fan`` reads off the same solution."""
+    from homlimit.fe.problems import t_section
+    from homlimit.mechanism.adaptive import hinge_fan, hinge_fan_of
+    from homlimit.mechanism.analysis import analyse
+
+    fe = analyse(CASE, t_section(CASE, facade="homogenised", h=0.5))
+    assert hinge_fan_of(fe) == hinge_fan(CASE, fe.solution)
+    assert hinge_fan_of(fe) is not None

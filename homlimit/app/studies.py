@@ -23,7 +23,7 @@ from ..closed_form.fan import optimise_fan, optimise_wedge
 from ..errors import SolverError, check_choice, check_range
 from ..fe.problems import t_section
 from ..fe.solver import SolverOptions
-from ..mechanism.adaptive import hinge_fan
+from ..mechanism.adaptive import hinge_fan_of
 from ..mechanism.analysis import analyse
 from ..mechanism.conform import conform_fan
 from ..params import FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case, Masonry, Wall
@@ -120,7 +120,7 @@ def crack_point(point: tuple, wall: Wall = STUDY_WALL, options=None,
          "wedge_z0": wed.z0, "wedge_admissible": wed.admissible,
          "explained": mm.explained, "block_share": mm.block_share,
          "interior_share": mm.interior_share, "vnorm_fe": fe.vnorm, **_CONFORM}
-    hf = hinge_fan(case, fe.solution) if conform and fac == "homogenised" else None
+    hf = hinge_fan_of(fe) if conform and fac == "homogenised" else None
     if hf is not None:
         try:
             c = conform_fan(case, hf, options=options)

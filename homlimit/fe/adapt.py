@@ -162,7 +162,7 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
     (default: ``problem`` with its mesh replaced; ``problems.t_section_on_mesh`` places a
     T-section's ties and floors anew). ``improve_upper(bracket, problem)``: after each
     cycle's bracket, a search for a lower λ⁺ started from its mechanism (e.g.
-    ``mechanism.conform.conform_fan``), returning (KinematicSolution, problem) or None; a
+    ``mechanism.conform.conform_hook``), returning (KinematicSolution, problem) or None; a
     lower λ⁺ it finds is a kinematic bound like any other (its mesh is another valid mesh).
     """
     if not isinstance(options, AdaptOptions):

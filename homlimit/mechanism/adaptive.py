@@ -32,13 +32,13 @@ from ..fe.problems import t_section, t_section_on_mesh
 from ..fe.solver import SolverOptions
 from ..geometry import TSection
 from ..params import Case
-from .analysis import densities
+from .analysis import FEMechanism, densities
 from .crack import fan_edges
 from .fe_impulse import p2_nodes
 from .rigidfit import measure_mechanism
 
-__all__ = ["HingeFan", "adaptive_bracket", "hinge_fan", "hinge_refinement", "strip_rows",
-           "tsection_remesher"]
+__all__ = ["HingeFan", "adaptive_bracket", "hinge_fan", "hinge_fan_of", "hinge_refinement",
+           "strip_rows", "tsection_remesher"]
 
 
 @dataclass(frozen=True)
@@ -59,12 +59,28 @@ def hinge_fan(case: Case, kinematic) -> HingeFan | None:
     w = case.wall
     X, V, el, rho = p2_nodes(kinematic, densities(case))
     mm = measure_mechanism(X, V, el, rho)
+    z0 = _outer_hinge(case, mm, kinematic.mesh.p[1].min())
+    return None if z0 is None else _hinge_fan(z0, fan_edges(X, el, mm, w.b, z_top=w.H))
+
+
+def hinge_fan_of(mech: FEMechanism) -> HingeFan | None:
+    """``hinge_fan`` of a mechanism ``analysis.analyse`` has measured already (its rigid fit
+    and fan edges), without measuring it again."""
+    z0 = _outer_hinge(mech.case, mech.measures, mech.solution.mesh.p[1].min())
+    return None if z0 is None else _hinge_fan(z0, mech.edges)
+
+
+def _outer_hinge(case: Case, mm, z_min: float) -> float | None:
+    """The hinge height of a measured mechanism whose rigid block turns about a point of the
+    façade's outer face (within b/4 of it, from the mesh's base ``z_min`` to below H)."""
     if mm.kind == "distributed":
         return None
     x0, z0 = (float(v) for v in mm.fit.O)
-    if not (abs(x0) <= 0.25 * w.b and kinematic.mesh.p[1].min() <= z0 < w.H):
-        return None
-    ed = fan_edges(X, el, mm, w.b, z_top=w.H)
+    w = case.wall
+    return z0 if abs(x0) <= 0.25 * w.b and z_min <= z0 < w.H else None
+
+
+def _hinge_fan(z0: float, ed) -> HingeFan:
     if ed is None:
         return HingeFan(0.0, z0, None, None, None)
     return HingeFan(0.0, z0, float(ed.T1), float(ed.T2), float(ed.T_mid))

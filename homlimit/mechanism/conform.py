@@ -118,6 +118,13 @@ def conform_fan(case: Case, start: HingeFan, *, facade: str = "homogenised", siz
 
     x = simplex_start(start)
     fans = [start]                           # the best field's hinge and edges, per round
+    read = {}                                # id(solution) → its hinge_fan, read once
+
+    def fan_of(k):
+        if id(k) not in read:
+            read[id(k)] = (k, hinge_fan(case, k))    # k kept: its id stays its own
+        return read[id(k)][1]
+
     problem0 = t_section(case, facade=facade, h=size)
     trials, best = [], {}
     t0 = time.perf_counter()
@@ -152,7 +159,7 @@ def conform_fan(case: Case, start: HingeFan, *, facade: str = "homogenised", siz
                               maxfev=min(max_trials - n0, ROUND)))
         if not best or best["k"].multiplier >= lam0 * (1 - 1e-7):
             break
-        hf = hinge_fan(case, best["k"])
+        hf = fan_of(best["k"])
         fans.append(hf)
         try:
             nxt = simplex_start(hf) if hf is not None else None
@@ -168,7 +175,7 @@ def conform_fan(case: Case, start: HingeFan, *, facade: str = "homogenised", siz
         raise SolverError(f"every one of the {len(trials)} ray-conforming meshes failed to solve")
     k = best["k"]
     z_h, T1, T2 = best["p"]
-    fan = hinge_fan(case, k)
+    fan = fan_of(k)
     change = max(xatol, _change(fans[-2] if len(fans) > 1 else start, fan))
     prob = dataclasses.replace(best["prob"], meta={**best["prob"].meta,
                                                    "crack_resolution": change})
