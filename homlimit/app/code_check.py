@@ -32,6 +32,11 @@ READING = {
         "NTC 2018 §3.2.3.2.1 and Circolare 2019 §C8.7.1.2 as known to the authors, "
               "cross-checked against an unreviewed public transcription of the Circolare "
               "(a0*, e* agree; its floor masses Q_k differ: docs/code-check.md)",
+    "floors_Qk_reading":
+        "floors_Qk beside the used check: the floors' weights Q_k (load x l) pushed "
+              "horizontally in alpha0 and summed in M*, e* (the Circolare 2019 transcription's "
+              "C8.7.1.1, C8.7.1.5), at the height of that reading's smallest multiplier; "
+              "equal to the used check without floors",
     "impulse_reading":
         "beside the code check: the site's PGV 0.16 a_g S T_C (NTC 2018 §3.2.3.3) against "
               "each mechanism's collapse ground velocity vg (eq. 7): vg_over_pgv >= 1 holds",
@@ -48,6 +53,8 @@ class CodeCheck:
     checks: dict
     skipped: dict
     vg: dict            # name → the mechanism's v̄_g [m/s] (the impulse view), where it has one
+    floors: dict = None          # name → ``LinearKinematic`` in the floors' Q_k reading
+    floors_skipped: dict = None  # name → why that reading is not computed
 
     @property
     def governing(self) -> LinearKinematic | None:
@@ -66,6 +73,16 @@ class CodeCheck:
                 "impulse": {k: {"vg": v, "vg_over_pgv": v / s.pgv()}
                             for k, v in self.vg.items()},
                 "governing": None if gov is None else gov.name,
+                "ratio": None if gov is None else gov.ratio,
+                "floors_Qk": self._floors_dict()}
+
+    def _floors_dict(self) -> dict:
+        fl = self.floors or {}
+        gov = min(fl.values(), key=lambda c: c.ratio, default=None)
+        return {"mechanisms": {k: c.as_dict() for k, c in fl.items()},
+                "not_computed": [{"mechanism": k, "reason": why}
+                                 for k, why in (self.floors_skipped or {}).items()],
+                "governing": None if gov is None else gov.name,
                 "ratio": None if gov is None else gov.ratio}
 
 
@@ -75,7 +92,7 @@ def code_check(result) -> CodeCheck | None:
     if site is None:
         return None
     H = result.case.wall.H
-    checks, skipped, vg = {}, {}, {}
+    checks, skipped, vg, floors, floors_skipped = {}, {}, {}, {}, {}
     for name, m in result.mechanisms.items():
         v = getattr(m, "vg", None)
         if isinstance(v, (int, float)) and math.isfinite(v) and v > 0:
@@ -87,7 +104,14 @@ def code_check(result) -> CodeCheck | None:
             skipped[name] = "no static multiplier with a rigid body"
             continue
         checks[name] = linear_kinematic(name, sm, site, H)
-    return CodeCheck(site, H, checks, skipped, vg)
+        if not result.case.floors:      # no floors: the two readings are one
+            floors[name] = checks[name]
+        elif sm.floor_reading is not None:
+            floors[name] = linear_kinematic(name, sm.floor_reading, site, H)
+        else:
+            floors_skipped[name] = ("its model pushes only the wall's own weight; the floors' "
+                                    "weights would need a new limit analysis")
+    return CodeCheck(site, H, checks, skipped, vg, floors, floors_skipped)
 
 
 def code_check_files(result) -> dict:
@@ -97,4 +121,5 @@ def code_check_files(result) -> dict:
         return {}
     pgv = cc.site.pgv()
     return {"code_check_png": ("code_check.png", lambda p: plots.plot_code_check(
-        p, cc.checks, {k: v / pgv for k, v in cc.vg.items()}, title=f"case {result.name}"))}
+        p, cc.checks, {k: v / pgv for k, v in cc.vg.items()}, title=f"case {result.name}",
+        floors=cc.floors if result.case.floors else None))}

@@ -46,7 +46,8 @@ UNITS: dict[str, str] = {
                     .split(), "m/s^2"),
     **dict.fromkeys("T_B T_C T_D first_period".split(), "s"),
     "M_star": "kg", "Z": "m", "H_building": "m", "vg_over_pgv": "-",   # pgv: the DEM's m/s
-    "impulse_reading": "", "impulse": "",
+    "impulse_reading": "", "impulse": "", "m_floors": "kg",
+    **dict.fromkeys("floors_Qk floors_Qk_reading not_computed".split(), ""),
     **dict.fromkeys("what passes governing not_checked e_star_reading alpha0_reading "
                     "demand_reading source_reading".split(), ""),
     "omega": "1/s", "p": "rad/s", "period": "s",

@@ -331,6 +331,7 @@ class MechanismResult:
     lam_multiplier: float = math.nan   # λ = h/b of that smallest a/g
     static_body: RigidBody | None = None   # the body of that smallest a/g, about its hinge
     static_z0: float = math.nan        # its hinge's height above the wall's base [m]
+    floor_static: StaticMechanism | None = None   # the floors' reading (``check.ntc``)
 
     @property
     def static_mechanism(self) -> StaticMechanism | None:
@@ -338,7 +339,8 @@ class MechanismResult:
         if self.static_body is None:
             return None
         return StaticMechanism(self.multiplier, self.static_body, self.static_z0,
-                               "the body of the smallest a/g over h")
+                               "the body of the smallest a/g over h",
+                               floor_reading=self.floor_static)
 
     @property
     def hinge_ratio(self) -> float:
