@@ -187,7 +187,24 @@ def _code_check_lines(result) -> list[str]:
     if gov is not None:
         out.append(f"  governing in the code check: {gov.name}, ratio {gov.ratio:.3f} "
                    f"({'met' if gov.passes else 'NOT met'})")
-    return out + _floors_lines(cc, result.case.floors)
+    return out + _floors_lines(cc, result.case.floors) + _nonlinear_lines(cc)
+
+
+def _nonlinear_lines(cc) -> list[str]:
+    """The nonlinear kinematic check at the ground, where it is computed."""
+    nl = cc.nonlinear or {}
+    rows = [[c.name, c.d0_star, c.du_star, c.Ts, c.SDe_Ts, c.ratio, "yes" if c.passes else "NO",
+             c.T_SLV, c.SDe_SLV, c.ratio_SLV] for c in nl.values()]
+    out = []
+    if rows:
+        out.append(format_table(
+            ["mechanism", "d0* [m]", "du* [m]", "Ts [s]", "S_De(Ts) [m]", "ratio", "met",
+             "T_SLV [s]", "S_De(T_SLV,8%) [m]", "ratio(2019)"], rows,
+            title="nonlinear kinematic analysis at the ground (2009 C8A.4.2 form: du* = 0.4 "
+                  "d0* >= S_De(Ts); beside it the 2019 transcription's d_SLV = 0.4 d0*, "
+                  "T_SLV = 1.68 pi sqrt(d/a), 8 %)"))
+    out += [f"  {k}: no nonlinear check: {why}" for k, why in (cc.nonlinear_skipped or {}).items()]
+    return out
 
 
 def _floors_lines(cc, floors) -> list[str]:

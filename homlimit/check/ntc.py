@@ -37,8 +37,8 @@ from ..errors import ParameterError
 from ..impulse import RigidBody
 from .site import Site
 
-__all__ = ["LinearKinematic", "StaticMechanism", "linear_kinematic", "participation",
-           "participation_lumped"]
+__all__ = ["LinearKinematic", "NonlinearKinematic", "StaticMechanism", "linear_kinematic",
+           "nonlinear_kinematic", "participation", "participation_lumped"]
 
 
 @dataclass(frozen=True)
@@ -60,6 +60,7 @@ class StaticMechanism:
     what: str = ""
     floor_masses: tuple = ()
     floor_reading: StaticMechanism | None = None
+    theta0: float | None = None
 
 
 def participation(body: RigidBody, floor_masses=()) -> tuple[float, float]:
@@ -71,8 +72,8 @@ def participation(body: RigidBody, floor_masses=()) -> tuple[float, float]:
         raise ParameterError(f"J_z = {body.J_z!r} is out of range: the code check needs the "
                              "body's ∫z² dm about its hinge (a finite number)")
     mk, zk = _floor_rows(floor_masses)
-    M = (body.m * body.z_G + mk @ zk) ** 2 / (body.J_z + mk @ zk ** 2)
-    return M, M / (body.m + mk.sum())
+    M = float((body.m * body.z_G + mk @ zk) ** 2 / (body.J_z + mk @ zk ** 2))
+    return M, float(M / (body.m + mk.sum()))
 
 
 def _floor_rows(floor_masses) -> tuple[np.ndarray, np.ndarray]:
@@ -89,8 +90,8 @@ def participation_lumped(body: RigidBody, floor_masses=()) -> tuple[float, float
     mk, zk = _floor_rows(floor_masses)
     if not mk.size:
         return body.m, 1.0
-    M = (body.m * body.z_G + mk @ zk) ** 2 / (body.m * body.z_G ** 2 + mk @ zk ** 2)
-    return M, M / (body.m + mk.sum())
+    M = float((body.m * body.z_G + mk @ zk) ** 2 / (body.m * body.z_G ** 2 + mk @ zk ** 2))
+    return M, float(M / (body.m + mk.sum()))
 
 
 @dataclass(frozen=True)
@@ -162,3 +163,74 @@ def linear_kinematic(name: str, sm: StaticMechanism, site: Site,
                            e_lumped, a0_lumped, Z,
                            ground, at_height, T1, Se, psi, gam, demand, a0 / demand,
                            a0_lumped / demand)
+
+
+@dataclass(frozen=True)
+class NonlinearKinematic:
+    """The nonlinear kinematic check of one mechanism at the ground (``nonlinear_kinematic``).
+
+    The 2009 form (C8A.4.2, used): theta0 [rad], dk0 [m] (G's horizontal displacement at
+    theta0: the control point is the body's G), d0_star = dk0 J_z/(m z_G²) [m], du_star =
+    0.4 d0_star, ds_star = 0.4 du_star, as_star = a0_star (1 − ds/d0) [m/s²], Ts = 2π
+    √(ds/as) [s], SDe_Ts = S_De(T_s) at 5 % [m], ratio = du_star/SDe_Ts.
+    Beside it the 2019 transcription's form (C8.7.1.2.1.6, .8): d_SLV = 0.4 d0_star, a_SLV =
+    a0_star (1 − 0.4) [m/s²], T_SLV = 1.68π √(d_SLV/a_SLV) [s], SDe_SLV = S_De(T_SLV) at
+    xi_SLV = 8 % [m], ratio_SLV = d_SLV/SDe_SLV."""
+
+    name: str
+    theta0: float
+    dk0: float
+    a0_star: float
+    d0_star: float
+    du_star: float
+    ds_star: float
+    as_star: float
+    Ts: float
+    SDe_Ts: float
+    ratio: float
+    d_SLV: float
+    a_SLV: float
+    T_SLV: float
+    xi_SLV: float
+    SDe_SLV: float
+    ratio_SLV: float
+
+    @property
+    def passes(self) -> bool:
+        return self.ratio >= 1.0
+
+    def as_dict(self) -> dict:
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        d["passes"] = self.passes
+        return d
+
+
+def nonlinear_kinematic(lk: LinearKinematic, sm: StaticMechanism,
+                        site: Site) -> NonlinearKinematic:
+    """The nonlinear kinematic check at the ground of a mechanism whose capacity curve is
+    clean (``sm.theta0``: a rigid body turning about its hinge under gravity alone), beside
+    its linear check ``lk`` (its a₀*, e*). α(d_k) falls linearly from α₀ to zero at d_k,0, the
+    control point G's horizontal displacement at θ₀ of the exact rigid rotation,
+    x_G (1 − cos θ₀) + z_G sin θ₀; with δx ∝ z the SDOF displacement is
+    d* = d_k Σ P δx²/(δx_k Σ P δx) = d_k J_z/(m z_G²) and a* = α g/(e* FC) (C8A.4.2 of 2009
+    and the transcription's C8.7.1.3, .4). ParameterError where the mechanism has no θ₀ or its
+    base is above the ground (the check at height is not computed)."""
+    if sm.theta0 is None or not (math.isfinite(sm.theta0) and 0 < sm.theta0 < math.pi / 2):
+        raise ParameterError(f"theta0 = {sm.theta0!r} of mechanism {lk.name} is out of range: "
+                             "the nonlinear check needs a finite 0 < theta0 < π/2 rad")
+    if lk.Z > 1e-9:
+        raise ParameterError(f"Z = {lk.Z!r} m of mechanism {lk.name} is out of range: the "
+                             "nonlinear check is computed at the ground only (Z = 0)")
+    b, th = sm.body, sm.theta0
+    dk0 = b.x_G * (1 - math.cos(th)) + b.z_G * math.sin(th)
+    d0 = dk0 * b.J_z / (b.m * b.z_G ** 2)
+    du, a0 = 0.4 * d0, lk.a0_star
+    ds = 0.4 * du
+    a_s = a0 * (1 - ds / d0)
+    Ts = 2 * math.pi * math.sqrt(ds / a_s)
+    dem = site.SDe(Ts)
+    d_slv, a_slv, xi = 0.4 * d0, a0 * (1 - 0.4), 8.0
+    T_slv = 1.68 * math.pi * math.sqrt(d_slv / a_slv)
+    dem_slv = site.SDe(T_slv, xi)
+    return NonlinearKinematic(lk.name, th, dk0, a0, d0, du, ds, a_s, Ts, dem, du / dem,
+                              d_slv, a_slv, T_slv, xi, dem_slv, d_slv / dem_slv)

@@ -398,6 +398,15 @@ CHOICES = {
 }
 
 
+def _theta0(case: Case, kind: str, body) -> float | None:
+    """The rotation where the simple overturning's a/g falls to zero, atan(x_G/z_G) about the
+    (retreated) hinge, where its capacity curve is clean (gravity alone: no ties, no floors);
+    None elsewhere (the code check's nonlinear analysis, docs/code-check.md)."""
+    if kind != "overturning" or case.ties or case.floors or body is None:
+        return None
+    return math.atan2(body.x_G, body.z_G)
+
+
 def real_mechanism(case: Case, kind: str, tanpsi: float | None = None,
                    lam: float | None = None) -> RealMechanismResult:
     """Mechanism ``kind`` (detachment I, crack II or overturning) of a real wall at its
@@ -446,6 +455,7 @@ def real_mechanism(case: Case, kind: str, tanpsi: float | None = None,
         tanpsi=st["t_psi"] if kind == "crack" else None, lam_max=lam_max,
         multiplier=a_g, lam_multiplier=lam_a, static_body=static_body,
         static_z0=w.H - lam_a * w.b, floor_static=floor_static, kind=kind,
+        static_theta0=_theta0(case, kind, static_body),
         hinge_retreat=t, normal_force=float(st["N"][0]),
         tie_elongation=tuple(float(x) for x in delta), fc=case.masonry.fc,
         choices=dict(CHOICES))
