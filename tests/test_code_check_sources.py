@@ -19,7 +19,7 @@ import dataclasses
 
 import pytest
 
-from homlimit.check import Site, linear_kinematic
+from homlimit.check import Site, linear_kinematic, nonlinear_kinematic
 from homlimit.closed_form import real
 from homlimit.params import Case, Floor, Masonry, Wall
 
@@ -66,3 +66,18 @@ def test_rd2229_top_load_is_the_floors_reading():
     e_q = (W * 1.5 + N * 3.0) ** 2 / ((W + N) * (W * 3.0 + N * 9.0))
     assert cq.e_star == pytest.approx(e_q, rel=1e-9)
     assert e_q == pytest.approx(247118400 / 317491200, rel=1e-12)     # 0.778348
+
+
+def test_rd2229_nonlinear_d0_star_of_the_simple_overturning():
+    """RD2229 takes d₀* = 2t/3 for every mechanism; for the simple overturning of a uniform
+    block it is exact (G's displacement t/2 at θ₀ = atan(t/h), times J_z/(m z_G²) = 4/3). Its
+    tests print d₀* = 30 × 2/3 = 20 cm (t = 30 cm) and "d*_u = 0.4 × 60 × 2/3 = 16 cm" (t =
+    60 cm). (Its T_s = 2π √(d₀*/a₀*) and its demand are its own: not compared.)"""
+    for t, d0, du in ((0.3, 0.20, None), (0.6, None, 0.16)):
+        case = dataclasses.replace(WALL, wall=dataclasses.replace(WALL.wall, b=t))
+        sm, c = _check(case, 1.35)
+        nl = nonlinear_kinematic(c, sm, Site(ag=0.05 * G, F0=2.5, Tc_star=0.3, g=G))
+        if d0 is not None:
+            assert round(nl.d0_star, 2) == d0 and nl.d0_star == pytest.approx(2 * t / 3)
+        if du is not None:
+            assert round(nl.du_star, 2) == du
