@@ -31,7 +31,8 @@ READING = {
     "source_reading":
         "NTC 2018 §3.2.3.2.1 and Circolare 2019 §C8.7.1.2 as known to the authors, "
               "cross-checked against an unreviewed public transcription of the Circolare "
-              "(a0*, e* agree; its floor masses Q_k differ: docs/code-check.md)",
+              "(a0*, e* agree; its floor masses Q_k differ: floors_Qk computes that reading) "
+              "and an open-source code, RD2229 (docs/code-check.md)",
     "floors_Qk_reading":
         "floors_Qk beside the used check: the floors' weights Q_k (load x l) pushed "
               "horizontally in alpha0 and summed in M*, e* (the Circolare 2019 transcription's "
