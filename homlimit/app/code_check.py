@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..check import LinearKinematic, Site, linear_kinematic
+from ..check import LinearKinematic, Site, linear_kinematic, nonlinear_kinematic
 from . import plots, registry
 
 __all__ = ["READING", "CodeCheck", "code_check", "code_check_files"]
@@ -31,7 +31,20 @@ READING = {
     "source_reading":
         "NTC 2018 §3.2.3.2.1 and Circolare 2019 §C8.7.1.2 as known to the authors, "
               "cross-checked against an unreviewed public transcription of the Circolare "
-              "(a0*, e* agree; its floor masses Q_k differ: docs/code-check.md)",
+              "(a0*, e* agree; its floor masses Q_k differ: floors_Qk computes that reading) "
+              "and an open-source code, RD2229 (docs/code-check.md)",
+    "floors_Qk_reading":
+        "floors_Qk beside the used check: the floors' weights Q_k (load x l) pushed "
+              "horizontally in alpha0 and summed in M*, e* (the Circolare 2019 transcription's "
+              "C8.7.1.1, C8.7.1.5), at the height of that reading's smallest multiplier; "
+              "equal to the used check without floors",
+    "nonlinear_reading":
+        "nonlinear: where the capacity curve is clean (the simple overturning under gravity "
+              "alone) and at the ground: alpha falls linearly to 0 at dk0 (G's displacement at "
+              "theta0 = atan(x_G/z_G)); d* = d_k J_z/(m z_G^2); used: the 2009 form du* = "
+              "0.4 d0*, Ts = 2 pi sqrt(ds*/as*), ds* = 0.4 du*, du* >= S_De(Ts) at 5 %; beside "
+              "it the 2019 transcription's d_SLV = 0.4 d0*, T_SLV = 1.68 pi sqrt(d_SLV/a(d_SLV)),"
+              " S_De(T_SLV) at 8 %",
     "impulse_reading":
         "beside the code check: the site's PGV 0.16 a_g S T_C (NTC 2018 §3.2.3.3) against "
               "each mechanism's collapse ground velocity vg (eq. 7): vg_over_pgv >= 1 holds",
@@ -48,6 +61,10 @@ class CodeCheck:
     checks: dict
     skipped: dict
     vg: dict            # name → the mechanism's v̄_g [m/s] (the impulse view), where it has one
+    floors: dict = None          # name → ``LinearKinematic`` in the floors' Q_k reading
+    floors_skipped: dict = None  # name → why that reading is not computed
+    nonlinear: dict = None       # name → ``NonlinearKinematic`` (at the ground, clean curves)
+    nonlinear_skipped: dict = None   # name → why it has none
 
     @property
     def governing(self) -> LinearKinematic | None:
@@ -66,6 +83,20 @@ class CodeCheck:
                 "impulse": {k: {"vg": v, "vg_over_pgv": v / s.pgv()}
                             for k, v in self.vg.items()},
                 "governing": None if gov is None else gov.name,
+                "ratio": None if gov is None else gov.ratio,
+                "floors_Qk": self._floors_dict(),
+                "nonlinear": {"mechanisms": {k: c.as_dict()
+                                             for k, c in (self.nonlinear or {}).items()},
+                              "not_computed": [{"mechanism": k, "reason": why} for k, why
+                                               in (self.nonlinear_skipped or {}).items()]}}
+
+    def _floors_dict(self) -> dict:
+        fl = self.floors or {}
+        gov = min(fl.values(), key=lambda c: c.ratio, default=None)
+        return {"mechanisms": {k: c.as_dict() for k, c in fl.items()},
+                "not_computed": [{"mechanism": k, "reason": why}
+                                 for k, why in (self.floors_skipped or {}).items()],
+                "governing": None if gov is None else gov.name,
                 "ratio": None if gov is None else gov.ratio}
 
 
@@ -75,7 +106,8 @@ def code_check(result) -> CodeCheck | None:
     if site is None:
         return None
     H = result.case.wall.H
-    checks, skipped, vg = {}, {}, {}
+    checks, skipped, vg, floors, floors_skipped = {}, {}, {}, {}, {}
+    nonlin, nonlin_skipped = {}, {}
     for name, m in result.mechanisms.items():
         v = getattr(m, "vg", None)
         if isinstance(v, (int, float)) and math.isfinite(v) and v > 0:
@@ -87,7 +119,23 @@ def code_check(result) -> CodeCheck | None:
             skipped[name] = "no static multiplier with a rigid body"
             continue
         checks[name] = linear_kinematic(name, sm, site, H)
-    return CodeCheck(site, H, checks, skipped, vg)
+        if not result.case.floors:      # no floors: the two readings are one
+            floors[name] = checks[name]
+        elif sm.floor_reading is not None:
+            floors[name] = linear_kinematic(name, sm.floor_reading, site, H)
+        else:
+            floors_skipped[name] = ("its model pushes only the wall's own weight; the floors' "
+                                    "weights would need a new limit analysis")
+        if sm.theta0 is None:
+            nonlin_skipped[name] = ("no clean capacity curve (only the simple overturning "
+                                    "under gravity alone: no ties, no floors)")
+        elif checks[name].Z > 1e-9:
+            nonlin_skipped[name] = (f"its base is at Z = {checks[name].Z:.4g} m: the check at "
+                                    "height is not computed")
+        else:
+            nonlin[name] = nonlinear_kinematic(checks[name], sm, site)
+    return CodeCheck(site, H, checks, skipped, vg, floors, floors_skipped, nonlin,
+                     nonlin_skipped)
 
 
 def code_check_files(result) -> dict:
@@ -97,4 +145,5 @@ def code_check_files(result) -> dict:
         return {}
     pgv = cc.site.pgv()
     return {"code_check_png": ("code_check.png", lambda p: plots.plot_code_check(
-        p, cc.checks, {k: v / pgv for k, v in cc.vg.items()}, title=f"case {result.name}"))}
+        p, cc.checks, {k: v / pgv for k, v in cc.vg.items()}, title=f"case {result.name}",
+        floors=cc.floors if result.case.floors else None))}

@@ -305,18 +305,27 @@ def plot_spectra(path: str | Path, points, *, dem_vnorm: float | None = None,
 
 
 
-def plot_code_check(path: str | Path, checks: dict, impulse: dict, title: str = "") -> Path:
+def plot_code_check(path: str | Path, checks: dict, impulse: dict, title: str = "",
+                    floors: dict | None = None) -> Path:
     """code_check.png: per mechanism, the code check's capacity/demand a₀*/demand (NTC 2018 /
     Circolare 2019 §C8.7.1.2, e* by integration) beside the impulse view's v̄_g/PGV (PGV =
-    0.16 a_g S T_C, §3.2.3.3), on one log axis with the limit 1 (docs/code-check.md)."""
+    0.16 a_g S T_C, §3.2.3.3), on one log axis with the limit 1 (docs/code-check.md); with
+    ``floors`` (name → check in the floors' Q_k reading) a hatched bar of its ratio between."""
     plt = pyplot()
     names = list(dict.fromkeys([*checks, *impulse]))
     y = np.arange(len(names))
     fig, ax = plt.subplots(figsize=(8, 1.2 + 0.6 * len(names)), layout="constrained")
     acc = [checks[n].ratio if n in checks else np.nan for n in names]
     vel = [impulse[n] if n in impulse else np.nan for n in names]
-    ax.barh(y - 0.2, acc, 0.4, color="C0", label="code check: a0*/demand (acceleration)")
-    ax.barh(y + 0.2, vel, 0.4, color="C3", label="impulse view: v̄_g/PGV (velocity)")
+    w = 0.4 if floors is None else 0.27
+    ax.barh(y - w / 2 - (0 if floors is None else w / 2), acc, w, color="C0",
+            label="code check: a0*/demand (acceleration)")
+    if floors is not None:
+        ax.barh(y, [floors[n].ratio if n in floors else np.nan for n in names], w,
+                color="white", edgecolor="C0", hatch="///",
+                label="code check, floors' Q_k reading (transcription C8.7.1.1/.5)")
+    ax.barh(y + w / 2 + (0 if floors is None else w / 2), vel, w, color="C3",
+            label="impulse view: v̄_g/PGV (velocity)")
     ax.axvline(1.0, color="k", lw=1.0, ls="--")
     ax.set_xscale("log")
     ax.set_yticks(y, names)

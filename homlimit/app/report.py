@@ -187,6 +187,46 @@ def _code_check_lines(result) -> list[str]:
     if gov is not None:
         out.append(f"  governing in the code check: {gov.name}, ratio {gov.ratio:.3f} "
                    f"({'met' if gov.passes else 'NOT met'})")
+    return out + _floors_lines(cc, result.case.floors) + _nonlinear_lines(cc)
+
+
+def _nonlinear_lines(cc) -> list[str]:
+    """The nonlinear kinematic check at the ground, where it is computed."""
+    nl = cc.nonlinear or {}
+    rows = [[c.name, c.d0_star, c.du_star, c.Ts, c.SDe_Ts, c.ratio, "yes" if c.passes else "NO",
+             c.T_SLV, c.SDe_SLV, c.ratio_SLV] for c in nl.values()]
+    out = []
+    if rows:
+        out.append(format_table(
+            ["mechanism", "d0* [m]", "du* [m]", "Ts [s]", "S_De(Ts) [m]", "ratio", "met",
+             "T_SLV [s]", "S_De(T_SLV,8%) [m]", "ratio(2019)"], rows,
+            title="nonlinear kinematic analysis at the ground (2009 C8A.4.2 form: du* = 0.4 "
+                  "d0* >= S_De(Ts); beside it the 2019 transcription's d_SLV = 0.4 d0*, "
+                  "T_SLV = 1.68 pi sqrt(d/a), 8 %)"))
+    out += [f"  {k}: no nonlinear check: {why}" for k, why in (cc.nonlinear_skipped or {}).items()]
+    return out
+
+
+def _floors_lines(cc, floors) -> list[str]:
+    """The floors' Q_k reading beside the used check (docs/code-check.md, reading 3)."""
+    if not floors:
+        return ["  floors' Q_k reading (Circolare 2019 transcription, C8.7.1.1/.5): the case has "
+                "no floors, the same as above"]
+    rows = [[c.name, c.alpha0, c.m_floors, c.e_star, c.a0_star, c.Z, c.demand, c.ratio,
+             cc.checks[c.name].ratio, "yes" if c.passes else "NO"]
+            for c in (cc.floors or {}).values()]
+    out = [format_table(["mechanism", "alpha0", "floors [kg]", "e*", "a0* [m/s2]", "Z [m]",
+                         "demand [m/s2]", "ratio", "ratio used", "met"], rows,
+                        title="beside it, the floors' Q_k reading (Circolare 2019 "
+                              "transcription, C8.7.1.1/.5): the floors' weights pushed "
+                              "horizontally in alpha0 and summed in M*, e*")]
+    out += [f"  {k}: floors' reading not computed ({why})"
+            for k, why in (cc.floors_skipped or {}).items()]
+    if rows:
+        gov = min(cc.floors.values(), key=lambda c: c.ratio)
+        out.append(f"  governing in the floors' reading: {gov.name}, ratio {gov.ratio:.3f} "
+                   f"({'met' if gov.passes else 'NOT met'}); its own smallest a/g over h "
+                   "(the body, Z may differ from the used check's)")
     return out
 
 

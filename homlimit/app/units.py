@@ -46,7 +46,12 @@ UNITS: dict[str, str] = {
                     .split(), "m/s^2"),
     **dict.fromkeys("T_B T_C T_D first_period".split(), "s"),
     "M_star": "kg", "Z": "m", "H_building": "m", "vg_over_pgv": "-",   # pgv: the DEM's m/s
-    "impulse_reading": "", "impulse": "",
+    "impulse_reading": "", "impulse": "", "m_floors": "kg",
+    **dict.fromkeys("floors_Qk floors_Qk_reading not_computed".split(), ""),
+    **dict.fromkeys("dk0 d0_star du_star ds_star SDe_Ts d_SLV SDe_SLV".split(), "m"),
+    **dict.fromkeys("as_star a_SLV".split(), "m/s^2"), "Ts": "s", "T_SLV": "s",
+    "theta0": "rad", "xi_SLV": "%", "ratio_SLV": "-",
+    **dict.fromkeys("nonlinear nonlinear_reading".split(), ""),
     **dict.fromkeys("what passes governing not_checked e_star_reading alpha0_reading "
                     "demand_reading source_reading".split(), ""),
     "omega": "1/s", "p": "rad/s", "period": "s",

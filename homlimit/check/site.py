@@ -10,6 +10,7 @@ taken here). Units SI: a_g in m/s², periods in s.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -142,6 +143,18 @@ class Site:
     def Se(self, T):
         """S_e(T) [m/s²], η = 1 (``elastic_spectrum``)."""
         return elastic_spectrum(T, self.ag, self.S, self.F0, *self.periods)
+
+    def SDe(self, T, xi: float = 5.0):
+        """The elastic displacement spectrum S_De(T) = S_e(T) T²/(4π²) [m] (NTC 2018
+        §3.2.3.2.3) at viscous damping ``xi`` [%], η = max(√(10/(5 + ξ)), 0.55) (eq. 3.2.4,
+        as the authors know it: the text is not here)."""
+        if not (0.0 <= xi <= 100.0):
+            raise ParameterError(f"xi = {xi!r} % is out of range: allowed 0 <= xi <= 100")
+        eta = max(math.sqrt(10.0 / (5.0 + xi)), 0.55)
+        T = np.asarray(T, float)
+        out = elastic_spectrum(T, self.ag, self.S, self.F0, *self.periods, eta=eta) \
+            * T ** 2 / (4 * math.pi ** 2)
+        return float(out) if np.ndim(out) == 0 else out
 
     def height(self, wall_H: float) -> float:
         """The building's height H [m]: ``building_height``, or the wall's top."""

@@ -331,6 +331,8 @@ class MechanismResult:
     lam_multiplier: float = math.nan   # λ = h/b of that smallest a/g
     static_body: RigidBody | None = None   # the body of that smallest a/g, about its hinge
     static_z0: float = math.nan        # its hinge's height above the wall's base [m]
+    floor_static: StaticMechanism | None = None   # the floors' reading (``check.ntc``)
+    static_theta0: float | None = None  # rotation where a/g falls to 0 (nonlinear check)
 
     @property
     def static_mechanism(self) -> StaticMechanism | None:
@@ -338,7 +340,8 @@ class MechanismResult:
         if self.static_body is None:
             return None
         return StaticMechanism(self.multiplier, self.static_body, self.static_z0,
-                               "the body of the smallest a/g over h")
+                               "the body of the smallest a/g over h",
+                               floor_reading=self.floor_static, theta0=self.static_theta0)
 
     @property
     def hinge_ratio(self) -> float:

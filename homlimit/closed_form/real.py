@@ -19,7 +19,8 @@ a tie or a floor given per metre of façade carries its value × l.
 - A floor at z_F > z0 is a dead load Q = q l at (e, z_F − z0) from the hinge: its vertical
   displacement's work adds to W(θ) (linearised for I) and Q (e − t) to the resisting moment;
   its mass moves with the building (not in I_O, not in the horizontal load). A restraining
-  floor bounds the body: z0 >= z_F.
+  floor bounds the body: z0 >= z_F. Beside it, the code check's floors' reading
+  (``multiplier_real(..., floor_mass=True)``, docs/code-check.md) also pushes Q horizontally.
 
 W(θ_m) is the largest W over 0 <= θ <= θ_hi (a grid, then golden-section refinement); v̄_g
 from eq. 7 about the retreated hinge. A case without ties, floors and f_c never comes here
@@ -33,6 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..check.ntc import StaticMechanism
 from ..errors import ParameterError
 from ..impulse import RigidBody
 from ..params import Case
@@ -325,11 +327,34 @@ def vnorm_real(case: Case, kind: str, lam, tanpsi: float | None = None):
     return _velocity(case, kind, st)[0] / math.sqrt(case.wall.g * case.wall.b)
 
 
-def multiplier_real(case: Case, kind: str, lam, tanpsi: float | None = None):
+def multiplier_real(case: Case, kind: str, lam, tanpsi: float | None = None,
+                    floor_mass: bool = False):
     """The collapse acceleration a/g at rest per λ: the resisting moment (``_moment0``) over
-    the overturning moment of the body's weight pushed horizontally, m g z_G."""
+    the overturning moment of the body's weight pushed horizontally, m g z_G. With
+    ``floor_mass`` (the floors' reading of the Circolare 2019 transcription's C8.7.1.1,
+    docs/code-check.md) the floors' weights Q on the body are pushed too: + Σ Q z_Q."""
     st = _state(case, kind, lam, tanpsi)
-    return _moment0(case, kind, st) / (st["m"] * st["g"] * st["zg"])
+    push = st["m"] * st["g"] * st["zg"]
+    if floor_mass:
+        push = push + np.sum(st["Q"] * st["zq"], axis=-1)
+    return _moment0(case, kind, st) / push
+
+
+def _static(case: Case, kind: str, lam_max: float, tanpsi, floor_mass: bool):
+    """The static check at the smallest a/g over λ <= lam_max: (a/g, λ, the body about its
+    retreated hinge or None where it crushes, the floors on it as (Q/g [kg], z_Q [m]))."""
+    lam_a, a_g = minimise(lambda x, ix: multiplier_real(case, kind, np.ravel(x), tanpsi,
+                                                        floor_mass).reshape(np.shape(x)),
+                          np.array([lam_max]))
+    lam_a = float(lam_a[0])
+    sa = _state(case, kind, [lam_a], tanpsi)
+    ma, xa, ta = float(sa["m"][0]), float(sa["xg"][0]), float(sa["t"][0])
+    body = None if not math.isfinite(ta) else RigidBody(   # NaN: it crushes
+        m=ma, x_G=xa - ta, z_G=float(sa["zg"][0]),
+        I_O=float(sa["I_O"][0]) + ma * (ta ** 2 - 2 * xa * ta), J_z=float(sa["Jz"][0]))
+    floors = tuple((float(q) / sa["g"], float(z)) for q, z in zip(sa["Q"][0], sa["zq"][0])
+                   if q > 0)
+    return float(a_g[0]), lam_a, body, floors
 
 
 @dataclass(frozen=True)
@@ -373,6 +398,15 @@ CHOICES = {
 }
 
 
+def _theta0(case: Case, kind: str, body) -> float | None:
+    """The rotation where the simple overturning's a/g falls to zero, atan(x_G/z_G) about the
+    (retreated) hinge, where its capacity curve is clean (gravity alone: no ties, no floors);
+    None elsewhere (the code check's nonlinear analysis, docs/code-check.md)."""
+    if kind != "overturning" or case.ties or case.floors or body is None:
+        return None
+    return math.atan2(body.x_G, body.z_G)
+
+
 def real_mechanism(case: Case, kind: str, tanpsi: float | None = None,
                    lam: float | None = None) -> RealMechanismResult:
     """Mechanism ``kind`` (detachment I, crack II or overturning) of a real wall at its
@@ -403,24 +437,25 @@ def real_mechanism(case: Case, kind: str, tanpsi: float | None = None,
     if not math.isfinite(v):
         raise ParameterError(f"[masonry] fc = {case.masonry.fc!r} Pa: mechanism {kind} at "
                              f"λ = {lam:.4g} crushes at its hinge; allowed a larger fc")
-    lam_a, a_g = minimise(lambda x, ix: multiplier_real(case, kind, np.ravel(x), tanpsi)
-                           .reshape(np.shape(x)), np.array([lam_max]))
     t = float(st["t"][0])
     m, zg, xg = float(st["m"][0]), float(st["zg"][0]), float(st["xg"][0])
     body = RigidBody(m=m, x_G=xg - t, z_G=zg, I_O=I_h, J_z=float(st["Jz"][0]))
-    lam_a = float(lam_a[0])
-    sa = _state(case, kind, [lam_a], tanpsi)
-    ma, xa, ta = float(sa["m"][0]), float(sa["xg"][0]), float(sa["t"][0])
-    static_body = None if not math.isfinite(ta) else RigidBody(   # NaN: it crushes
-        m=ma, x_G=xa - ta, z_G=float(sa["zg"][0]),
-        I_O=float(sa["I_O"][0]) + ma * (ta ** 2 - 2 * xa * ta), J_z=float(sa["Jz"][0]))
+    a_g, lam_a, static_body, _ = _static(case, kind, lam_max, tanpsi, False)
+    floor_static = None
+    if case.floors:         # the floors' reading: their weights pushed too (docs/code-check.md)
+        a_q, lam_q, body_q, floors_q = _static(case, kind, lam_max, tanpsi, True)
+        if body_q is not None:
+            floor_static = StaticMechanism(
+                a_q, body_q, w.H - lam_q * w.b, "the body of the smallest a/g over h, the "
+                "floors' weights pushed horizontally", floor_masses=floors_q)
     d = st["d"][0]
     delta = d * th if kind == "detachment" else d * math.sin(th)
     return RealMechanismResult(
         NAMES[kind], lam, lam * w.b, v / math.sqrt(w.g * w.b), v, th, Wm, body,
         tanpsi=st["t_psi"] if kind == "crack" else None, lam_max=lam_max,
-        multiplier=float(a_g[0]), lam_multiplier=lam_a, static_body=static_body,
-        static_z0=w.H - lam_a * w.b, kind=kind,
+        multiplier=a_g, lam_multiplier=lam_a, static_body=static_body,
+        static_z0=w.H - lam_a * w.b, floor_static=floor_static, kind=kind,
+        static_theta0=_theta0(case, kind, static_body),
         hinge_retreat=t, normal_force=float(st["N"][0]),
         tie_elongation=tuple(float(x) for x in delta), fc=case.masonry.fc,
         choices=dict(CHOICES))
