@@ -483,3 +483,21 @@ def test_dem_refuses_a_jamb_piece_thinner_than_its_contact_margin():
     # the margin is the DEM's: a smaller one takes the piece
     assert load_case(b1(analysis={"hinge_check": False, "fe": False, "dem": True},
                         dem={"verlet_margin": 0.002}, wall_opening=hole)).case.wall_openings
+
+
+def test_run_brackets_the_dem_threshold_with_a_hole(tmp_path):
+    import json
+
+    from homlimit.app import pipeline
+    case = {"name": "small-hole",
+            "wall": {"H": 2.4, "L": 2.0, "s": 0.3, "b": 0.3, "l": 1.2, "gamma": 2000.0},
+            "masonry": {"a": 0.3, "c": 0.2, "f": 0.6},
+            "analysis": {"fe": False, "hinge_check": False, "dem": True},
+            "dem": {"rel_tol": 0.05, "t_max": 2.0},
+            "wall_opening": [{"x": 1.0, "z": 0.6, "width": 0.6, "height": 0.9}],
+            "output": {"png": False, "vtu": False}}
+    pipeline.run(case, out=tmp_path)
+    d = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))["dem"]
+    assert d["n_blocks"] == 46 and d["settle_converged"]      # SMALL's 45 blocks + ground
+    assert d["vg_lo"] < d["vg_hi"] and (d["vg_hi"] - d["vg_lo"]) / (d["vg_hi"] + d["vg_lo"]) \
+        <= 0.05
