@@ -228,3 +228,29 @@ def test_t_section_settles_with_the_papers_uniform_lowering():
     column = sum(2000.0 * G * (9.0 - 0.3 * k) for k in range(30)) / DEMParams().kn
     assert wall.mean() == pytest.approx(column, rel=0.03)
     assert facade.mean() == pytest.approx(wall.mean(), rel=0.05)
+
+
+def test_failing_part_follows_the_block_that_met_the_criterion():
+    # a column of five 0.5 x 0.3 m blocks (watched: every free block; disp_limit: the widest
+    # block, 0.5 m): blocks 3 and 4 turned 0.6 rad and went out 0.8 and 1.0 m (4 past the
+    # limit), the top one tumbled on its own (3.1 rad, 0.1 m out), 1 and 2 stood (0.05 rad).
+    # The failing part is 3 and 4 (and the top above them): from z = 0.6 m, h = 0.9 m; the
+    # largest rotation alone would give the top block, h = 0.3 m (the multi-storey example)
+    from types import SimpleNamespace
+
+    from homlimit.dem.threshold import failing_part
+
+    model = build_model(stack([0.5] * 5, [0.3] * 5, density=RHO, meta={"f": 0.6}))
+    assert model.disp_limit == pytest.approx(0.5)
+    settled = SimpleNamespace(pos=model.assembly.centroid.copy(), th=np.zeros(6))
+    pos = settled.pos.copy()
+    pos[1:, 0] -= [0.01, 0.02, 0.8, 1.0, 0.1]
+    th = np.array([0.0, 0.05, 0.05, 0.6, 0.6, 3.1])
+    out = SimpleNamespace(state=SimpleNamespace(pos=pos, th=th), slip_base=np.zeros(6),
+                          slip_bed=np.zeros(6))
+    h, z0, *_ = failing_part(model, settled, out)
+    assert (z0, h) == pytest.approx((0.6, 0.9), abs=1e-12)
+    # met by rotation alone (nothing past disp_limit): the most turned block leads, as before
+    pos[1:, 0] = settled.pos[1:, 0] - 0.1
+    h, z0, *_ = failing_part(model, settled, out)
+    assert (z0, h) == pytest.approx((1.2, 0.3), abs=1e-12)

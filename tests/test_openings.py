@@ -180,12 +180,16 @@ def test_the_api_checks_too():
         FacadeOpening(1.0, 2.0, 1.0)
 
 
-def test_a_model_without_openings_refuses_them():
-    with pytest.raises(ConfigError) as e:
-        load_case(b1(analysis={"hinge_check": False, "fe": False, "dem": True},
+def test_every_model_takes_openings():
+    # the DEM takes the blocks' holes and lintels (tests below; it refused them before)
+    c = load_case(b1(analysis={"hinge_check": False, "fe": False, "dem": True},
                      wall_opening=[{"x": 2.0, "z": 1.0, "width": 1.0, "height": 1.0}]))
-    assert ("[[wall_opening]] (1 entries) with [analysis] dem = true: the DEM does not take a "
-            "wall opening yet; allowed [analysis] dem = false") in str(e.value)
+    assert c.case.wall_openings == (WallOpening(2.0, 1.0, 1.0, 1.0),)
+    # and refuses, as the blocks do, an opening without a course above it for the lintel
+    with pytest.raises(ConfigError, match="with \\[analysis\\] dem = true: .*leaves no course "
+                                          "above it for its lintel"):
+        load_case(b1(analysis={"hinge_check": False, "fe": False, "dem": True},
+                     wall_opening=[{"x": 2.0, "z": 8.0, "width": 1.0, "height": 0.86}]))
     # the hinge check's rockers take them: their bodies are the closed forms' real ones
     # (dynamics.real_rocker; tests/test_real_rockers.py)
     assert load_case(b1(analysis={"fe": False}, facade_opening=[
@@ -396,3 +400,104 @@ def test_a_remesh_keeps_the_band_and_the_lintels():
     assert dead == pytest.approx([0.0, -weight], rel=1e-12, abs=1e-6)
     assert live == pytest.approx([-weight, 0.0], rel=1e-12, abs=1e-6)
     assert q.mesh.t.shape[1] > p.mesh.t.shape[1] and "lintel0" in q.domains
+
+
+# ------------------------------------------------------------------------ DEM, wall holes
+#: a small T-section (8 courses) with one opening spanning courses 2–4 (z 0.6..1.5 m) over
+#: x 1.0..1.6 m: 45 free blocks, settled in ~0.5 s
+SMALL = Case(Wall(H=2.4, L=2.0, s=0.3, b=0.3, l=1.2, gamma=2000.0),
+             Masonry(a=0.3, c=0.2, f=0.6), name="small-hole",
+             wall_openings=(WallOpening(x=1.0, z=0.6, width=0.6, height=0.9),))
+
+
+@pytest.fixture(scope="module")
+def small_dem():
+    from homlimit.app.config import default_case
+    from homlimit.app.dem_stage import _model
+    from homlimit.dem import settle
+    model = _model(SMALL, default_case().dem)   # a run's DEM model of the case, [dem] defaults
+    settled, info = settle(model)
+    return model, settled, info
+
+
+def test_dem_takes_the_blocks_assembly_with_its_hole(small_dem):
+    from homlimit.app.config import default_case
+    from homlimit.blocks.geometry import t_section_blocks
+    model, _, _ = small_dem
+    la = t_section_blocks(SMALL, facade=default_case().blocks.facade)   # the blocks LA's
+    A = model.assembly
+    # by hand: 6 blocks a course (toothed: breaks 0, .5, .9, 1.3, 1.7, 2.1, 2.3; plain: 0,
+    # .3, .7, 1.1, 1.5, 1.9, 2.3), 48; the hole removes [1.1, 1.5] of course 3 and merges
+    # course 5's three blocks over it into the lintel [0.7, 1.9]: 45
+    assert A.n_free == la.n_free == 45 and model.n_blocks == la.n_blocks == 46
+    np.testing.assert_array_equal(A.bounds(), la.bounds())
+    np.testing.assert_array_equal(A.mass, la.mass)
+    # façade γ l b H + wall γ s (L H − the hole's 0.6 × 0.9 m²), per slab
+    hand = 2000 * 1.2 * 0.3 * 2.4 + 2000 * 0.3 * (2.0 * 2.4 - 0.6 * 0.9)
+    assert model.mass[~A.fixed].sum() == pytest.approx(hand, rel=1e-12)
+    bb = A.bounds()
+    lintel = np.flatnonzero(np.isclose(bb[:, 1], 1.5) & (bb[:, 0] < 1.0) & (bb[:, 2] > 1.6))
+    np.testing.assert_allclose(bb[lintel], [[0.7, 1.5, 1.9, 1.8]], atol=1e-12)
+
+
+def test_dem_lintel_over_the_hole_stays_up(small_dem):
+    from homlimit.dem import run
+    model, settled, info = small_dem
+    A = model.assembly
+    assert info["converged"]
+    bb = A.bounds()
+    lintel = int(np.flatnonzero(np.isclose(bb[:, 1], 1.5) & (bb[:, 0] < 1.0)
+                                & (bb[:, 2] > 1.6))[0])
+    sink = A.centroid[lintel, 1] - settled.pos[lintel, 1]
+    # by hand: the joints under it (z = 0, 0.3, ..., 1.5) closing as a 1D column under the
+    # section's weight, σ_k/kn = γ g (H − z_k)/kn (façade and wall alike: the façade's
+    # stiffness × ρ), 0.194 mm; at most every joint loaded over the section less the hole,
+    # × (b + L)/(b + L − 0.6) = 1.353, 0.263 mm. A lintel falling into the hole drops 0.9 m.
+    column = 2000 * 9.81 * sum(2.4 - 0.3 * k for k in range(6)) / 1e9
+    assert column <= sink <= column * 2.3 / 1.7
+    assert abs(settled.th[lintel]) < 1e-4
+    # static: 0.5 s more, undamped and unloaded, nothing moves by more than the settling's
+    # velocity tolerance (1e-5 m/s) times the time
+    out = run(model, settled, v_g=0.0, t_max=0.5)
+    assert not out.collapsed
+    moved = np.abs(out.state.pos - settled.pos)[~A.fixed].max()
+    assert moved < 1e-5 * 0.5
+
+
+def test_dem_refuses_a_jamb_piece_thinner_than_its_contact_margin():
+    from homlimit.blocks.geometry import t_section_blocks
+    from homlimit.dem import build_model
+    from homlimit.errors import ParameterError
+    # the jamb x = 0.904 cuts course 2's block [0.9, 1.3]: a piece 4 mm wide (it fell 0.74 m
+    # out of the wall while settling at verlet_margin 5 mm, and stood at 2 mm)
+    thin = dataclasses.replace(SMALL, wall_openings=(WallOpening(0.904, 0.6, 0.6, 0.9),))
+    with pytest.raises(ParameterError, match=r"0\.004 x 0\.3 m: out of range: allowed free "
+                                             r"blocks wider and taller than verlet_margin"):
+        build_model(t_section_blocks(thin))
+    hole = [{"x": 1.904, "z": 3.0, "width": 1.0, "height": 2.0}]   # B1: [1.9, 2.3] → 4 mm
+    with pytest.raises(ConfigError, match=r"\[\[wall_opening\]\] 0 \(x 1.904..2.904 m\) with "
+                                          r"\[analysis\] dem = true: a jamb cuts a block "
+                                          r"leaving a piece 4 mm wide"):
+        load_case(b1(analysis={"hinge_check": False, "fe": False, "dem": True},
+                     wall_opening=hole))
+    # the margin is the DEM's: a smaller one takes the piece
+    assert load_case(b1(analysis={"hinge_check": False, "fe": False, "dem": True},
+                        dem={"verlet_margin": 0.002}, wall_opening=hole)).case.wall_openings
+
+
+def test_run_brackets_the_dem_threshold_with_a_hole(tmp_path):
+    import json
+
+    from homlimit.app import pipeline
+    case = {"name": "small-hole",
+            "wall": {"H": 2.4, "L": 2.0, "s": 0.3, "b": 0.3, "l": 1.2, "gamma": 2000.0},
+            "masonry": {"a": 0.3, "c": 0.2, "f": 0.6},
+            "analysis": {"fe": False, "hinge_check": False, "dem": True},
+            "dem": {"rel_tol": 0.05, "t_max": 2.0},
+            "wall_opening": [{"x": 1.0, "z": 0.6, "width": 0.6, "height": 0.9}],
+            "output": {"png": False, "vtu": False}}
+    pipeline.run(case, out=tmp_path)
+    d = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))["dem"]
+    assert d["n_blocks"] == 46 and d["settle_converged"]      # SMALL's 45 blocks + ground
+    assert d["vg_lo"] < d["vg_hi"] and (d["vg_hi"] - d["vg_lo"]) / (d["vg_hi"] + d["vg_lo"]) \
+        <= 0.05

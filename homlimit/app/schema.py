@@ -303,8 +303,9 @@ ARRAYS: dict[str, dict[str, Key]] = {
                       doc="its height along z (z + height < H); openings must not overlap or "
                           "touch. The closed forms take it in mechanism II's wedge, the FE "
                           "as a hole under a rigid lintel, the blocks as courses cut under "
-                          "a lintel block; the DEM refuses it (docs/real-walls.md "
-                          "\"Openings\")"),
+                          "a lintel block, the DEM on the blocks' assembly (a jamb must not "
+                          "leave it a piece thinner than [dem] verlet_margin) "
+                          "(docs/real-walls.md \"Openings\")"),
     },
 }
 MAX_ARRAY = 100                   # entries of a [[tie]], [[floor]], ... array

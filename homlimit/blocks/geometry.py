@@ -38,7 +38,7 @@ from .real import from_case
 
 __all__ = ["Assembly", "Interfaces", "KIND_NAMES", "polygon_moments", "find_interfaces",
            "from_rectangles", "t_section_blocks", "FACADE_BONDS", "vertex_velocity",
-           "block_speed", "stack", "running_bond_panel"]
+           "block_speed", "stack", "running_bond_panel", "course_blocks"]
 
 # block kinds
 SUPPORT, FACADE, TOOTHING, WALL, OTHER = 0, 1, 2, 3, 4
@@ -455,11 +455,13 @@ def _open_courses(x0, x1, course, zs, hole, k: int, tol: float):
     none, the one holding the opening's mid-height) lose what lies between x0 and x1, a block
     across a jamb cut there; in the course above the last one opened, the blocks over the
     opening become one block, the lintel, from the first one's start to the last one's end.
-    ParameterError if no course is left above the opening."""
+    ParameterError if no course is left above the opening. Returns (x0, x1, course, the
+    narrowest piece the jambs leave [m], inf if they cut no block)."""
     hx0, hx1, hz0, hz1 = hole
     opened, top = open_courses(zs, hole, k)
     hit = opened[course] & (x0 < hx1 - tol) & (x1 > hx0 + tol)
     left, right = hit & (x0 < hx0 - tol), hit & (x1 > hx1 + tol)
+    narrow = float(np.r_[hx0 - x0[left], x1[right] - hx1, np.inf].min())
     x0, x1, course = (np.r_[x0[~hit], x0[left], np.full(right.sum(), hx1)],
                       np.r_[x1[~hit], np.full(left.sum(), hx0), x1[right]],
                       np.r_[course[~hit], course[left], course[right]])
@@ -467,7 +469,7 @@ def _open_courses(x0, x1, course, zs, hole, k: int, tol: float):
     x0, x1, course = (np.r_[x0[~over], x0[over].min()], np.r_[x1[~over], x1[over].max()],
                       np.r_[course[~over], top])
     order = np.lexsort((x0, course))
-    return x0[order], x1[order], course[order]
+    return x0[order], x1[order], course[order], narrow
 
 
 def _band_parts(rects, on_facade, z_lo: float, z_hi: float, scale: float):
@@ -490,6 +492,33 @@ def _band_parts(rects, on_facade, z_lo: float, z_hi: float, scale: float):
     return tuple(np.concatenate(lst) for lst in out)
 
 
+def course_blocks(geo: TSection, a: float, c: float, toothed_first: bool = True,
+                  facade: str = "through"):
+    """The blocks of ``t_section_blocks`` as (x0, x1, course) arrays, the course boundaries
+    ``zs``, and per wall opening of ``geo.holes`` the narrowest piece its jambs leave of a
+    block they cut [m] (inf if they cut none; ``_open_courses``). ParameterError as there."""
+    if facade not in FACADE_BONDS:
+        raise ParameterError(f"facade = {facade!r} is out of range: allowed {FACADE_BONDS}")
+    tol = 1e-9 * geo.extent
+    zs = course_levels(geo.H, a, tol)
+    n_c = zs.size - 1
+    toothed = (np.arange(n_c) % 2 == 0) == bool(toothed_first)
+    xt = _course_breaks(geo, c, True, facade, tol)
+    xp = _course_breaks(geo, c, False, facade, tol)
+    counts = np.where(toothed, xt.size - 1, xp.size - 1)
+    course = np.repeat(np.arange(n_c), counts)
+    j = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    tt = toothed[course]
+    jt, jp = np.minimum(j, xt.size - 2), np.minimum(j, xp.size - 2)
+    x0 = np.where(tt, xt[jt], xp[jp])
+    x1 = np.where(tt, xt[jt + 1], xp[jp + 1])
+    narrow = []
+    for k, hole in enumerate(geo.holes):    # the wall's openings, each under a lintel block
+        x0, x1, course, n = _open_courses(x0, x1, course, zs, hole, k, tol)
+        narrow.append(n)
+    return x0, x1, course, zs, tuple(narrow)
+
+
 def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "through"
                      ) -> Assembly:
     """The paper's T-section as rigid blocks (module docstring): façade strip [0, b], transversal
@@ -507,25 +536,11 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     through the façade: the discrete counterpart of the homogenised façade of eq. 15).
     """
     geo = TSection.from_case(case)
-    if facade not in FACADE_BONDS:
-        raise ParameterError(f"facade = {facade!r} is out of range: allowed {FACADE_BONDS}")
     w, mas = case.wall, case.masonry
     H, L, b, a, c = geo.H, geo.L, geo.x_junction, mas.a, mas.c
     tol = 1e-9 * geo.extent
-    zs = course_levels(H, a, tol)
+    x0, x1, course, zs, _ = course_blocks(geo, a, c, toothed_first, facade)
     n_c = zs.size - 1
-    toothed = (np.arange(n_c) % 2 == 0) == bool(toothed_first)
-    xt = _course_breaks(geo, c, True, facade, tol)
-    xp = _course_breaks(geo, c, False, facade, tol)
-    counts = np.where(toothed, xt.size - 1, xp.size - 1)
-    course = np.repeat(np.arange(n_c), counts)
-    j = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    tt = toothed[course]
-    jt, jp = np.minimum(j, xt.size - 2), np.minimum(j, xp.size - 2)
-    x0 = np.where(tt, xt[jt], xp[jp])
-    x1 = np.where(tt, xt[jt + 1], xp[jp + 1])
-    for k, hole in enumerate(geo.holes):    # the wall's openings, each under a lintel block
-        x0, x1, course = _open_courses(x0, x1, course, zs, hole, k, tol)
     z0, z1 = zs[course], zs[course + 1]
     kind = np.where(x1 <= b + tol, FACADE, np.where(x0 >= b - tol, WALL, TOOTHING))
     gs = w.gamma * w.s

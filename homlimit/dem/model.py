@@ -169,6 +169,15 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     n = a.n_blocks
     if a.n_free == 0:
         raise ParameterError("assembly has no free block: allowed at least one")
+    bb = a.bounds()
+    size_min = np.minimum(bb[:, 2] - bb[:, 0], bb[:, 3] - bb[:, 1])
+    thin = np.flatnonzero(~a.fixed & (size_min <= p.verlet_margin))
+    if thin.size:       # the contact detection's assumption (docs/dem.md, "Openings")
+        i = int(thin[np.argmin(size_min[thin])])
+        raise ParameterError(
+            f"block {i} of the assembly is {bb[i, 2] - bb[i, 0]:.4g} x {bb[i, 3] - bb[i, 1]:.4g} m:"
+            f" out of range: allowed free blocks wider and taller than verlet_margin = "
+            f"{p.verlet_margin:g} m (a thinner block falls through its neighbours' contacts)")
     verts = _widen_ground(a, p.ground_margin)
     # the longest edge before any split, for the stiffest contact below
     d0 = np.roll(verts, -1, axis=0) - verts
@@ -210,7 +219,6 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     k_max = p.kn * thickness * max(fac_f, 1.0) * 0.5 * longest
     m_min = float(a.mass[free].min())
     dt = p.dt_fraction * math.sqrt(m_min / k_max)
-    bb = a.bounds()
     size = float(np.ptp(a.vertices[:, 0][free[owner0]])) or 1.0
     if disp_limit is None:
         disp_limit = 0.25 * float(meta["H"]) if "H" in meta and "b" in meta else \

@@ -7,8 +7,12 @@ steps of ×``step`` (default 1.5) from ``guess`` and halved until (hi − lo)/(h
 rel_tol; the threshold is (lo + hi)/2, ± rel_tol.
 
 Failing height h: at the collapse of the lowest collapsing trial, the watched blocks turned by
-more than half the largest watched rotation form the failing part; h is the top of the
-watched blocks minus the lowest bottom of the failing part. Slides: the base slid if a block's
+more than half the rotation of the lead block form the failing part; h is the top of the
+watched blocks minus the lowest bottom of the failing part. The lead block is the watched
+block that met the criterion (furthest out among those past disp_limit, else the most turned),
+not the most turned of all: a block that tumbles on its own (the multi-storey example's top
+course, swung 3.1 rad about its tie once the courses under it had gone) would otherwise be
+the failing part alone (examples/multistorey/README.md). Slides: the base slid if a block's
 plastic slip against the ground exceeds ``slide_tol``; the hinge slid if a failing block of
 the lowest failing course, or a block of the course below, slipped in its bed joints by more
 than slide_tol.
@@ -65,7 +69,11 @@ def failing_part(model: DEMModel, settled: DEMState, out: Outcome, slide_tol: fl
     w = model.watch
     rot = np.abs(out.state.th - settled.th)
     bb = a.bounds()
-    turned = w & (rot > 0.5 * rot[w].max())
+    ux = np.where(w, settled.pos[:, 0] - out.state.pos[:, 0], -np.inf)  # outwards (−x)
+    past = ux > model.disp_limit
+    lead = int(np.argmax(ux)) if past.any() else int(np.argmax(np.where(w, rot, -np.inf)))
+    turned = w & (rot > 0.5 * rot[lead])
+    turned[lead] = True
     z0 = float(bb[turned, 1].min())
     h = float(bb[w, 3].max()) - z0
     base_slip = float(out.slip_base.max())
