@@ -11,6 +11,7 @@ are the criterion's. A tie's work and force are the closed forms' (``closed_form
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -51,24 +52,30 @@ class LoadWork:
     def __bool__(self) -> bool:
         return bool(self.floors_body or self.floors_rest or self.ties_body or self.ties_rest)
 
-    def _arrays(self):
-        return [np.asarray(r, float).reshape(-1, n) for r, n in (
-            (self.floors_body, 3), (self.floors_rest, 2), (self.ties_body, 4),
-            (self.ties_rest, 4))]
+    @functools.cached_property
+    def _pre(self):
+        """The rows as arrays, once: the body's floors (Q, x, z), the rest's floors' constant
+        moment Σ Q φ_z, and the ties' (D_body, max(D_body, 0), D_rest, (T_y, k, δ_u)) with
+        D_body = d on the body (0 on the rest), D_rest = a on the rest (0 on the body), so
+        that δ = max(D_body sin q, 0) + D_rest q and dδ/dq = max(D_body, 0) cos q + D_rest."""
+        fb = np.asarray(self.floors_body, float).reshape(-1, 3)
+        fr = np.asarray(self.floors_rest, float).reshape(-1, 2)
+        ties = np.asarray(self.ties_body + self.ties_rest, float).reshape(-1, 4)
+        body = np.arange(len(ties)) < len(self.ties_body)
+        d_body, d_rest = np.where(body, ties[:, 0], 0.0), np.where(body, 0.0, ties[:, 0])
+        return (fb.T, float(fr[:, 0] @ fr[:, 1]),
+                (d_body, np.maximum(d_body, 0.0), d_rest, ties[:, 1:].T))
 
     def parts(self, q):
         """(W_floors, W_ties) [J] at q (vectorised: arrays of q's shape)."""
         from ..closed_form.real import tie_work
 
-        fb, fr, tb, tr = self._arrays()
+        (Q, x, z), C_rest, (d_body, _, d_rest, law) = self._pre
         q = np.asarray(q, float)[..., None]
-        s, c1 = np.sin(q), np.cos(q) - 1.0
-        W_f = (np.sum(fb[:, 0] * (fb[:, 1] * s + fb[:, 2] * c1), axis=-1)
-               + np.sum(fr[:, 0] * fr[:, 1] * q, axis=-1))
-        W_t = (np.sum(tie_work(np.maximum(tb[:, 0] * s, 0.0), tb[:, 1], tb[:, 2], tb[:, 3]),
-                      axis=-1)
-               + np.sum(tie_work(tr[:, 0] * q, tr[:, 1], tr[:, 2], tr[:, 3]), axis=-1))
-        return W_f, W_t
+        s, c = np.sin(q), np.cos(q)
+        W_f = np.sum(Q * (x * s + z * (c - 1.0)), axis=-1) + C_rest * q[..., 0]
+        delta = np.maximum(d_body * s, 0.0) + d_rest * q
+        return W_f, np.sum(tie_work(delta, *law), axis=-1)
 
     def work(self, q):
         """W_floors + W_ties [J] at q (vectorised)."""
@@ -76,22 +83,27 @@ class LoadWork:
         return W_f + W_t
 
     def moment(self, q):
-        """dW/dq [N m] of the floors and ties at q >= 0 (vectorised): Q ((x − x_O) cos q −
-        (z − z_O) sin q) and Q φ_z for the floors, N(δ) dδ/dq for the ties (d cos q on the
-        body where d > 0, else 0; a on the rest), N = ``tie_force`` (a rigid-plastic tie
-        pulls with T_y from q = 0, so the moment at rest includes T_y d)."""
+        """dW/dq [N m] of the floors and ties at q >= 0 (vectorised; a float for a scalar q,
+        the rockers' hot path): Q ((x − x_O) cos q − (z − z_O) sin q) and Q φ_z for the
+        floors, N(δ) dδ/dq for the ties (d cos q on the body where d > 0, else 0; a on the
+        rest), N = ``tie_force`` (a rigid-plastic tie pulls with T_y from q = 0, so the
+        moment at rest includes T_y d)."""
         from ..closed_form.real import tie_force
 
-        fb, fr, tb, tr = self._arrays()
+        (Q, x, z), C_rest, (d_body, d_pos, d_rest, law) = self._pre
+        if np.ndim(q) == 0:
+            q = float(q)
+            s, c = math.sin(q), math.cos(q)
+            R = C_rest + float(Q @ (x * c - z * s)) if len(Q) else C_rest
+            if len(d_rest):
+                N = tie_force(np.maximum(d_body * s, 0.0) + d_rest * q, *law)
+                R += float(N @ (d_pos * c + d_rest))
+            return R
         q = np.asarray(q, float)[..., None]
-        c, s = np.cos(q), np.sin(q)
-        R = (np.sum(fb[:, 0] * (fb[:, 1] * c - fb[:, 2] * s), axis=-1)
-             + np.sum(fr[:, 0] * fr[:, 1] + 0.0 * q, axis=-1))
-        d = tb[:, 0]
-        R = R + np.sum(tie_force(np.maximum(d * s, 0.0), tb[:, 1], tb[:, 2], tb[:, 3])
-                       * np.where(d > 0, d * c, 0.0), axis=-1)
-        return R + np.sum(tie_force(tr[:, 0] * q, tr[:, 1], tr[:, 2], tr[:, 3]) * tr[:, 0],
-                          axis=-1)
+        s, c = np.sin(q), np.cos(q)
+        N = tie_force(np.maximum(d_body * s, 0.0) + d_rest * q, *law)
+        return (np.sum(Q * (x * c - z * s), axis=-1) + C_rest
+                + np.sum(N * (d_pos * c + d_rest), axis=-1))
 
     def as_dict(self) -> dict:
         """Plain data for the FE cache (an infinite δ_u as None)."""
