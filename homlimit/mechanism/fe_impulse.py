@@ -34,10 +34,12 @@ them: a floor load Q at a point of the body turns with it exactly, Q ((x − x_O
 (z − z_O)(cos q − 1)); at a point of the rest, to first order, Q φ_z q; a tie at the outer face
 (0, z_T) of the body opens by max(0, (z_T − z_O) sin q) (the closed forms' rule), on the rest
 by max(0, −φ_x) q, and its work is the closed forms' tie law (``closed_form.real.tie_work``:
-rigid-plastic T_y δ, or elastic–plastic, up to the ductility limit). W is then maximised over
-0 <= q <= π/2 (``impulse.peak_of``: a grid, then bounded Brent, as the blocks). A restraining
-floor is a support v_x = 0 of the FE problem; the body must not carry the restrained point
-away from its hinge (checked: a ParameterError otherwise).
+rigid-plastic T_y δ, or elastic–plastic, up to the ductility limit). These terms and their
+derivative dW/dq live in ``impulse.LoadWork`` (``GeneralisedImpulse.load_work``), which the
+FE body's rocker (``dynamics.GeneralisedRocker``) takes too. W is then maximised over
+0 <= q <= π/2 (``impulse.peak_with_loads``: a grid, then bounded Brent, as the blocks). A
+restraining floor is a support v_x = 0 of the FE problem; the body must not carry the
+restrained point away from its hinge (checked: a ParameterError otherwise).
 
 Not with a joint cohesion (and the tension it carries; ``bond_reason``): both FE bounds take
 them as rigid-plastic strengths (``fe.problems.t_section``), but their dissipation at finite
