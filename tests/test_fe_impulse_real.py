@@ -70,6 +70,116 @@ def test_rigid_block_with_a_tie_and_a_floor_is_the_hand_formula():
     assert vg > 1.3 * bare                        # the tie and floor matter here
 
 
+def hand_tie(delta, T, k=0.0, du=math.inf):
+    """A tie's (work, force) at elongation δ >= 0, written out: rigid-plastic (k = 0) T δ and
+    T; elastic-plastic ½ k δ² and k δ up to δ_y = T/k, then T (δ − δ_y/2) and T; beyond the
+    ductility limit δ_u the work stays at its value there and the force is 0."""
+    x = min(delta, du)
+    if k == 0:
+        work = T * x
+    else:
+        dy = T / k
+        work = 0.5 * k * x * x if x <= dy else T * (x - 0.5 * dy)
+    force = 0.0 if delta >= du else (T if k == 0 else min(k * delta, T))
+    return work, force
+
+
+def test_fe_rocker_with_a_tie_and_a_floor_is_the_rigid_block_by_hand():
+    """The FE body's rocker (``GeneralisedRocker.from_impulse``) of a free block b × h rocking
+    about its toe (the FE generalisation reduces to the rigid block: M = I_O, Π = m z_G, no
+    rest), with a floor on it and a tie at its top, is the rigid block's rocker by hand:
+
+        W(q) = m g (x_G sin q + z_G (cos q − 1)) + Q (e sin q + z_F (cos q − 1)) + W_T(h sin q),
+        R(q) = m g (x_G cos q − z_G sin q)      + Q (e cos q − z_F sin q)      + N(h sin q) h cos q
+
+    (the closed forms' rocker, ``dynamics.real_rocker``), for a rigid-plastic and an
+    elastic–plastic tie with a ductility limit (``hand_tie``); its θ_m, W_m and v̄_g are the
+    FE impulse criterion's, and with the rigid-plastic tie the hand formula's (module
+    docstring); its static threshold R(0)/Π(0) = (m g x_G + Q e + T_y h)/(m z_G)."""
+    from homlimit.dynamics import GeneralisedRocker
+
+    b, h, rho = 0.5, 3.0, 1800.0
+    X, V, el = rocking_field(b, h)
+    m, I_O = rho * b * h, rho * b * h * (b * b + h * h) / 3
+    Q, e, zf, T = 4000.0, 0.4, 1.5, 1500.0
+    mm = measure_mechanism(X, V, el, rho)
+    q = np.array([0.0, 0.003, 0.02, 0.1, 0.25, 0.6])
+    for k, du in ((0.0, math.inf), (2.0e5, 0.5)):       # δ_y = 7.5 mm, δ_u = 0.5 m
+        loads = BodyLoads(floors=((Q, e, zf),), ties=((h, T, k, du),))
+        gi = generalised_impulse(X, V, el, rho, mm, g=G, loads=loads)
+        rk = GeneralisedRocker.from_impulse(gi, g=G)
+        assert rk.inertia == pytest.approx(I_O, rel=1e-12)
+        assert rk.excitation(0.0) == pytest.approx(m * h / 2, rel=1e-12)
+        W_hand = [m * G * (b / 2 * math.sin(t) + h / 2 * (math.cos(t) - 1))
+                  + Q * (e * math.sin(t) + zf * (math.cos(t) - 1))
+                  + hand_tie(h * math.sin(t), T, k, du)[0] for t in q]
+        R_hand = [m * G * (b / 2 * math.cos(t) - h / 2 * math.sin(t))
+                  + Q * (e * math.cos(t) - zf * math.sin(t))
+                  + hand_tie(h * math.sin(t), T, k, du)[1] * h * math.cos(t) for t in q]
+        np.testing.assert_allclose(rk.work(q), W_hand, rtol=1e-9, atol=1e-9 * m * G * h)
+        np.testing.assert_allclose(rk.restoring(q), R_hand, rtol=1e-9)
+        assert [rk.terms(t)[1] for t in q] == pytest.approx(R_hand, rel=1e-9)
+        assert rk.theta_m == gi.q_m and rk.W_m == pytest.approx(gi.W_m, rel=1e-12)
+        assert rk.vg_impulse == pytest.approx(gi.vg, rel=1e-12)
+        assert rk.restoring(rk.theta_m) == pytest.approx(0.0, abs=1e-6 * m * G * b)
+    # the rigid-plastic tie: the hand peak, and the static threshold with the tie's T_y h
+    rp = GeneralisedRocker.from_impulse(generalised_impulse(
+        X, V, el, rho, mm, g=G, loads=BodyLoads(floors=((Q, e, zf),),
+                                                ties=((h, T, 0.0, math.inf),))), g=G)
+    q_m, W_m, vg = hand(m, b / 2, h / 2, I_O, floors=[(Q, e, zf)], ties=[(T, h)])
+    assert rp.theta_m == pytest.approx(q_m, rel=1e-7)
+    assert rp.W_m == pytest.approx(W_m, rel=1e-12) and rp.vg_impulse == pytest.approx(vg,
+                                                                                     rel=1e-12)
+    assert rp.a_uplift == pytest.approx((m * G * b / 2 + Q * e + T * h) / (m * h / 2),
+                                        rel=1e-12)
+
+
+def test_fe_rocker_restoring_is_the_derivative_of_its_work():
+    """R(q) = dW/dq by central differences (h = 1e-6) for a shape with a rest (M > I_O,
+    Π ≠ m z_G, lift L) and every kind of load: a floor on the body and one on the rest, an
+    elastic–plastic tie with a ductility limit on the body, a rigid-plastic one below the
+    hinge (no work) and one on the rest (δ = a q), away from the ties' kinks."""
+    from homlimit.dynamics import GeneralisedRocker
+    from homlimit.impulse import LoadWork, RigidBody
+
+    body = RigidBody(m=2000.0, x_G=0.25, z_G=1.5, I_O=6000.0)
+    lw = LoadWork(floors_body=((3000.0, 0.4, 1.0),), floors_rest=((1500.0, 0.05),),
+                  ties_body=((3.0, 2000.0, 1.0e5, 0.6), (-0.5, 900.0, 0.0, math.inf)),
+                  ties_rest=((0.8, 700.0, 0.0, math.inf),))
+    rk = GeneralisedRocker(6500.0, 3200.0, body, 1200.0, g=G, load_work=lw)
+    # kinks: δ_y = 0.02 m at q = asin(0.02/3) = 0.00667, δ_u at asin(0.2) = 0.2014
+    q = np.array([0.003, 0.05, 0.15, 0.3, 0.9, 1.4])
+    dW = (rk.work(q + 1e-6) - rk.work(q - 1e-6)) / 2e-6
+    np.testing.assert_allclose(rk.restoring(q), dW, rtol=1e-7)
+    W_f, W_t = lw.parts(0.3)                          # the parts by hand at q = 0.3
+    s, c1 = math.sin(0.3), math.cos(0.3) - 1
+    assert W_f == pytest.approx(3000.0 * (0.4 * s + 1.0 * c1) + 1500.0 * 0.05 * 0.3, rel=1e-12)
+    assert W_t == pytest.approx(hand_tie(3.0 * s, 2000.0, 1.0e5, 0.6)[0] + 700.0 * 0.8 * 0.3,
+                                rel=1e-12)
+    # the static threshold: R(0) = m g x_G + L + Q e + Q_r φ_z + N(0) (tie on the body:
+    # elastic, N = 0; on the rest: rigid-plastic, 700 × 0.8) over Π(0)
+    R0 = 2000.0 * G * 0.25 + 1200.0 + 3000.0 * 0.4 + 1500.0 * 0.05 + 700.0 * 0.8
+    assert rk.a_uplift == pytest.approx(R0 / 3200.0, rel=1e-12)
+    assert rk.restoring(rk.theta_m) == pytest.approx(0.0, abs=1e-6 * R0)
+    assert LoadWork.from_dict(lw.as_dict()) == lw       # the FE cache's round trip
+
+
+def test_fe_rocker_with_a_tie_stands_below_its_vg_and_overturns_above():
+    """Under the ideal impulse of its own v̄_g (eq. 7 with the tie's and floor's work) ∓ 1 %,
+    the FE body's rocker of the tied block stands / overturns: the time history's energy
+    balance agrees with the FE impulse criterion."""
+    from homlimit.dynamics import GeneralisedRocker, simulate
+
+    X, V, el = rocking_field(0.5, 3.0)
+    mm = measure_mechanism(X, V, el, 1800.0)
+    gi = generalised_impulse(X, V, el, 1800.0, mm, g=G, loads=BodyLoads(
+        floors=((4000.0, 0.4, 1.5),), ties=((3.0, 1500.0, 2.0e5, 0.5),)))
+    rk = GeneralisedRocker.from_impulse(gi, g=G)
+    w0 = gi.vg * rk.excitation(0.0) / rk.inertia
+    assert not simulate(rk, theta_dot0=0.99 * w0, duration=5.0).overturned
+    assert simulate(rk, theta_dot0=1.01 * w0, duration=5.0).overturned
+
+
 def test_a_tie_below_the_hinge_adds_nothing():
     """Hinge at z = 1 m, the part below at rest: a tie at 0.5 m does not open (W_ties = 0)
     and leaves v̄_g as without it (``peak_work``'s closed form, eq. 19 generalised)."""
@@ -220,27 +330,6 @@ def test_adaptive_bracket_keeps_the_tie_on_every_mesh():
     assert res.cycles[0].upper > 1.2 * bare.cycles[0].upper      # the tie holds the wall
 
 
-def test_pulse_spectra_refuse_ties_and_floors_before_any_work(monkeypatch):
-    """The FE body's pulse rocker has no tie or floor work: ``pulse_records`` refuses a case
-    with a tie and [pulse] mechanisms "FE" before the FE path runs (it would take minutes),
-    naming the entry; ``rocker_fe`` refuses it too."""
-    from homlimit.app import models
-    from homlimit.app.config import load_case
-    from homlimit.app.pulses import pulse_records
-
-    def forbidden(*a, **k):
-        raise AssertionError("the FE path ran")
-
-    monkeypatch.setattr(models, "fe_result", forbidden)
-    config = load_case(None, ["tie.0.z=9", "tie.0.yield_force=5000",
-                              'pulse.mechanisms=["FE"]', "analysis.hinge_check=false"])
-    with pytest.raises(ParameterError,
-                       match=r"\[\[tie\]\] 0: \[pulse\] mechanisms = \['FE'\]: the FE body's"):
-        pulse_records(config)
-    with pytest.raises(ParameterError, match=r"\[\[tie\]\] 0: the FE body's rocker"):
-        models.rocker_fe(config.case, None)
-
-
 @pytest.mark.parametrize("kw, message", [
     (dict(floors=((1.0, 0.1),)), "floors has shape"),
     (dict(floors=((-1.0, 0.1, 2.0),)), "floors = "),
@@ -257,18 +346,20 @@ def test_bad_body_loads_are_named(kw, message):
 def test_a_run_with_a_tie_on_the_fe_path(tmp_path, monkeypatch):
     """`homlimit run` on a coarse B1 with a top tie and a floor and [analysis] fe = true:
     it runs (the refusal is lifted), fe_scan.csv and summary.json carry W_m, W_floors and
-    W_ties, the FE mechanism's row its multiplier, and no FE cache entry is written (the
-    pulse rocker has no tie work)."""
+    W_ties, the FE mechanism's row its multiplier; the FE cache entry keeps the ties' and
+    floors' work (``LoadWork``), and the FE body's rocker read from it has the run's v̄_g and
+    the static threshold (m g x_G + L + T_y l d)/Π of its numbers by hand; the hinge check
+    runs on the FE body's rocker too."""
     import csv
     import json
 
     import homlimit
     from homlimit.app.config import load_case
-    from homlimit.app.models import fe_cache_path
+    from homlimit.app.models import fe_cache_path, read_fe_cache, rocker_fe
 
     monkeypatch.setenv("HOMLIMIT_MESH_CACHE", str(tmp_path / "cache"))
     cfg = load_case(None, ["mesh.size=1.0", "mesh.part_divisions=4", "analysis.heights=2",
-                           "analysis.static=false", "analysis.hinge_check=false",
+                           "analysis.static=false", "analysis.hinge_check=true",
                            "output.png=false", "output.vtu=false", "tie.0.z=9",
                            "tie.0.yield_force=2000", "floor.0.z=4.5", "floor.0.load=20000",
                            "floor.0.eccentricity=0.1"])
@@ -282,4 +373,52 @@ def test_a_run_with_a_tie_on_the_fe_path(tmp_path, monkeypatch):
     assert float(crit["W_ties [J]"]) == pytest.approx(fe["W_ties"], rel=1e-12)
     assert float(crit["W_floors [J]"]) == pytest.approx(fe["W_floors"], rel=1e-12)
     assert s["mechanisms"]["FE"]["vg"] == fe["vg"]
-    assert not fe_cache_path(cfg).exists()
+    cached = read_fe_cache(cfg)
+    assert cached is not None and cached.cache == fe_cache_path(cfg)
+    gi = cached.impulse
+    assert gi.W_ties == pytest.approx(fe["W_ties"], rel=1e-12) and gi.load_work
+    rk = rocker_fe(cfg.case, cached)
+    assert rk.vg_impulse == pytest.approx(fe["vg"], rel=1e-9)
+    assert rk.W_m == pytest.approx(fe["W_m"], rel=1e-9)
+    (d, T, k, du), = gi.load_work.ties_body                # the top tie on the body
+    assert (T, k, du) == (2000.0 * cfg.case.wall.l, 0.0, math.inf) and d > 0
+    b = gi.block
+    assert rk.a_uplift == pytest.approx((b.m * G * b.x_G + gi.lift_rest + T * d
+                                         + sum(Q * x for Q, x, _ in gi.load_work.floors_body)
+                                         + sum(Q * f for Q, f in gi.load_work.floors_rest))
+                                        / gi.Pi, rel=1e-12)
+    hinge = s["hinges"]["FE"]               # f g = 5.9 m/s² lifts it (a_uplift ~ 2.6 m/s²)
+    assert rk.a_uplift < 0.6 * G and hinge["pgv"] > fe["vg"]
+    assert hinge["ratio"] == pytest.approx(hinge["pgv"] / fe["vg"], rel=1e-9)
+
+
+def test_cli_pulse_with_the_fe_body_takes_a_tie(tmp_path, monkeypatch):
+    """`homlimit pulse` with [pulse] mechanisms = ["FE"] on a coarse B1 with a top tie of
+    2 kN/m (refused before issue 30's item 5) exits 0; the tie raises the FE rocker's static
+    threshold, its eq. 7 v̄_g and the rectangular pulse's threshold over the bare wall's, and
+    the rocker's v̄_g is the FE impulse criterion's (the FE cache entry the command wrote)."""
+    import csv
+    import json
+
+    from cases import b1, run_cli
+
+    monkeypatch.setenv("HOMLIMIT_MESH_CACHE", str(tmp_path / "cache"))
+    base = dict(mesh={"size": 1.0, "part_divisions": 4},
+                analysis={"heights": 2, "static": False, "hinge_check": False},
+                output={"png": False, "vtu": False},
+                pulse={"mechanisms": ["FE"], "kinds": ["rectangular"], "periods": [0.5],
+                       "polarities": [1]})
+    rows = {}
+    for name, extra in (("bare", {}), ("tied", {"tie": [{"z": 9.0, "yield_force": 2000.0}]})):
+        r = run_cli(tmp_path, b1(name, **base, **extra), "pulse", out=name)
+        assert r.returncode == 0, r.stderr
+        rows[name], = csv.DictReader(open(tmp_path / name / "spectra.csv", encoding="utf-8"))
+    bare, tied = ({k: float(v) for k, v in rows[n].items() if k.endswith("]") and v}
+                  for n in ("bare", "tied"))
+    assert tied["a_uplift [m/s^2]"] > 1.05 * bare["a_uplift [m/s^2]"]
+    assert tied["vg_eq7 [m/s]"] > 1.2 * bare["vg_eq7 [m/s]"]
+    assert tied["pgv [m/s]"] > 1.2 * bare["pgv [m/s]"]
+    entries = [json.loads(p.read_text()) for p in (tmp_path / "cache").glob("fe-*.json")]
+    tied_entry, = (e for e in entries if e["inputs"].get("tie"))
+    assert tied["vg_eq7 [m/s]"] == pytest.approx(tied_entry["vg"], rel=1e-9)
+    assert tied_entry["impulse"]["load_work"]["ties_body"]

@@ -171,11 +171,13 @@ def test_pulse_spectra_take_a_tie():
 
 
 def test_hinge_check_refusals_lifted_where_the_rockers_take_the_inputs():
-    # fc on every rocker (the FE body's too), ties and floors on the closed forms'; the FE
-    # body's rocker with a tie and any rocker with cohesion stay refused (test_real_walls.py)
+    # fc, ties and floors on every rocker (the FE body's too, with the FE impulse's LoadWork:
+    # test_fe_impulse_real.py); any rocker with cohesion stays refused (test_real_walls.py)
     from homlimit.app.config import load_case
 
     assert load_case(b1(masonry={"fc": 2e6})).analysis.hinge_check       # fe = true default
+    fe_tied = load_case(b1(tie=[{"z": 9.0, "yield_force": 2000.0}]))
+    assert fe_tied.analysis.fe and fe_tied.analysis.hinge_check and fe_tied.case.ties
     tied = load_case(b1(analysis={"fe": False}, floor=[{"z": 4.5, "load": 2e4,
                                                         "eccentricity": 0.1}],
                         tie=[{"z": 9.0, "yield_force": 2000.0}]))

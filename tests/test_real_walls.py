@@ -190,9 +190,6 @@ BAD = [
     (dict(masonry={"tension": 1e4}, analysis={"fe": False, "closed_form": False}),
      "[analysis] hinge_check = true: the hinge check's rockers do not take [masonry] tension "
      "= 10000.0 Pa yet"),
-    (dict(tie=[{"z": 9.0, "yield_force": 1.0}], analysis={"fe": True}),
-     "[analysis] hinge_check = true: the hinge check's rockers do not take [[tie]] (1 "
-     "entries) yet (the closed forms' rockers take fc, ties and floors; the FE body's"),
 ]
 
 
@@ -233,10 +230,12 @@ def test_cli_exit_2_writes_nothing_and_a_good_case_runs(tmp_path):
     r = run_cli(tmp_path, _tied(12.0), "run")
     assert r.returncode == 2 and "[[tie]] 0 z = 12.0 m is out of range" in r.stderr
     assert "Traceback" not in r.stderr and not (tmp_path / "out").exists()
-    # the FE body's rocker does not take ties (the closed forms' do: test_real_rockers.py)
-    r = run_cli(tmp_path, {**_tied(9.0), "pulse": {"mechanisms": ["FE"]}}, "pulse")
-    assert r.returncode == 2 and "[[tie]] 0: [pulse] mechanisms = ['FE']: the FE " \
-        "body's rocker does not take ties" in r.stderr and not (tmp_path / "out").exists()
+    # cohesion stays refused by every rocker, the FE body's with it (exit 2, nothing written)
+    r = run_cli(tmp_path, b1(masonry={"cohesion": 1e4}, tie=[{"z": 9.0, "yield_force": 5e3}],
+                             analysis={"closed_form": False, "hinge_check": False},
+                             pulse={"mechanisms": ["FE"]}), "pulse")
+    assert r.returncode == 2 and "[masonry] cohesion = 10000.0 Pa" in r.stderr \
+        and "Traceback" not in r.stderr and not (tmp_path / "out").exists()
     r = run_cli(tmp_path, _tied(9.0), "run")
     assert r.returncode == 0, r.stderr
     s = json.loads((tmp_path / "out" / "summary.json").read_text())

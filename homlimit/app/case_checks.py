@@ -229,15 +229,11 @@ def real_wall_checks(v: dict[str, Any]) -> list[str]:
                        f"{given}: the non-associative scheme does not take them; allowed "
                        "friction = \"associative\", non_associative_check = false "
                        "(docs/real-walls.md)")
-    if an.get("hinge_check"):   # the closed forms' rockers take fc, ties, floors
+    if an.get("hinge_check"):   # every rocker (the FE body's too) takes fc, ties, floors
         held = [f"[masonry] {k} = {m[k]!r} Pa" for k in ("cohesion", "tension") if m.get(k)]
-        if an.get("fe"):        # the FE body's rocker takes fc, not ties or floors
-            held += [f"[[{arr}]] ({len(v[arr])} entries)" for arr in ("tie", "floor")
-                     if v.get(arr)]
         if held:
             out.append(f"[analysis] hinge_check = true: the hinge check's rockers do not take "
-                       f"{', '.join(held)} yet (the closed forms' rockers take fc, ties and "
-                       "floors; the FE body's, with [analysis] fe = true, only fc); allowed "
+                       f"{', '.join(held)} yet (they take fc, ties and floors); allowed "
                        "[analysis] hinge_check = false with these inputs (docs/real-walls.md)")
     for k in ("cohesion", "tension"):
         if m.get(k) and (an.get("closed_form") or an.get("overturning")):

@@ -31,7 +31,7 @@ from .._version import package_version
 from ..dynamics import GeneralisedRocker
 from ..errors import OutputError, ParameterError, ResultError
 from ..fe.mesh import cache_dir, from_skfem
-from ..impulse import RigidBody
+from ..impulse import LoadWork, RigidBody
 from ..mechanism.analysis import FEResult, fe_result
 from ..mechanism.fe_impulse import GeneralisedImpulse
 from . import plots, registry, report
@@ -134,7 +134,9 @@ def static_problem(config: CaseConfig):
                      mesher=me.mesher, h_outer=h_outer)
 
 
-FE_CACHE_FORMAT = "homlimit FE rocker 1"
+FE_CACHE_FORMAT = "homlimit FE rocker 2"    # 2: the impulse's W_floors, W_ties, load_work
+IMPULSE_FLOATS = ("M", "Pi", "W_m", "q_m", "vg", "lift_rest", "M_rest_share", "W_rest_share",
+                  "W_floors", "W_ties")     # the GeneralisedImpulse's numbers the cache keeps
 
 
 @dataclass(frozen=True)
@@ -192,19 +194,17 @@ def _checksum(entry: dict) -> str:
 def write_fe_cache(config: CaseConfig, fe: FEResult) -> Path | None:
     """Keep the critical FE mechanism's one-DOF impulse of ``fe`` (the FE path of ``config``)
     in the FE cache, atomically, with its inputs and a checksum; None (and a warning) when
-    the cache folder cannot be written, which fails nothing else. Nothing is kept for a case
-    with ties or floors: the pulse's rocker (``rocker_fe``) does not take their work."""
+    the cache folder cannot be written, which fails nothing else. With ties or floors it
+    keeps their work too (``impulse.LoadWork``, the rocker's ``load_work``)."""
     crit = fe.critical
     if crit is None or crit.impulse is None:
         return None
-    if config.case.ties or config.case.floors:   # its rocker has no tie or floor work
-        return None
     gi = crit.impulse
+    lw = getattr(gi, "load_work", None)
     entry = {"inputs": fe_cache_inputs(config),
-             "impulse": {**{k: getattr(gi, k) for k in ("M", "Pi", "W_m", "q_m", "vg",
-                                                        "lift_rest", "M_rest_share",
-                                                        "W_rest_share")},
-                         "block": dataclasses.asdict(gi.block)},
+             "impulse": {**{k: getattr(gi, k) for k in IMPULSE_FLOATS},
+                         "block": dataclasses.asdict(gi.block),
+                         "load_work": None if lw is None else lw.as_dict()},
              "h": crit.h, "vg": crit.vg, "scan": [m.record() for m in fe.scan]}
     entry["sha256"] = _checksum(entry)
     path = fe_cache_path(config)
@@ -231,8 +231,12 @@ def read_fe_cache(config: CaseConfig) -> FERocker | None:
         if entry["inputs"] != json.loads(_io.json_bytes(fe_cache_inputs(config))):
             raise ValueError("inputs differ")
         imp = dict(entry["impulse"])
+        lw = imp.pop("load_work")
         gi = GeneralisedImpulse(block=RigidBody(**imp.pop("block")),
-                                **{k: float(v) for k, v in imp.items()})
+                                load_work=None if lw is None else LoadWork.from_dict(lw),
+                                **{k: float(imp.pop(k)) for k in IMPULSE_FLOATS})
+        if imp:
+            raise ValueError(f"unknown impulse keys {sorted(imp)}")
         if not all(math.isfinite(getattr(gi, k)) and getattr(gi, k) > 0
                    for k in ("M", "Pi", "W_m", "vg")):
             raise ValueError("impulse not positive and finite")
@@ -338,15 +342,10 @@ def fe_files(result) -> dict:
 
 def rocker_fe(case, mechanism, gravity_I="linearised", restitution=0.0):
     """The FE body's one-DOF rocker: the body inside the 50 % line turning exactly, the rest
-    linearised (``mechanism`` an ``FEMechanism`` or an ``FERocker``: its ``impulse``). It has
-    no tie or floor work, nor a joint cohesion's or tension's: a case with them is refused
-    (ParameterError)."""
+    linearised (``mechanism`` an ``FEMechanism`` or an ``FERocker``: its ``impulse``), with
+    the ties' and floors' work of the FE impulse criterion (``impulse.LoadWork``). It has no
+    joint cohesion's or tension's work: a case with them is refused (ParameterError)."""
     no_joint_strength(case, "the FE body's rocker (pulse spectra, hinge check)")
-    if case.ties or case.floors:
-        keys = [k for k in case.real_inputs() if k.startswith("[[")]
-        raise ParameterError(f"{', '.join(keys)}: the FE body's rocker (pulse spectra, hinge "
-                             "check) does not take ties or floors yet; allowed a case without "
-                             "them (docs/real-walls.md)")
     return GeneralisedRocker.from_impulse(mechanism.impulse, g=case.wall.g,
                                           restitution=restitution, name=mechanism.name)
 

@@ -33,13 +33,8 @@ def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
     case, pc = config.case, config.pulse
     w = case.wall
     # refused before any work (the FE path): what the chosen rockers do not take
+    # (every rocker takes fc, ties and floors: the FE body's with the FE impulse's LoadWork)
     no_joint_strength(case, "the pulse spectra's rockers")
-    if (case.ties or case.floors) and registry.needs_mesh(list(pc.mechanisms)):
-        keys = [k for k in case.real_inputs() if k.startswith("[[")]
-        raise ParameterError(f"{', '.join(keys)}: [pulse] mechanisms = "
-                             f"{list(pc.mechanisms)!r}: the FE body's rocker does not take ties "
-                             "or floors yet (the closed forms' rockers do); allowed mechanisms "
-                             "without 'FE' (docs/pulses.md)")
     record = None
     if pc.record:
         base = Path(config.source).parent if Path(config.source).is_file() else Path.cwd()

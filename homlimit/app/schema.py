@@ -165,9 +165,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                            "and the shortest rectangular pulse it holds, "
                                            "per mechanism (summary 'hinges'; about 0.07 s "
                                            "per mechanism: off for large closed-form "
-                                           "sweeps). A real wall: the closed forms' rockers "
-                                           "take fc, ties, floors, the FE body's only fc; "
-                                           "cohesion, tension refused"),
+                                           "sweeps). A real wall: every rocker (the FE "
+                                           "body's too) takes fc, ties, floors; cohesion, "
+                                           "tension refused"),
     },
     "blocks": {
         "facade": Key(str, "through", choices=FACADE_BONDS,

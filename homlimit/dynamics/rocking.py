@@ -46,7 +46,7 @@ from scipy.optimize import brentq
 from ..closed_form.mechanisms import mechanism_I, work_I
 from ..errors import ParameterError, check_range
 from ..fields import Range, check_fields, ranged, set_fields
-from ..impulse import RigidBody, peak_work
+from ..impulse import LoadWork, RigidBody, peak_with_loads, peak_work, work_with_loads
 from ..params import G_STANDARD, Case
 
 __all__ = ["Rocker", "BodyRocker", "RigidRocker", "MechanismIRocker", "GeneralisedRocker",
@@ -415,9 +415,16 @@ class GeneralisedRocker(Rocker):
 
     I = M [kg m²] (generalised mass ∫ρ|φ|²), Π(q) = (Pi − m_b z_G) + m_b (z_G cos q + x_G sin q)
     (Pi = ∫ρ(−φ_x) [kg m] at q = 0; the rest's share stays linear),
-    R(q) = m_b g (x_G cos q − z_G sin q) + L,  W(q) = W_b(q) + L q, with L [N m] the rest's
-    linearised lift; R vanishes at q_m, the peak of W (``impulse.peak_work``), which makes
-    W(q_m) the ``GeneralisedImpulse.W_m`` of the static criterion.
+    R(q) = m_b g (x_G cos q − z_G sin q) + L + R_loads(q),
+    W(q) = m_b g (x_G sin q + z_G (cos q − 1)) + L q + W_loads(q),
+    with L [N m] the rest's linearised lift and ``load_work`` (``impulse.LoadWork``, None
+    without) a real wall's floors and ties (issue 30): W_loads their parts of W(q), R_loads =
+    dW_loads/dq, the expressions of the FE impulse criterion (``fe_impulse``), so R = dW/dq.
+    R vanishes at q_m, the peak of W over 0 <= q <= π/2 (``impulse.peak_work``; with loads
+    ``impulse.peak_with_loads``, the criterion's own search), which makes W(q_m) the
+    ``GeneralisedImpulse.W_m`` and ``vg_impulse`` its v̄_g. Ties are memoryless (their force
+    follows the current opening, as ``real_rocker.RealWallRocker``'s): exact over the first
+    outward excursion, which the impulse criterion and the hinge check's pulse measure.
     """
 
     M: float
@@ -427,23 +434,36 @@ class GeneralisedRocker(Rocker):
     g: float = ranged(0.0, lo_open=True, unit="m/s^2", default=G_STANDARD)
     restitution: float = ranged(RESTITUTION, default=0.0)
     name: str = "FE one-DOF"
+    load_work: LoadWork | None = None
     two_sided: bool = field(default=False, init=False)
+    _peak: tuple = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
         if not isinstance(self.block, RigidBody):
             raise ParameterError(f"block = {self.block!r} is not a homlimit.impulse.RigidBody")
-        if self.block.x_G <= 0:
+        if self.load_work is not None and not isinstance(self.load_work, LoadWork):
+            raise ParameterError(f"load_work = {self.load_work!r} is not a "
+                                 "homlimit.impulse.LoadWork")
+        if not self.load_work:
+            set_fields(self, load_work=None)
+        if self.block.x_G <= 0 and self.load_work is None:
             raise ParameterError(f"x_G = {self.block.x_G!r} m is out of range: the block needs "
                                  "a restoring lever, allowed 0 < x_G")
         set_fields(self, M=check_range("M", self.M, self.block.I_O * (1 - 1e-9), unit="kg m^2"))
         check_fields(self)       # Pi, lift_rest, g, restitution
+        if self.load_work is None:
+            peak = peak_work(self.block, self.lift_rest, self.g)
+        else:                    # W(q_m) > 0, else a ParameterError
+            peak = peak_with_loads(self.block, self.lift_rest, self.load_work, self.g)
+        set_fields(self, _peak=peak)
 
     @classmethod
     def from_impulse(cls, gi, g: float = G_STANDARD, restitution: float = 0.0,
                      name: str = "FE one-DOF") -> GeneralisedRocker:
-        """From a ``fe_impulse.GeneralisedImpulse`` (its block and lift L)."""
+        """From a ``fe_impulse.GeneralisedImpulse`` (its block, lift L and, with ties or
+        floors, their ``load_work``)."""
         return cls(gi.M, gi.Pi, gi.block, gi.lift_rest, g=g, restitution=restitution,
-                   name=name)
+                   name=name, load_work=getattr(gi, "load_work", None))
 
     @property
     def inertia(self):
@@ -451,7 +471,7 @@ class GeneralisedRocker(Rocker):
 
     @property
     def theta_m(self):
-        return peak_work(self.block, self.lift_rest, self.g)[0]
+        return self._peak[0]
 
     @property
     def W_m(self):
@@ -469,15 +489,20 @@ class GeneralisedRocker(Rocker):
     def terms(self, phi):
         b = self.block
         c, s = math.cos(phi), math.sin(phi)
-        return (self.Pi - b.m * b.z_G + b.m * (b.z_G * c + b.x_G * s),
-                b.m * self.g * (b.x_G * c - b.z_G * s) + self.lift_rest, 0.0)
+        R = b.m * self.g * (b.x_G * c - b.z_G * s) + self.lift_rest
+        if self.load_work is not None:
+            R += float(self.load_work.moment(phi))
+        return self.Pi - b.m * b.z_G + b.m * (b.z_G * c + b.x_G * s), R, 0.0
 
     def restoring(self, phi):
         b = self.block
         phi = np.asarray(phi, dtype=float)
-        return b.m * self.g * (b.x_G * np.cos(phi) - b.z_G * np.sin(phi)) + self.lift_rest
+        R = b.m * self.g * (b.x_G * np.cos(phi) - b.z_G * np.sin(phi)) + self.lift_rest
+        return R if self.load_work is None else R + self.load_work.moment(phi)
 
     def work(self, phi):
+        if self.load_work is not None:
+            return work_with_loads(self.block, self.lift_rest, self.load_work, self.g, phi)
         b = self.block
         phi = np.asarray(phi, dtype=float)
         return (b.m * self.g * (b.x_G * np.sin(phi) + b.z_G * (np.cos(phi) - 1.0))

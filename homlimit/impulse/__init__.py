@@ -10,6 +10,8 @@ from .criterion import (
     rigid_restoring_work,
     theta_dot0,
 )
+from .loads import LoadWork, peak_with_loads, work_with_loads
 
-__all__ = ["RigidBody", "collapse_velocity", "hinge_impulse_ratio", "no_bond_reason", "peak_of",
-           "peak_work", "rigid_restoring_work", "theta_dot0", "triangle_moments"]
+__all__ = ["LoadWork", "RigidBody", "collapse_velocity", "hinge_impulse_ratio", "no_bond_reason",
+           "peak_of", "peak_with_loads", "peak_work", "rigid_restoring_work", "theta_dot0",
+           "triangle_moments", "work_with_loads"]

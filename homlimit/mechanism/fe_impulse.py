@@ -34,10 +34,12 @@ them: a floor load Q at a point of the body turns with it exactly, Q ((x − x_O
 (z − z_O)(cos q − 1)); at a point of the rest, to first order, Q φ_z q; a tie at the outer face
 (0, z_T) of the body opens by max(0, (z_T − z_O) sin q) (the closed forms' rule), on the rest
 by max(0, −φ_x) q, and its work is the closed forms' tie law (``closed_form.real.tie_work``:
-rigid-plastic T_y δ, or elastic–plastic, up to the ductility limit). W is then maximised over
-0 <= q <= π/2 (``impulse.peak_of``: a grid, then bounded Brent, as the blocks). A restraining
-floor is a support v_x = 0 of the FE problem; the body must not carry the restrained point
-away from its hinge (checked: a ParameterError otherwise).
+rigid-plastic T_y δ, or elastic–plastic, up to the ductility limit). These terms and their
+derivative dW/dq live in ``impulse.LoadWork`` (``GeneralisedImpulse.load_work``), which the
+FE body's rocker (``dynamics.GeneralisedRocker``) takes too. W is then maximised over
+0 <= q <= π/2 (``impulse.peak_with_loads``: a grid, then bounded Brent, as the blocks). A
+restraining floor is a support v_x = 0 of the FE problem; the body must not carry the
+restrained point away from its hinge (checked: a ParameterError otherwise).
 
 Not with a joint cohesion (and the tension it carries; ``bond_reason``): both FE bounds take
 them as rigid-plastic strengths (``fe.problems.t_section``), but their dissipation at finite
@@ -59,14 +61,11 @@ from skfem import Basis, ElementTriP2
 
 from ..errors import ParameterError, check_range
 from ..geometry import TSection
-from ..impulse import RigidBody, no_bond_reason, peak_of, peak_work
+from ..impulse import LoadWork, RigidBody, no_bond_reason, peak_with_loads, peak_work
 from .crack import p2_subtriangles
 
-__all__ = ["p2_nodes", "ray_conforming_mesh", "BodyLoads", "GeneralisedImpulse",
+__all__ = ["p2_nodes", "ray_conforming_mesh", "BodyLoads", "GeneralisedImpulse", "LoadWork",
            "body_loads", "bond_reason", "generalised_impulse", "contour_body", "contour_pieces"]
-
-N_THETA = 2049          # the q grid of W's peak with ties or floors, then bounded Brent
-
 
 def p2_nodes(solution, densities: dict | None = None):
     """P2 nodes of a KinematicSolution: positions X (n, 2), velocities V (n, 2), triangles
@@ -195,7 +194,8 @@ class GeneralisedImpulse:
     M [kg m²], Pi = ∫ρ(−φ_x) [kg m], W_m [J] restoring work at its peak q_m [rad], vg [m/s];
     block: the RigidBody inside the 50 % contour; lift_rest: L [N m], the rest's linearised
     work per radian; M_rest_share, W_rest_share: the rest's shares of M and of W(q_m);
-    W_floors, W_ties [J]: the floors' and ties' parts of W(q_m) (``BodyLoads``; 0 without).
+    W_floors, W_ties [J]: the floors' and ties' parts of W(q_m) (``BodyLoads``; 0 without);
+    load_work: their W(q) and dW/dq (``LoadWork``; None without), for the FE body's rocker.
     """
 
     M: float
@@ -209,6 +209,7 @@ class GeneralisedImpulse:
     W_rest_share: float
     W_floors: float = 0.0
     W_ties: float = 0.0
+    load_work: LoadWork | None = None
 
 
 def generalised_impulse(X, V, elements, density, mm, g: float = 9.81,
@@ -234,19 +235,16 @@ def generalised_impulse(X, V, elements, density, mm, g: float = 9.81,
     lift = max(g * float(area @ f[:, :, 1].mean(axis=1)), 0.0)
     M, Pi = body.I_O + M_out, body.m * body.z_G + Pi_out
     W_f = W_t = 0.0
+    lw = None
     if loads:
-        work = _load_work(loads, X, elements, phi, inside, mm.fit.O, body, lift, g)
-        q_m = peak_of(lambda q: sum(work(q)), N_THETA)
-        W_b, W_r, W_f, W_t = (float(v) for v in work(q_m))
-        W_m = W_b + W_r + W_f + W_t
-        if not W_m > 0:
-            raise ParameterError(f"W(q_m) = {W_m!r} J is out of range: the mechanism must be "
-                                 "restrained, allowed > 0 J")
+        lw = _load_work(loads, X, elements, phi, inside, mm.fit.O)
+        q_m, W_m = peak_with_loads(body, lift, lw, g)
+        W_f, W_t = (float(v) for v in lw.parts(q_m))
     else:
         q_m, W_m = peak_work(body, lift, g)
     vg = math.sqrt(2.0 * W_m * M) / Pi
     return GeneralisedImpulse(M, Pi, W_m, q_m, vg, body, lift, M_out / M, lift * q_m / W_m,
-                              W_f, W_t)
+                              W_f, W_t, lw)
 
 
 def _locate(points, tri):
@@ -267,12 +265,11 @@ def _locate(points, tri):
     return idx, lam[np.arange(len(P)), np.maximum(idx, 0)]
 
 
-def _load_work(loads: BodyLoads, X, elements, phi, inside, O, body, lift, g):  # noqa: E741
-    """W(q) of the mechanism with ``loads`` as its parts (W_body, W_rest, W_floors, W_ties),
-    vectorised over q (module docstring): each load point on the body (``inside``, the pieces
-    of the 50 % contour) turns with it exactly, elsewhere it moves with φ to first order."""
-    from ..closed_form.real import tie_work
-
+def _load_work(loads: BodyLoads, X, elements, phi, inside, O) -> LoadWork:  # noqa: E741
+    """The ``LoadWork`` of ``loads`` on the mechanism (module docstring): each load point on
+    the body (``inside``, the pieces of the 50 % contour) turns with it exactly, elsewhere it
+    moves with φ to first order. A restraining floor inside the body away from its hinge is
+    refused (ParameterError)."""
     X = np.asarray(X, float)
     sub = p2_subtriangles(elements)
     xO, zO = (float(v) for v in O)
@@ -293,21 +290,12 @@ def _load_work(loads: BodyLoads, X, elements, phi, inside, O, body, lift, g):  #
                 f"{abs(z_r - zO):.3g} m from its hinge (z_O = {zO:.4g} m): out of range: the "
                 "body's rotation would carry the restrained point away; allowed a body "
                 "bounded by the floor (its hinge within the floor's band)")
-    Q, dx, dz = fl[:, 0], fl[:, 1] - xO, fl[:, 2] - zO
-    phi_z = f_at[:nf, 1]
-    d_t = ti[:, 0] - zO
-    open_rest = np.maximum(-f_at[nf:nf + nt, 0], 0.0)
-
-    def work(q):
-        q = np.asarray(q, float)
-        s, c1 = np.sin(q)[..., None], np.cos(q)[..., None] - 1.0
-        W_body = body.m * g * (body.x_G * s[..., 0] + body.z_G * c1[..., 0])
-        W_f = np.sum(np.where(fb, Q * (dx * s + dz * c1), Q * phi_z * q[..., None]), axis=-1)
-        delta = np.where(tb, np.maximum(d_t * s, 0.0), open_rest * q[..., None])
-        W_t = np.sum(tie_work(delta, ti[:, 1], ti[:, 2], ti[:, 3]), axis=-1)
-        return W_body, lift * q, W_f, W_t
-
-    return work
+    rest_f = np.c_[fl[:, 0], f_at[:nf, 1]]
+    body_t = np.c_[ti[:, 0] - zO, ti[:, 1:]]
+    rest_t = np.c_[np.maximum(-f_at[nf:nf + nt, 0], 0.0), ti[:, 1:]]
+    rows = lambda a: tuple(tuple(map(float, r)) for r in a)  # noqa: E731
+    return LoadWork(rows(np.c_[fl[:, 0], fl[:, 1] - xO, fl[:, 2] - zO][fb]), rows(rest_f[~fb]),
+                    rows(body_t[tb]), rows(rest_t[~tb]))
 
 
 def _areas(pts):
