@@ -30,7 +30,7 @@ A real wall (ties, floors, f_c: ``blocks.real``, docs/real-walls.md "Rigid block
 W_body + W_rest + W_crushing + W_floors + W_ties is maximised over 0 <= θ <= π/2 instead (the
 closed forms' rule), with W_crushing = θ D/|ω| (the mechanism's crushing dissipation rate D:
 a rigid-plastic stress block keeps its depth), a floor's load turning with its block (exactly
-on the body, to first order on the rest) and the closed forms' tie law (``closed_form.real.
+on the body, to first order on the rest) and the tie law (``impulse.loads.
 tie_work``) on the elongation (z_T − z_O) sin θ (body) or −φ_u θ (rest).
 
 Not with a joint cohesion or tension (``blocks.real``): the limit analysis takes them as
@@ -246,7 +246,7 @@ def _real_peak(assembly, result, real, body, body_mask, rest, phi, O, omega, g):
     """θ_m and the parts of W(θ_m) of a real wall's mechanism (module docstring, "A real
     wall"): (θ_m, W_body, W_rest, {"W_crushing", "W_floors", "W_ties"}), W maximised over
     0 <= θ <= π/2 on a grid, then refined (bounded Brent)."""
-    from ..closed_form.real import tie_work
+    from ..impulse.loads import tie_work
 
     act = result.actions
     G = assembly.centroid

@@ -37,11 +37,12 @@ import numpy as np
 from ..check.ntc import StaticMechanism
 from ..errors import ParameterError
 from ..impulse import RigidBody
+from ..impulse.loads import tie_work
 from ..params import Case
 from .mechanisms import MechanismResult, geometry_II, lam_max_II, minimise, wedge_Jz
 
 __all__ = ["KINDS", "RealMechanismResult", "real_mechanism", "vnorm_real", "multiplier_real",
-           "friction_work_I", "mechanism_state", "tie_force", "tie_work",
+           "friction_work_I", "mechanism_state",
            "work_real", "theta_m_real", "lam_bounds"]
 
 KINDS = ("detachment", "crack", "overturning")     # mechanisms I, II and the overturning
@@ -184,24 +185,6 @@ def mechanism_state(case: Case, kind: str, lam, tanpsi: float | None = None) -> 
 def friction_work_I(case: Case, lam, theta):
     """Mechanism I's abutment friction work at λ up to θ [J] (eq. 9 integrated)."""
     return _friction_I(case, lam, theta)
-
-
-def tie_work(delta, T, k, du):
-    """∫ min(kδ, T_y) dδ up to min(δ, δ_u) (k = 0: T_y δ), elementwise."""
-    x = np.minimum(delta, du)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        dy = np.where(k > 0, T / k, 0.0)
-        elastic = np.where(x <= dy, 0.5 * k * x ** 2, T * (x - 0.5 * dy))
-    return np.where(k > 0, elastic, T * x)
-
-
-def tie_force(delta, T, k, du):
-    """The tie's force N(δ) = d(``tie_work``)/dδ [N], elementwise: min(kδ, T_y) (k = 0: T_y
-    from δ = 0, rigid-plastic) while 0 <= δ < δ_u, zero beyond the ductility limit and for
-    δ < 0 (a tie does not push)."""
-    delta = np.asarray(delta, float)
-    on = (delta >= 0) & (delta < du)
-    return np.where(on, np.where(k > 0, np.minimum(k * delta, T), T), 0.0)
 
 
 def _friction_I(case: Case, lam, theta):

@@ -15,7 +15,7 @@ Exact geometry (II, the overturning; I with ``geometry="exact"``), eq. 18's kine
 
 with a floor load Q = q l at (x_F, z_F) = (e − t, z_F − z0) from O (its vertical lift is
 x_F sin φ + z_F (cos φ − 1)), a tie at d = z_T − z0 above the hinge stretched by
-δ = d sin φ, N(δ) its force (``closed_form.real.tie_force``, whose integral is ``tie_work``).
+δ = d sin φ, N(δ) its force (``impulse.loads.tie_force``, whose integral is ``tie_work``).
 Linearised (mechanism I, eq. 10, the closed forms' default): sin φ → φ, cos φ → 1 − φ²/2,
 δ = d φ, so R = m g (x_G − z_G φ) + Σ Q (x_F − z_F φ) + Σ N(d φ) d and Π = m z_G; mechanism
 I's abutment friction F(φ) (eq. 9, ``rocking.friction_moment_I``) is dissipative, as in
@@ -41,6 +41,7 @@ from ..closed_form import real
 from ..errors import ParameterError
 from ..fields import set_fields
 from ..impulse import RigidBody, peak_of
+from ..impulse.loads import tie_force, tie_work
 from ..params import Case
 from .rocking import RESTITUTION, BodyRocker, friction_moment_I
 
@@ -161,7 +162,7 @@ class RealWallRocker(BodyRocker):
             for Q, x, z in self.floors:
                 R = R + Q * (x - z * phi)
         for T, k, du, d in self.ties:
-            R = R + real.tie_force(self._delta(phi, d), T, k, du) * d * c
+            R = R + tie_force(self._delta(phi, d), T, k, du) * d * c
         return R
 
     def friction(self, phi):
@@ -188,7 +189,7 @@ class RealWallRocker(BodyRocker):
         for Q, x, z in self.floors:
             W = W + Q * (x * s + z * c1)
         for T, k, du, d in self.ties:
-            W = W + real.tie_work(np.maximum(self._delta(phi, d), 0.0), T, k, du)
+            W = W + tie_work(np.maximum(self._delta(phi, d), 0.0), T, k, du)
         return W + self.friction_work(phi)
 
     def terms(self, phi):

@@ -5,8 +5,8 @@ shape turning by q (the FE mechanism's, ``mechanism.fe_impulse``: a block turnin
 the rest carried to first order). It is the one home of these expressions: the FE impulse
 criterion's W(q) (``fe_impulse.generalised_impulse``) and the FE body's rocker
 (``dynamics.GeneralisedRocker``) both evaluate them, so that the rocker's θ_m, W_m and v̄_g
-are the criterion's. A tie's work and force are the closed forms' (``closed_form.real``
-``tie_work`` and its derivative ``tie_force``).
+are the criterion's. The tie law is here too, ``tie_work`` and its derivative ``tie_force``:
+the closed forms, the rockers and the blocks' impulse read it from here.
 """
 
 from __future__ import annotations
@@ -21,9 +21,27 @@ from ..errors import ParameterError
 from .body import RigidBody
 from .criterion import peak_of
 
-__all__ = ["LoadWork", "N_THETA", "peak_with_loads", "work_with_loads"]
+__all__ = ["LoadWork", "N_THETA", "peak_with_loads", "tie_force", "tie_work", "work_with_loads"]
 
 N_THETA = 2049          # the q grid of W's peak with ties or floors, then bounded Brent
+
+
+def tie_work(delta, T, k, du):
+    """∫ min(kδ, T_y) dδ up to min(δ, δ_u) (k = 0: T_y δ), elementwise."""
+    x = np.minimum(delta, du)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dy = np.where(k > 0, T / k, 0.0)
+        elastic = np.where(x <= dy, 0.5 * k * x ** 2, T * (x - 0.5 * dy))
+    return np.where(k > 0, elastic, T * x)
+
+
+def tie_force(delta, T, k, du):
+    """The tie's force N(δ) = d(``tie_work``)/dδ [N], elementwise: min(kδ, T_y) (k = 0: T_y
+    from δ = 0, rigid-plastic) while 0 <= δ < δ_u, zero beyond the ductility limit and for
+    δ < 0 (a tie does not push)."""
+    delta = np.asarray(delta, float)
+    on = (delta >= 0) & (delta < du)
+    return np.where(on, np.where(k > 0, np.minimum(k * delta, T), T), 0.0)
 
 
 @dataclass(frozen=True)
@@ -39,7 +57,7 @@ class LoadWork:
                  δ = max(0, d sin q)
     ties_rest    rows (a = max(0, −φ_x) [m/rad], T_y, k, δ_u): a tie on the rest, δ = a q
 
-    A tie's work is ``closed_form.real.tie_work`` (δ), its force ``tie_force`` = its
+    A tie's work is ``tie_work`` (δ), its force ``tie_force`` = its
     derivative, so moment(q) = d(parts(q))/dq exactly (the tie's contribution N(δ) dδ/dq).
     The tie is memoryless, as the closed forms' rockers' (``dynamics.real_rocker``).
     """
@@ -68,7 +86,6 @@ class LoadWork:
 
     def parts(self, q):
         """(W_floors, W_ties) [J] at q (vectorised: arrays of q's shape)."""
-        from ..closed_form.real import tie_work
 
         (Q, x, z), C_rest, (d_body, _, d_rest, law) = self._pre
         q = np.asarray(q, float)[..., None]
@@ -88,7 +105,6 @@ class LoadWork:
         floors, N(δ) dδ/dq for the ties (d cos q on the body where d > 0, else 0; a on the
         rest), N = ``tie_force`` (a rigid-plastic tie pulls with T_y from q = 0, so the
         moment at rest includes T_y d)."""
-        from ..closed_form.real import tie_force
 
         (Q, x, z), C_rest, (d_body, d_pos, d_rest, law) = self._pre
         if np.ndim(q) == 0:

@@ -33,7 +33,7 @@ yielding, as the closed forms (``closed_form.real``) and the blocks (``blocks.im
 them: a floor load Q at a point of the body turns with it exactly, Q ((x − x_O) sin q +
 (z − z_O)(cos q − 1)); at a point of the rest, to first order, Q φ_z q; a tie at the outer face
 (0, z_T) of the body opens by max(0, (z_T − z_O) sin q) (the closed forms' rule), on the rest
-by max(0, −φ_x) q, and its work is the closed forms' tie law (``closed_form.real.tie_work``:
+by max(0, −φ_x) q, and its work is the closed forms' tie law (``impulse.loads.tie_work``:
 rigid-plastic T_y δ, or elastic–plastic, up to the ductility limit). These terms and their
 derivative dW/dq live in ``impulse.LoadWork`` (``GeneralisedImpulse.load_work``), which the
 FE body's rocker (``dynamics.GeneralisedRocker``) takes too. W is then maximised over
