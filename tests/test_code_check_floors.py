@@ -29,6 +29,9 @@ from homlimit.check import Site, linear_kinematic
 from homlimit.closed_form import real
 from homlimit.params import Floor
 
+from cases import b1 as b1_dict
+from cases import toml
+
 G = 9.81
 GAMMA, L, B, H, S = 2000.0, 6.0, 0.5, 9.0, 0.5          # kg/m³, m
 F_FRICTION, C, A = 0.6, 0.2, 0.3                          # f, c, a of the masonry
@@ -164,33 +167,11 @@ def test_mechanism_I_floors_reading_keeps_the_body_below_the_floor_by_hand(b1):
 
 
 # ----------------------------------------------------------------------------- the run
-B1_FLOOR = """name = "B1-floor"
-[wall]
-H = 9.0
-L = 6.0
-s = 0.5
-b = 0.5
-l = 6.0
-[masonry]
-a = 0.3
-c = 0.2
-f = 0.6
-[analysis]
-fe = false
-hinge_check = false
-overturning = true
-[output]
-png = false
-vtu = false
-[[floor]]
-z = 4.5
-load = 20000.0
-eccentricity = 0.1
-[site]
-ag = 1.962
-F0 = 2.5
-Tc_star = 0.3
-"""
+B1_FLOOR = toml(b1_dict("B1-floor", 
+                       analysis={"fe": False, "hinge_check": False, "overturning": True},
+                       output={"png": False, "vtu": False},
+                       floor=[{"z": 4.5, "load": 20000.0, "eccentricity": 0.1}],
+                       site={"ag": 1.962, "F0": 2.5, "Tc_star": 0.3}))
 
 
 def test_run_prints_and_writes_the_floors_reading(tmp_path):

@@ -23,6 +23,9 @@ from homlimit.closed_form import real
 from homlimit.errors import ParameterError
 from homlimit.params import Floor, Masonry
 
+from cases import b1 as b1_dict
+from cases import toml
+
 G = 9.81
 SITE = Site(ag=0.2 * G, F0=2.5, Tc_star=0.3, g=G)      # soil A, T1: S = 1, T_C = 0.3 s
 
@@ -93,29 +96,10 @@ def test_no_nonlinear_check_where_the_curve_is_not_clean_or_the_base_is_raised(b
         nonlinear_kinematic(linear_kinematic("overturning", sm, raised, 9.0), sm, raised)
 
 
-B1_RUN = """name = "B1-nl"
-[wall]
-H = 9.0
-L = 6.0
-s = 0.5
-b = 0.5
-l = 6.0
-[masonry]
-a = 0.3
-c = 0.2
-f = 0.6
-[analysis]
-fe = false
-hinge_check = false
-overturning = true
-[output]
-png = false
-vtu = false
-[site]
-ag = 1.962
-F0 = 2.5
-Tc_star = 0.3
-"""
+B1_RUN = toml(b1_dict("B1-nl", 
+                       analysis={"fe": False, "hinge_check": False, "overturning": True},
+                       output={"png": False, "vtu": False},
+                       site={"ag": 1.962, "F0": 2.5, "Tc_star": 0.3}))
 
 
 def test_the_run_prints_and_records_the_nonlinear_check():

@@ -94,8 +94,21 @@ def participation_lumped(body: RigidBody, floor_masses=()) -> tuple[float, float
     return M, float(M / (body.m + mk.sum()))
 
 
+class _Verdict:
+    """A check's verdict, capacity/demand ``ratio`` >= 1, and its fields as a dict."""
+
+    @property
+    def passes(self) -> bool:
+        return self.ratio >= 1.0
+
+    def as_dict(self) -> dict:
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        d["passes"] = self.passes
+        return d
+
+
 @dataclass(frozen=True)
-class LinearKinematic:
+class LinearKinematic(_Verdict):
     """The linear kinematic check of one mechanism (``linear_kinematic``).
 
     alpha0 [-]; m [kg] (ΣP/g, the floors' masses included in the floors' reading);
@@ -130,15 +143,6 @@ class LinearKinematic:
     ratio: float
     ratio_lumped: float
 
-    @property
-    def passes(self) -> bool:
-        return self.ratio >= 1.0
-
-    def as_dict(self) -> dict:
-        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
-        d["passes"] = self.passes
-        return d
-
 
 def linear_kinematic(name: str, sm: StaticMechanism, site: Site,
                      wall_H: float) -> LinearKinematic:
@@ -166,7 +170,7 @@ def linear_kinematic(name: str, sm: StaticMechanism, site: Site,
 
 
 @dataclass(frozen=True)
-class NonlinearKinematic:
+class NonlinearKinematic(_Verdict):
     """The nonlinear kinematic check of one mechanism at the ground (``nonlinear_kinematic``).
 
     The 2009 form (C8A.4.2, used): theta0 [rad], dk0 [m] (G's horizontal displacement at
@@ -194,15 +198,6 @@ class NonlinearKinematic:
     xi_SLV: float
     SDe_SLV: float
     ratio_SLV: float
-
-    @property
-    def passes(self) -> bool:
-        return self.ratio >= 1.0
-
-    def as_dict(self) -> dict:
-        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
-        d["passes"] = self.passes
-        return d
 
 
 def nonlinear_kinematic(lk: LinearKinematic, sm: StaticMechanism,
