@@ -149,6 +149,15 @@ def test_run_with_gmsh_brackets_adaptively_around_the_exact_fan(tmp_path):
     assert fe["multiplier"] == cycles[-1]["best_upper"] == min(c["upper"] for c in cycles)
     best = min(cycles, key=lambda c: c["upper"])
     assert fe["n_triangles"] == best["triangles"]
+    # each cycle's hinge and crack are those of its best field: the last one's are the
+    # reported mechanism's, and the summary's change is theirs over the last cycle
+    assert cycles[-1]["hinge_z"] == pytest.approx(fe["hinge"][1], abs=1e-9)
+    assert cycles[-1]["T_mid"] == pytest.approx(fe["tanpsi"], abs=1e-9)
+    ch = fe["crack_change"]
+    assert ch["over"] == "the last cycle"
+    assert ch["hinge_z"] == pytest.approx(abs(cycles[1]["hinge_z"] - cycles[0]["hinge_z"]))
+    assert ch["T_mid"] == pytest.approx(abs(cycles[1]["T_mid"] - cycles[0]["T_mid"]))
+    assert "change over the last cycle: hinge z" in res.summary()
     assert (tmp_path / "o" / "fe_adapt.csv").is_file() and (tmp_path / "o" / "adapt.png").is_file()
 
 
@@ -178,3 +187,56 @@ def test_strip_rows_halve_only_when_the_gap_marks_the_facade():
     assert strip_rows((p, t, h), 0.5, 0.4) == 0.4                      # nothing marked
     assert strip_rows((p, t, h * [1, 0.5, 1]), 0.5, 0.4) == 0.4        # the wall only
     assert strip_rows((p, t, h * [0.5, 1, 1]), 0.5, 0.4) == 0.2        # the façade
+
+
+def test_each_cycle_records_the_measure_of_its_best_upper_bound():
+    """``adapt(measure=)``: every cycle carries the figures of the best kinematic solution so
+    far, each solution measured once, and ``as_dict`` gives them columns of their own."""
+    from homlimit.app.verify import known_problem
+
+    k = known_problem("free_block")
+    seen = []
+
+    def measure(kin):
+        seen.append(kin)
+        return {"lam": float(kin.multiplier)}
+
+    res = adapt(k.problem, k.remesh, AdaptOptions(target_gap=1e-6), first_mesh=k.problem.mesh,
+                measure=measure)
+    (cyc,) = res.cycles
+    assert len(seen) == 1 and seen[0] is res.bracket.kinematic
+    assert cyc.measures == {"lam": pytest.approx(0.5 / 3.0, rel=1e-7)}     # b/h
+    row = cyc.as_dict()
+    assert row["lam"] == cyc.measures["lam"] and "measures" not in row
+
+
+def test_crack_change_is_the_last_cycles_move_or_the_searchs_resolution():
+    """``FEResult.crack_change`` and the summary's line under the crack: the absolute change
+    of the hinge and crack between the last two cycles (hand differences), the fan search's
+    resolution where the mechanism came from it, nothing measured on one mesh."""
+    from types import SimpleNamespace
+
+    from homlimit.app.report import _crack_change_line
+    from homlimit.mechanism.analysis import FEResult
+
+    def result(measures, meta=None, converged=False):
+        whole = SimpleNamespace(problem=SimpleNamespace(meta=meta or {}), tanpsi=0.584)
+        cycles = [SimpleNamespace(measures=m) for m in measures]
+        return FEResult((whole,), adapt=SimpleNamespace(cycles=cycles, converged=converged))
+
+    a = {"hinge_z": 2.62, "T1": 0.570, "T2": 0.607, "T_mid": 0.586}
+    b = {"hinge_z": 2.70, "T1": 0.562, "T2": 0.608, "T_mid": 0.584}
+    ch = result([a, b]).crack_change
+    assert ch["over"] == "the last cycle"
+    for key, d in (("hinge_z", 0.08), ("T1", 0.008), ("T2", 0.001), ("T_mid", 0.002)):
+        assert ch[key] == pytest.approx(d, abs=1e-12)
+    line = _crack_change_line(result([a, b]))
+    assert "hinge z 0.080 m, edges 0.0080 / 0.0010, mid-line 0.0020 (0.3 %)" in line
+    assert result([a, {**b, "T1": None}]).crack_change["T1"] is None
+    searched = result([a], meta={"crack_resolution": 0.0031})
+    assert searched.crack_change == {"over": "the fan search's last improving round",
+                                     "resolution": 0.0031}
+    assert "at most 0.0031 (edges, mid-line)" in _crack_change_line(searched)
+    assert result([a], converged=True).crack_change == {}
+    assert "not measured (one mesh: the bracket met its target on its first)" in \
+        _crack_change_line(result([a], converged=True))

@@ -137,7 +137,7 @@ def _fe_lines(fe, case) -> str:
               f"  crack: tan psi = {_num(full.tanpsi)} ± {_num(full.tanpsi_uncertainty)} "
               f"(50 % line), edges {_num(e1)} .. {_num(e2)}",
               f"         sqrt(cf/a) = {case.alpha:.3f} (eq. 16), f = {case.masonry.f:.3f}, "
-              f"c/a = {case.masonry.c / case.masonry.a:.3f}"]
+              f"c/a = {case.masonry.c / case.masonry.a:.3f}", _crack_change_line(fe)]
     if crit is None and getattr(fe, "vg_unavailable", ""):
         lines += [f"  impulse: vg not available at any of {len(fe.scan)} heights of the "
                   f"failing part ({fe.h_min:g} m, one course, to H); the FE mechanism is "
@@ -147,6 +147,23 @@ def _fe_lines(fe, case) -> str:
                   f"({fe.h_min:g} m, one course, to H) at h = {_num(crit.h, '.2f')} m: "
                   f"{fe.critical_at}", f"         ({crit.vg_method})"]
     return "\n".join(lines)
+
+
+def _crack_change_line(fe) -> str:
+    """How far the hinge and crack moved before the run stopped (``FEResult.crack_change``)."""
+    ch = fe.crack_change
+    if "resolution" in ch:
+        return (f"         changed by at most {ch['resolution']:.4f} (edges, mid-line) over "
+                f"{ch['over']}")
+    if ch:
+        rel = (ch["T_mid"] / fe.whole.tanpsi if ch["T_mid"] is not None and fe.whole.tanpsi
+               else None)
+        return (f"         change over {ch['over']}: hinge z {_num(ch['hinge_z'])} m, edges "
+                f"{_num(ch['T1'], '.4f')} / {_num(ch['T2'], '.4f')}, mid-line "
+                f"{_num(ch['T_mid'], '.4f')} ({_num(None if rel is None else 100 * rel, '.1f')} %)")
+    return ("         change over the last cycle: not measured (one mesh"
+            + (": the bracket met its target on its first)" if fe.adapt is not None
+               and fe.adapt.converged else ")"))
 
 
 def _code_check_lines(result) -> list[str]:

@@ -79,7 +79,9 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("lower upper best_lower best_upper exact_lo exact_hi rel_gap lower_err "
                     "upper_err triangles cycles cycle T1 T2 T_mid T1_exact T2_exact f c_over_a "
                     "sqrt_cf_a".split(), "-"),
-    "z0_exact": "m", "seconds": "s", "mesh_seconds": "s", "T_mid_exact": "-",
+    "z0_exact": "m", "hinge_z": "m", "seconds": "s",
+    "mesh_seconds": "s", "T_mid_exact": "-",
+    "crack_change": "", "over": "", "resolution": "-",   # summary fe.crack_change
     # the ray-conforming search (mechanism.conform; verify.json "conform", crack_study.csv)
     **dict.fromkeys("conformed T1_rays T2_rays trials stress_degree conform_multiplier "
                     "conform_T1 conform_T2 conform_T_mid conform_trials".split(), "-"),

@@ -78,9 +78,12 @@ class Cycle:
     seconds: float
     mesh_seconds: float
     conformed: float | None = None    # λ⁺ of this cycle's ``improve_upper`` search (if any)
+    measures: dict = field(default_factory=dict)    # ``adapt``'s ``measure`` of the best λ⁺
 
     def as_dict(self) -> dict:
-        return dataclasses.asdict(self)
+        """The cycle's figures, its ``measures`` as columns of their own."""
+        d = dataclasses.asdict(self)
+        return d | d.pop("measures")
 
 
 @dataclass
@@ -150,7 +153,8 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
           solver: SolverOptions = SolverOptions(),
           progress: Callable[[Cycle], None] | None = None,
           first_mesh=None, on_mesh: Callable[[object], object] | None = None,
-          improve_upper: Callable | None = None) -> AdaptResult:
+          improve_upper: Callable | None = None,
+          measure: Callable[[object], dict] | None = None) -> AdaptResult:
     """Bracket ``problem`` on a sequence of meshes refined where the gap is.
 
     remesh(size_map, last) returns a skfem mesh with the problem's region and boundary names;
@@ -164,6 +168,9 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
     cycle's bracket, a search for a lower λ⁺ started from its mechanism (e.g.
     ``mechanism.conform.conform_hook``), returning (KinematicSolution, problem) or None; a
     lower λ⁺ it finds is a kinematic bound like any other (its mesh is another valid mesh).
+    ``measure(kinematic)``: figures of the best kinematic solution so far, recorded in each
+    cycle's ``measures`` (e.g. the mechanism's hinge and crack, so that a report can say how
+    they moved over the last cycle); each solution is measured once.
     """
     if not isinstance(options, AdaptOptions):
         raise ParameterError(f"options = {options!r} is not an AdaptOptions")
@@ -173,6 +180,7 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
     mesh_s = time.perf_counter() - t0
     stop = "cycles"
     lo = up = None                    # (bracket, problem) of the best static / kinematic mesh
+    measured: dict[int, tuple] = {}   # id(kinematic) → (kinematic, measure(kinematic))
     for k in range(int(options.max_cycles)):
         t0 = time.perf_counter()
         prob = (dataclasses.replace(problem, mesh=mesh) if on_mesh is None
@@ -190,9 +198,13 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
                           times={"kinematic": float(kin.times.get("total", math.nan)),
                                  "static": br.times.get("static", math.nan)}), kprob)
         best = _best(lo[0], up[0])
+        seconds = time.perf_counter() - t0 + mesh_s        # the measuring not counted
+        if measure is not None and id(best.kinematic) not in measured:
+            measured[id(best.kinematic)] = (best.kinematic, dict(measure(best.kinematic)))
         cyc = Cycle(k, prob.n_triangles, br.lower, br.upper, best.lower, best.upper,
-                    best.rel_gap, time.perf_counter() - t0 + mesh_s, mesh_s,
-                    None if better is None else float(better[0].multiplier))
+                    best.rel_gap, seconds, mesh_s,
+                    None if better is None else float(better[0].multiplier),
+                    measured[id(best.kinematic)][1] if measure is not None else {})
         cycles.append(cyc)
         if progress is not None:
             progress(cyc)

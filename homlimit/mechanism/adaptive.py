@@ -37,8 +37,8 @@ from .crack import fan_edges
 from .fe_impulse import p2_nodes
 from .rigidfit import measure_mechanism
 
-__all__ = ["HingeFan", "adaptive_bracket", "hinge_fan", "hinge_fan_of", "hinge_refinement",
-           "strip_rows", "tsection_remesher"]
+__all__ = ["HingeFan", "adaptive_bracket", "crack_figures", "hinge_fan", "hinge_fan_of",
+           "hinge_refinement", "strip_rows", "tsection_remesher"]
 
 
 @dataclass(frozen=True)
@@ -159,7 +159,8 @@ def adaptive_bracket(case: Case, facade: str, size: float, options: fe_adapt.Ada
     """The whole wall's bracket by ``fe.adapt.adapt`` on gmsh meshes (``tsection_remesher``),
     starting at element size ``size``; ``mesher`` "gmsh" (unstructured) or "gmsh-strip" (the
     façade strip structured, its columns graded from ``h_outer``, the wall refined);
-    ``improve_upper``: ``fe.adapt.adapt``'s hook (e.g. ``conform.conform_hook``)."""
+    ``improve_upper``: ``fe.adapt.adapt``'s hook (e.g. ``conform.conform_hook``); each cycle
+    records the hinge and crack of its best kinematic field (``crack_figures``)."""
     check_choice("mesher", mesher, ("gmsh", "gmsh-strip"))
     strip = mesher == "gmsh-strip"
     remesh = tsection_remesher(case, size=size, strip=strip, h_outer=h_outer if strip else None)
@@ -169,4 +170,14 @@ def adaptive_bracket(case: Case, facade: str, size: float, options: fe_adapt.Ada
     return fe_adapt.adapt(problem, remesh, options, solver or SolverOptions(), progress,
                           first_mesh=first,
                           on_mesh=lambda m: t_section_on_mesh(problem, case, m),
-                          improve_upper=improve_upper)
+                          improve_upper=improve_upper,
+                          measure=lambda k: crack_figures(case, k))
+
+
+def crack_figures(case: Case, kinematic) -> dict:
+    """The hinge height hinge_z [m] and the fan's edges T1, T2 and mid-line T_mid of a
+    T-section's kinematic solution (``hinge_fan``), each None where it has none: the figures
+    ``fe.adapt.adapt`` records per cycle (``Cycle.measures``)."""
+    hf = hinge_fan(case, kinematic)
+    return {"hinge_z": None if hf is None else hf.z, "T1": None if hf is None else hf.T1,
+            "T2": None if hf is None else hf.T2, "T_mid": None if hf is None else hf.T_mid}

@@ -369,6 +369,25 @@ class FEResult:
         return min(ok, key=lambda m: m.vg) if ok else None
 
     @property
+    def crack_change(self) -> dict:
+        """How far the reported hinge and crack moved before the run stopped: over the fan
+        search's last improving round ("over", "resolution": its ``crack_resolution``, the
+        largest change of the edges or mid-line), or over the adaptive chain's last cycle
+        ("over", and the absolute changes of hinge_z [m], T1, T2, T_mid between the last two
+        cycles' best kinematic fields, None where either had none); {} where neither was
+        measured (one mesh)."""
+        res = self.whole.problem.meta.get("crack_resolution")
+        if res is not None:
+            return {"over": "the fan search's last improving round", "resolution": float(res)}
+        ms = [] if self.adapt is None else [c.measures for c in self.adapt.cycles if c.measures]
+        if len(ms) < 2:
+            return {}
+        a, b = ms[-2], ms[-1]
+        return {"over": "the last cycle"} | {
+            k: None if a.get(k) is None or b.get(k) is None else abs(b[k] - a[k])
+            for k in ("hinge_z", "T1", "T2", "T_mid")}
+
+    @property
     def lower_bound(self) -> float | None:
         return None if self.static is None else self.static.multiplier
 
@@ -398,6 +417,7 @@ class FEResult:
             "static_triangles": None if self.static is None
             else int(self.static.mesh.t.shape[1]),
             "adapt": None if self.adapt is None else self.adapt.as_dict(),
+            "crack_change": self.crack_change,
             "vg": None if crit is None else crit.vg,
             "vnorm": None if crit is None else crit.vnorm,
             "lam": None if at is None else at.lam,
