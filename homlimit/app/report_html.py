@@ -1,9 +1,10 @@
 """The one-page report of a run (``[output] report = true``): report.html, one self-contained
 file (the run's PNG pictures embedded as base64 data URIs, no script, no external link) with
 the inputs and their units, the pictures, each mechanism's multipliers and collapse
-velocities, the code check (NTC 2018 / Circolare 2019 §C8.7.1.2, both e* readings) and the
-package version. Built from ``Result.to_dict()`` (summary.json's numbers) with the standard
-library's ``html.escape`` only; written by ``writers.write`` (whole or nothing), after the
+velocities, the code check (NTC 2018 / Circolare 2019 §C8.7.1.2, both e* readings; the
+floors' Q_k reading and the nonlinear check at the ground beside it) and the package version.
+Built from ``Result.to_dict()`` (summary.json's numbers) with the standard library's
+``html.escape`` only; written by ``writers.write`` (whole or nothing), after the
 pictures and before summary.json (``outputs.write_result``). docs/report.md."""
 
 from __future__ import annotations
@@ -153,18 +154,17 @@ def _mechanisms(d: dict, labels: dict) -> str:
     return out
 
 
-def _code_check(cc: dict | None) -> str:
+def _code_check(cc: dict | None, has_floors: bool = False) -> str:
     if cc is None:
         return ('<p class="note">none: the case has no [site] section '
                 "(docs/code-check.md)</p>")
     s = cc["site"]
     rows = []
     for k, c in cc["mechanisms"].items():
-        met = "yes" if c["passes"] else '<span class="no">NO</span>'
         rows.append([f"<td>{escape(k)}</td>"] + [
             _cell(c[q], f"code_check.{k}.{q}") for q in
             ("alpha0", "e_star", "a0_star", "Z", "demand_ground", "demand_height", "demand",
-             "ratio", "a0_star_lumped", "ratio_lumped")] + [f"<td>{met}</td>"])
+             "ratio", "a0_star_lumped", "ratio_lumped")] + [_met(c["passes"])])
     out = (f'<p class="note">site: S = {_num(s["S"])} (S_S = {_num(s["S_S"])}, S_T = '
            f'{_num(s["S_T"])}), T_B, T_C, T_D = {_num(s["T_B"], 3)}, {_num(s["T_C"], 3)}, '
            f'{_num(s["T_D"], 3)} s; building H = {_num(s["H_building"])} m, T₁ = '
@@ -186,9 +186,73 @@ def _code_check(cc: dict | None) -> str:
     if cc["governing"] is not None:
         out += (f'<p class="note">governing in the code check: {escape(cc["governing"])}, '
                 f'ratio {_num(cc["ratio"])}</p>')
+    out += _floors(cc, has_floors) + _nonlinear(cc)
     out += "".join(f'<p class="note">{escape(k.replace("_reading", ""))}: {escape(v)}</p>'
                    for k, v in cc["reading"].items())
     return out
+
+
+def _skipped(rows: list[dict], what: str) -> str:
+    """One note per reason for the mechanisms ``what`` was not computed for (the same reason
+    once, its mechanisms listed)."""
+    by_reason: dict[str, list[str]] = {}
+    for r in rows:
+        by_reason.setdefault(r["reason"], []).append(r["mechanism"])
+    return "".join(f'<p class="note">{escape(what)} not computed for {escape(", ".join(ks))}: '
+                   f"{escape(why)}</p>" for why, ks in by_reason.items())
+
+
+def _met(passes: bool) -> str:
+    return "<td>yes</td>" if passes else '<td><span class="no">NO</span></td>'
+
+
+def _floors(cc: dict, has_floors: bool) -> str:
+    """The floors' Q_k reading beside the used check (``code_check.floors_Qk``; docs/
+    code-check.md, reading 3): a small table where the case has floors, else one line."""
+    fq = cc.get("floors_Qk")
+    title = "the floors' Q_k reading (Circolare 2019 transcription, C8.7.1.1/.5)"
+    if fq is None:
+        return ""
+    if not has_floors:
+        return f'<p class="note">{title}: the case has no floors, the readings coincide</p>'
+    rows = [[f"<td>{escape(k)}</td>"]
+            + [_cell(c[q], f"code_check.floors_Qk.{k}.{q}", 5 if q == "m_floors" else 4)
+               for q in ("alpha0", "m_floors", "e_star", "a0_star", "Z", "demand", "ratio")]
+            + [_cell(cc["mechanisms"][k]["ratio"], f"code_check.{k}.ratio"), _met(c["passes"])]
+            for k, c in fq["mechanisms"].items()]
+    out = (f'<p class="note">beside it, {title}: the floors\' weights pushed horizontally in '
+           "α₀ and summed in M*, e*, at that reading's smallest a/g over h</p>")
+    if rows:
+        out += _table(["mechanism", "α₀ [–]", "floors [kg]", "e* [–]", "a₀* [m/s²]", "Z [m]",
+                       "demand [m/s²]", "ratio [–]", "ratio used [–]", "met"], rows)
+    out += _skipped(fq["not_computed"], "floors' reading")
+    if fq["governing"] is not None:
+        out += (f'<p class="note">governing in the floors\' reading: '
+                f'{escape(fq["governing"])}, ratio {_num(fq["ratio"])}</p>')
+    return out
+
+
+def _nonlinear(cc: dict) -> str:
+    """The nonlinear kinematic check at the ground (``code_check.nonlinear``): d_u*,
+    S_De(T_s), the ratio and the 2019 form's beside, where computed; else the reason."""
+    nl = cc.get("nonlinear")
+    if nl is None:
+        return ""
+    rows = [[f"<td>{escape(k)}</td>"]
+            + [_cell(c[q], f"code_check.nonlinear.{k}.{q}") for q in
+               ("d0_star", "du_star", "Ts", "SDe_Ts", "ratio")] + [_met(c["passes"])]
+            + [_cell(c[q], f"code_check.nonlinear.{k}.{q}") for q in
+               ("T_SLV", "SDe_SLV", "ratio_SLV")]
+            for k, c in nl["mechanisms"].items()]
+    out = ""
+    if rows:
+        out += ('<p class="note">nonlinear kinematic analysis at the ground (2009 C8A.4.2 '
+                "form: d_u* = 0.4 d₀* ≥ S_De(T_s), 5 %; beside it the 2019 transcription's "
+                "d_SLV = 0.4 d₀*, T_SLV = 1.68π √(d/a), 8 %)</p>")
+        out += _table(["mechanism", "d₀* [m]", "d_u* [m]", "T_s [s]", "S_De(T_s) [m]",
+                       "ratio d_u*/S_De [–]", "met", "T_SLV [s]", "S_De(T_SLV) [m]",
+                       "ratio (2019) [–]"], rows)
+    return out + _skipped(nl["not_computed"], "nonlinear check")
 
 
 def _pictures(folder: Path) -> str:
@@ -222,7 +286,7 @@ def page(result, folder: str | Path) -> str:
         "".join(f'<p class="note">warning: {escape(w)}</p>' for w in d["warnings"]),
         "<h2>Inputs</h2>", _inputs(d["inputs"]),
         "<h2>Multipliers and collapse velocities</h2>", _mechanisms(d, labels),
-        "<h2>Code check: linear kinematic analysis (NTC 2018 / Circolare 2019 §C8.7.1.2)</h2>",
-        _code_check(d["code_check"]),
+        "<h2>Code check: kinematic analysis (NTC 2018 / Circolare 2019 §C8.7.1.2)</h2>",
+        _code_check(d["code_check"], bool(d["inputs"].get("floor"))),
         "<h2>Mechanisms</h2>", _pictures(Path(folder)),
         "</body></html>\n"])
