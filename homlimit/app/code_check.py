@@ -39,7 +39,7 @@ READING = {
               "C8.7.1.1, C8.7.1.5), at the height of that reading's smallest multiplier; "
               "equal to the used check without floors",
     "nonlinear_reading":
-        "nonlinear: where the capacity curve is clean (the simple overturning under gravity "
+        "where the capacity curve is clean (the simple overturning under gravity "
               "alone) and at the ground: alpha falls linearly to 0 at dk0 (G's displacement at "
               "theta0 = atan(x_G/z_G)); d* = d_k J_z/(m z_G^2); used: the 2009 form du* = "
               "0.4 d0*, Ts = 2 pi sqrt(ds*/as*), ds* = 0.4 du*, du* >= S_De(Ts) at 5 %; beside "
