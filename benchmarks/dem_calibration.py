@@ -25,13 +25,14 @@ def label(over: dict) -> str:
 
 
 def load(paths: list[str]) -> dict[str, dict[str, dict]]:
-    """{set label: {wall: record}}; a wall run twice with one set keeps its last record."""
+    """{set label: {wall: record}}; a wall run twice with one set keeps its last record; lines
+    that are not thresholds (dem_long_trials.py's single trials) are skipped."""
     sets: dict[str, dict[str, dict]] = {}
     for path in paths:
         with open(path) as fh:
             for line in fh:
-                if line.startswith("{"):
-                    r = json.loads(line)
+                r = json.loads(line) if line.startswith("{") else {}
+                if "lo" in r:
                     sets.setdefault(label(r.get("overrides", {})), {})[r["test"]] = r
     return sets
 

@@ -35,7 +35,8 @@ def main(argv=None) -> None:
         c0 = time.process_time()
         out = run(model, settled, v_g=v, t_max=args.t_max)
         print(json.dumps({"test": args.wall, "overrides": over, "v": v, "t_max": args.t_max,
-                          "collapsed": bool(out.collapsed), "t_collapse": out.t_collapse,
+                          "collapsed": bool(out.collapsed),
+                          "t_collapse": out.t_collapse if out.collapsed else None,
                           "t_end": out.t_end, "cpu": time.process_time() - c0}), flush=True)
 
 
