@@ -49,7 +49,11 @@ def main(argv=None) -> None:
     from homlimit.dem.threshold import collapse_threshold
 
     over = dict(args.over)
-    params = DEMParams(**over)           # checked before any wall runs
+    fields = DEMParams.__dataclass_fields__
+    for key in over:
+        if key not in fields:
+            ap.error(f"--set {key}: not a DEMParams field (allowed: {', '.join(fields)})")
+    params = DEMParams(**over)           # values checked before any wall runs
     rows = {r.test: r for r in table1()}
     for name in args.walls:
         row = rows[name]
