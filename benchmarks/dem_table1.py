@@ -47,13 +47,17 @@ def main(argv=None) -> None:
     from homlimit.closed_form.paper import table1
     from homlimit.dem import DEMParams, build_model
     from homlimit.dem.threshold import collapse_threshold
+    from homlimit.errors import ParameterError
 
     over = dict(args.over)
     fields = DEMParams.__dataclass_fields__
     for key in over:
         if key not in fields:
             ap.error(f"--set {key}: not a DEMParams field (allowed: {', '.join(fields)})")
-    params = DEMParams(**over)           # values checked before any wall runs
+    try:
+        params = DEMParams(**over)       # values checked before any wall runs
+    except ParameterError as err:
+        ap.error(str(err))
     rows = {r.test: r for r in table1()}
     for name in args.walls:
         row = rows[name]
