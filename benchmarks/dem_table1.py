@@ -60,6 +60,9 @@ def main(argv=None) -> None:
         ap.error(str(err))
     rows = {r.test: r for r in table1()}
     for name in args.walls:
+        if name not in rows:
+            ap.error(f"wall {name!r}: not a Table 1 test (allowed: {', '.join(rows)})")
+    for name in args.walls:
         row = rows[name]
         t0 = time.perf_counter()
         c0 = time.process_time()
