@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from dem_table1 import override
+from dem_table1 import add_overrides, settled_wall
 
 
 def main(argv=None) -> None:
@@ -21,20 +21,14 @@ def main(argv=None) -> None:
     ap.add_argument("v", type=float, help="ideal impulse v_g [m/s]")
     ap.add_argument("png", help="the snapshots' PNG")
     ap.add_argument("--t-max", type=float, default=5.0, help="trial length [s]")
-    ap.add_argument("--set", type=override, action="append", default=[], dest="over",
-                    metavar="KEY=VALUE", help="a DEMParams override (repeatable)")
+    add_overrides(ap)
     args = ap.parse_args(argv)
 
-    from homlimit.blocks.geometry import t_section_blocks
-    from homlimit.closed_form.paper import table1
-    from homlimit.dem import DEMParams, build_model, settle
     from homlimit.dem.output import plot_snapshots, record_frames
 
     over = dict(args.over)
-    row = {r.test: r for r in table1()}[args.wall]
     c0 = time.process_time()
-    model = build_model(t_section_blocks(row.case, facade="through"), DEMParams(**over))
-    settled, _ = settle(model)
+    model, settled = settled_wall(args.wall, over)
     frames = record_frames(model, settled, v_g=args.v, t_max=args.t_max)
     sets = ", ".join(f"{k}={v:g}" for k, v in over.items()) or "defaults"
     plot_snapshots(args.png, model, settled, frames,

@@ -11,7 +11,7 @@ import argparse
 import json
 import time
 
-from dem_table1 import override
+from dem_table1 import add_overrides, settled_wall
 
 
 def main(argv=None) -> None:
@@ -19,18 +19,13 @@ def main(argv=None) -> None:
     ap.add_argument("wall", help="Table 1 test name, e.g. B1")
     ap.add_argument("v", type=float, nargs="+", help="ideal impulses v_g [m/s]")
     ap.add_argument("--t-max", type=float, default=10.0, help="trial length [s]")
-    ap.add_argument("--set", type=override, action="append", default=[], dest="over",
-                    metavar="KEY=VALUE", help="a DEMParams override (repeatable)")
+    add_overrides(ap)
     args = ap.parse_args(argv)
 
-    from homlimit.blocks.geometry import t_section_blocks
-    from homlimit.closed_form.paper import table1
-    from homlimit.dem import DEMParams, build_model, run, settle
+    from homlimit.dem import run
 
     over = dict(args.over)
-    row = {r.test: r for r in table1()}[args.wall]
-    model = build_model(t_section_blocks(row.case, facade="through"), DEMParams(**over))
-    settled, _ = settle(model)
+    model, settled = settled_wall(args.wall, over)
     for v in args.v:
         c0 = time.process_time()
         out = run(model, settled, v_g=v, t_max=args.t_max)

@@ -32,6 +32,24 @@ def override(text: str) -> tuple[str, object]:
     return key.strip(), value.strip()
 
 
+def add_overrides(ap: argparse.ArgumentParser) -> None:
+    """The repeatable ``--set KEY=VALUE`` option (``override``), into ``args.over``."""
+    ap.add_argument("--set", type=override, action="append", default=[], dest="over",
+                    metavar="KEY=VALUE", help="a DEMParams override (repeatable)")
+
+
+def settled_wall(wall: str, over: dict):
+    """(model, settled state) of Table 1's ``wall`` (the T-section, façade through) with the
+    DEMParams ``over``rides, settled under gravity."""
+    from homlimit.blocks.geometry import t_section_blocks
+    from homlimit.closed_form.paper import table1
+    from homlimit.dem import DEMParams, build_model, settle
+
+    row = {r.test: r for r in table1()}[wall]
+    model = build_model(t_section_blocks(row.case, facade="through"), DEMParams(**over))
+    return model, settle(model)[0]
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("walls", nargs="+", help="Table 1 test names, e.g. B1 B4")
