@@ -34,7 +34,7 @@ def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
     w = case.wall
     # refused before any work (the FE path): what the chosen rockers do not take
     # (every rocker takes fc, ties and floors: the FE body's with the FE impulse's LoadWork)
-    no_joint_strength(case, "the pulse spectra's rockers")
+    no_joint_strength(case, "the pulse spectra's rocker of every mechanism")
     record = None
     if pc.record:
         base = Path(config.source).parent if Path(config.source).is_file() else Path.cwd()
