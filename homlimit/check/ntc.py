@@ -28,6 +28,7 @@ M* = (m z_G + Σ m_k z_k)²/(J_z + Σ m_k z_k²), e* = M*/(m + Σ m_k).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -86,12 +87,9 @@ def _floor_rows(floor_masses) -> tuple[np.ndarray, np.ndarray]:
 
 def participation_lumped(body: RigidBody, floor_masses=()) -> tuple[float, float]:
     """(M*, e*) with the body's weight lumped at its G (one P_i per block; e* = 1 without
-    floors), the floors as point masses: M* = (m z_G + Σ m_k z_k)²/(m z_G² + Σ m_k z_k²)."""
-    mk, zk = _floor_rows(floor_masses)
-    if not mk.size:
-        return body.m, 1.0
-    M = float((body.m * body.z_G + mk @ zk) ** 2 / (body.m * body.z_G ** 2 + mk @ zk ** 2))
-    return M, float(M / (body.m + mk.sum()))
+    floors), the floors as point masses: ``participation`` of the same body with J_z = m z_G²,
+    M* = (m z_G + Σ m_k z_k)²/(m z_G² + Σ m_k z_k²)."""
+    return participation(dataclasses.replace(body, J_z=body.m * body.z_G ** 2), floor_masses)
 
 
 class _Verdict:
