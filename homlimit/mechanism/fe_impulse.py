@@ -64,8 +64,9 @@ from ..geometry import TSection
 from ..impulse import LoadWork, RigidBody, no_bond_reason, peak_with_loads, peak_work
 from .crack import p2_subtriangles
 
-__all__ = ["p2_nodes", "ray_conforming_mesh", "BodyLoads", "GeneralisedImpulse", "LoadWork",
+__all__ = ["p2_nodes", "ray_conforming_mesh", "BodyLoads", "GeneralisedImpulse",
            "body_loads", "bond_reason", "generalised_impulse", "contour_body", "contour_pieces"]
+
 
 def p2_nodes(solution, densities: dict | None = None):
     """P2 nodes of a KinematicSolution: positions X (n, 2), velocities V (n, 2), triangles
