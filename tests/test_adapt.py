@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import subprocess
@@ -136,7 +137,8 @@ def test_run_with_gmsh_brackets_adaptively_around_the_exact_fan(tmp_path):
             "analysis.heights": 2, "analysis.facade": "homogenised",
             "analysis.hinge_check": False, "analysis.closed_form": False,
             "adapt.max_cycles": 2, "adapt.target_gap": 0.001,
-            "adapt.conform": False}       # the gap-driven chain alone (test_conform: the search)
+            "adapt.conform": False,       # the gap-driven chain alone (test_conform: the search,
+            "adapt.crack_cycles": 0}      # test_crack_splits_...: the crack's splits)
     res = pipeline.run(None, out=tmp_path / "o", overrides=over)
     fe = res.to_dict()["fe"]
     cycles = fe["adapt"]["cycles"]
@@ -240,3 +242,112 @@ def test_crack_change_is_the_last_cycles_move_or_the_searchs_resolution():
     assert result([a], converged=True).crack_change == {}
     assert "not measured (one mesh: the bracket met its target on its first)" in \
         _crack_change_line(result([a], converged=True))
+
+
+def test_refined_nested_keeps_named_lines_regions_and_nesting():
+    """``fe.mesh.refined_nested`` on B1's gmsh-strip T-section (b = 0.5, L = 6, H = 9 m): the
+    named lines keep their lengths (6.5, 9, 6.5, 9, 9 m by hand) and every new facet of one lies
+    on the old line; the regions keep their areas (b H = 4.5, L H = 54 m²); every old triangle
+    is the union of new ones (old vertices first, each new triangle inside one old)."""
+    from homlimit.fe.mesh import element_areas, refined_nested
+    from homlimit.fe.problems import t_section
+    from homlimit.params import Case
+
+    old = t_section(Case(), facade="bedjoints", h=0.5, mesher="gmsh-strip", h_outer=0.02).mesh
+    new = refined_nested(old, np.arange(0, old.t.shape[1], 3))
+    assert new.t.shape[1] > old.t.shape[1] + old.t.shape[1] // 3
+    assert np.array_equal(new.p[:, :old.p.shape[1]], old.p)
+
+    def length(m, name):
+        a, b = m.facets[:, m.boundaries[name]]
+        return np.linalg.norm(m.p[:, a] - m.p[:, b], axis=0).sum()
+
+    for name, hand in (("base", 6.5), ("outer", 9.0), ("top", 6.5), ("end", 9.0),
+                       ("junction", 9.0)):
+        assert length(new, name) == pytest.approx(hand, rel=1e-12), name
+        mid = new.p[:, new.facets[:, new.boundaries[name]]].mean(axis=1)
+        fa, fb = old.facets[:, old.boundaries[name]]
+        a, b = old.p[:, fa], old.p[:, fb]
+        t = np.clip(np.einsum("dij,dj->ij", mid[:, :, None] - a[:, None, :], b - a)
+                    / ((b - a) ** 2).sum(0), 0, 1)           # the nearest point of each old facet
+        dist = np.linalg.norm(mid[:, :, None] - (a[:, None, :] + t * (b - a)[:, None, :]),
+                              axis=0).min(axis=1)
+        assert dist.max() < 1e-12, name
+    areas = element_areas(new)
+    assert areas[new.subdomains["facade"]].sum() == pytest.approx(4.5, rel=1e-12)
+    assert areas[new.subdomains["wall"]].sum() == pytest.approx(54.0, rel=1e-12)
+    parent = old.element_finder()(*new.p[:, new.t].mean(axis=1))
+    np.testing.assert_allclose(np.bincount(parent, areas, old.t.shape[1]),
+                               element_areas(old), rtol=1e-12)
+    with pytest.raises(ParameterError, match="marked triangles .* out of range"):
+        refined_nested(old, [old.t.shape[1]])
+
+
+def test_refine_mechanism_stops_when_the_figures_settle_or_nothing_is_marked():
+    """``fe.adapt.refine_mechanism`` on the free block (λ⁺ = b/h = 1/6 on any mesh): the first
+    split leaves the measured λ unchanged, so it stops "settled" after one mesh; its cycle is a
+    "mechanism" one (λ⁻ not solved, the best λ⁻ kept); nothing marked stops it at once."""
+    from homlimit.app.verify import known_problem
+    from homlimit.fe.adapt import refine_mechanism
+
+    k = known_problem("free_block")
+    res = adapt(k.problem, k.remesh, AdaptOptions(target_gap=1e-6), first_mesh=k.problem.mesh)
+    n0 = k.problem.n_triangles
+    out = refine_mechanism(res, lambda kin: np.arange(kin.mesh.t.shape[1]),
+                           lambda m: dataclasses.replace(k.problem, mesh=m),
+                           lambda kin: {"lam": float(kin.multiplier)}, keys=("lam",), tol=1e-6)
+    assert out.mechanism_stop == "settled" and len(out.cycles) == 2
+    cyc = out.cycles[-1]
+    assert cyc.kind == "mechanism" and math.isnan(cyc.lower) and cyc.triangles == 4 * n0
+    assert cyc.best_lower == res.bracket.lower
+    assert out.bracket.upper == pytest.approx(1 / 6, rel=1e-7)
+    assert out.problem.n_triangles == 4 * n0 and out.cycles[0].measures["lam"] == \
+        pytest.approx(1 / 6, rel=1e-7)
+    none = refine_mechanism(res, lambda kin: [], lambda m: None, lambda kin: {"lam": 1.0},
+                            keys=("lam",))
+    assert none.mechanism_stop == "unmarked" and len(none.cycles) == 1
+    budget = refine_mechanism(res, lambda kin: np.arange(kin.mesh.t.shape[1]),
+                              lambda m: dataclasses.replace(k.problem, mesh=m),
+                              lambda kin: {"lam": 1.0}, keys=("lam",), max_triangles=n0)
+    assert budget.mechanism_stop == "budget" and budget.problem is res.problem
+
+
+def test_settled_compares_every_figure_relative_to_its_last_value():
+    from homlimit.fe.adapt import settled
+
+    a = {"T1": 0.600, "T2": 0.650, "T_mid": 0.620}
+    assert settled(a, {"T1": 0.605, "T2": 0.650, "T_mid": 0.620}, a, 0.01)   # 0.83 %
+    assert not settled(a, {"T1": 0.607, "T2": 0.650, "T_mid": 0.620}, a, 0.01)   # 1.17 %
+    assert not settled(a, {**a, "T2": None}, a, 0.01)
+
+
+@pytest.mark.slow
+def test_crack_splits_settle_the_bed_joint_crack_and_never_raise_the_upper_bound(tmp_path):
+    """`run` on B1 (bed-joint façade, gmsh-strip from 0.5 m, one bracket meets a 5 % target):
+    the crack's band is
+    split on nested meshes (``mechanism.adaptive.refine_crack``) until its edges and mid-line
+    move by at most 1 % over the last split. Each split's P2 space contains the last, so λ⁺
+    does not rise beyond the solver's tolerance; λ⁻ stays the bracket's; the summary's change
+    is the last split's and the reported crack is the last mesh's."""
+    from homlimit.app import pipeline
+
+    over = {"mesh.size": 0.5, "mesh.part_divisions": 3, "analysis.heights": 2,
+            "analysis.hinge_check": False, "analysis.closed_form": False,
+            "adapt.target_gap": 0.05, "adapt.crack_cycles": 4}    # 2.5 % on the first mesh
+    res = pipeline.run(None, out=tmp_path / "o", overrides=over)
+    fe = res.to_dict()["fe"]
+    ad = fe["adapt"]
+    cycles = ad["cycles"]
+    assert [c["kind"] for c in cycles][:2] == ["bracket", "mechanism"]
+    assert ad["mechanism_stop"] == "settled" and len(cycles) >= 3
+    for a, b in zip(cycles, cycles[1:]):
+        assert b["triangles"] > a["triangles"]
+        assert b["upper"] <= a["upper"] * (1 + 1e-6)        # nested: λ⁺ cannot rise
+        assert b["best_lower"] == cycles[0]["lower"] and math.isnan(b["lower"])
+    last, before = cycles[-1], cycles[-2]
+    for k in ("T1", "T2", "T_mid"):
+        assert abs(last[k] - before[k]) <= 0.01 * abs(before[k])
+    assert fe["multiplier"] == last["upper"] and fe["n_triangles"] == last["triangles"]
+    assert fe["tanpsi"] == pytest.approx(last["T_mid"], abs=1e-12)
+    assert fe["crack_change"]["T_mid"] == pytest.approx(abs(last["T_mid"] - before["T_mid"]))
+    assert "the crack's band split" in res.summary() and ", settled)" in res.summary()

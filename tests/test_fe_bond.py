@@ -152,7 +152,8 @@ def test_cli_run_fe_with_cohesion(tmp_path):
     case = b1(masonry={"cohesion": C},
               analysis={"fe": True, "closed_form": False, "hinge_check": False,
                         "heights": 2},
-              mesh={"size": 1.0, "part_divisions": 4}, adapt={"max_cycles": 2},
+              mesh={"size": 1.0, "part_divisions": 4},
+              adapt={"max_cycles": 2, "crack_cycles": 0},   # two brackets, both bounds each
               output={"png": False, "vtu": False},
               site={"ag": 1.962, "F0": 2.5, "Tc_star": 0.3})
     r = run_cli(tmp_path, case, "run")

@@ -81,7 +81,7 @@ def outer_width(config: CaseConfig) -> float | None:
 def adaptive_bracket_of(config: CaseConfig, timings: dict):
     """``mechanism.adaptive.adaptive_bracket`` of the whole wall, each cycle logged."""
     from ..fe.adapt import AdaptOptions
-    from ..mechanism.adaptive import adaptive_bracket
+    from ..mechanism.adaptive import adaptive_bracket, refine_crack
     from ..mechanism.conform import conform_hook
 
     ad = config.adapt
@@ -108,6 +108,23 @@ def adaptive_bracket_of(config: CaseConfig, timings: dict):
         log.warning("warning: the adaptive bracket stopped (%s) at a gap of %.2f %%, above "
                     "its target %g %%", res.stop, 100 * res.cycles[-1].rel_gap,
                     100 * ad.target_gap)
+    if conform or ad.crack_cycles == 0:      # the fan search resolves the crack itself
+        return res
+
+    def crack_progress(c):
+        m = c.measures
+        log.info("  crack cycle %d: %d triangles, multiplier <= %.5g (gap %.2f %%), crack "
+                 "edges %s .. %s, mid-line %s, %.1f s", c.cycle, c.triangles, c.upper,
+                 100 * c.rel_gap, *(("-" if m.get(k) is None else f"{m[k]:.4f}")
+                                    for k in ("T1", "T2", "T_mid")), c.seconds)
+
+    with stage(timings, "crack refinement", f"the crack's band split until its edges and "
+               f"mid-line move <= {100 * ad.crack_tol:g} %, at most {ad.crack_cycles} times"):
+        res = refine_crack(config.case, res, ad.crack_tol, ad.crack_cycles,
+                           config.mesh.max_triangles, solver, crack_progress)
+    if res.mechanism_stop != "settled":
+        log.warning("warning: the crack refinement stopped (%s) before the crack settled to "
+                    "%g %%", res.mechanism_stop, 100 * ad.crack_tol)
     return res
 
 

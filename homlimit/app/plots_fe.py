@@ -204,14 +204,15 @@ def plot_stress(path: str | Path, static, title: str = "", n_ticks: int = 1500,
 def plot_adapt(path: str | Path, cycles: list[dict], title: str = "",
                exact: float | None = None) -> Path:
     """adapt.png: both bounds of the adaptive bracket against the triangles of each cycle
-    (``fe.adapt``): each mesh's and the best so far, and the best pair's relative gap."""
+    (``fe.adapt``): each mesh's and the best so far, and the best pair's relative gap; the
+    crack's splits (``fe.adapt.refine_mechanism``) have λ⁺ only."""
     plt = pyplot()
     n = [c["triangles"] for c in cycles]
     fig, (ax, ag) = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
     ax.plot(n, [c["upper"] for c in cycles], "v", color="C0", alpha=0.5,
             label="kinematic λ⁺ on each mesh")
     ax.plot(n, [c["lower"] for c in cycles], "^", color="C1", alpha=0.5,
-            label="static λ⁻ on each mesh")
+            label="static λ⁻ on each mesh")     # NaN (not drawn) on the crack's splits
     ax.plot(n, [c["best_upper"] for c in cycles], "-", color="C0", label="best λ⁺ so far")
     ax.plot(n, [c["best_lower"] for c in cycles], "-", color="C1", label="best λ⁻ so far")
     if exact is not None:

@@ -127,8 +127,7 @@ def _fe_lines(fe, case) -> str:
                f"static on its own mesh, {ns} triangles, façade columns graded to the "
                f"outer face") if fe.adapt is None else (
             f"adaptive {full.problem.meta.get('mesher', 'gmsh')} mesh, "
-            f"{len(fe.adapt.cycles)} cycle{'s' if len(fe.adapt.cycles) != 1 else ''}, "
-            + ("target reached" if fe.adapt.converged else f"stopped: {fe.adapt.stop}"))
+            + _adapt_cycles(fe.adapt))
         lines.append(f"  bracket: static {_num(fe.lower_bound, '.4g')} <= multiplier <= "
                      f"kinematic {_num(full.multiplier, '.4g')} (gap "
                      f"{100 * fe.bracket_rel_gap:.1f} %, {how})")
@@ -147,6 +146,20 @@ def _fe_lines(fe, case) -> str:
                   f"({fe.h_min:g} m, one course, to H) at h = {_num(crit.h, '.2f')} m: "
                   f"{fe.critical_at}", f"         ({crit.vg_method})"]
     return "\n".join(lines)
+
+
+def _adapt_cycles(adapt) -> str:
+    """"1 cycle, target reached" and, after ``fe.adapt.refine_mechanism``, "; the crack's band
+    split 2 times, settled"."""
+    n = sum(c.kind == "bracket" for c in adapt.cycles)
+    k = len(adapt.cycles) - n
+    out = (f"{n} cycle{'s' if n != 1 else ''}, "
+           + ("target reached" if adapt.converged else f"stopped: {adapt.stop}"))
+    if adapt.mechanism_stop:
+        out += (f"; the crack's band split {k} time{'s' if k != 1 else ''}, "
+                + ("settled" if adapt.mechanism_stop == "settled"
+                   else f"stopped: {adapt.mechanism_stop}"))
+    return out
 
 
 def _crack_change_line(fe) -> str:

@@ -121,6 +121,13 @@ SCHEMA: dict[str, dict[str, Key]] = {
                         doc="no element of the adaptive bracket is asked to be smaller"),
         "conform": Key(bool, True, doc="homogenised façade: each cycle also searches λ⁺ over "
                        "meshes conforming to a hinge + fan, the crack resolved (docs/adaptive.md)"),
+        "crack_cycles": Key(int, 3, "", 0, 20,
+                            doc="after the bracket (where the fan search does not run): at "
+                                "most this many nested splits of the crack's band, λ⁺ only, "
+                                "until the crack settles (0: none; docs/adaptive.md)"),
+        "crack_tol": Key(float, 0.01, "", 0.0, 1.0, lo_open=True,
+                         doc="the crack has settled when its fan edges and mid-line each "
+                             "move by at most this (relative) over the last split"),
     },
     "analysis": {
         "closed_form": Key(bool, True, doc="closed-form mechanisms I and II (eqs 8–20)"),

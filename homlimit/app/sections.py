@@ -51,6 +51,8 @@ class AdaptConfig:
     max_cycles: int
     min_size: float
     conform: bool
+    crack_cycles: int
+    crack_tol: float
 
 
 @section("analysis")

@@ -75,7 +75,7 @@ UNITS: dict[str, str] = {
     "N": "N", "T": "N",              # contact forces per slab of thickness s (blocks.limit)
     "opening": "m/s", "slip": "m/s",  # velocity jumps of the normalised mechanism
     # homlimit verify and the adaptive bracket (verify.json, verify.csv, fe_adapt.csv)
-    **dict.fromkeys("problem source stop holds converged".split(), ""),
+    **dict.fromkeys("problem source stop holds converged kind mechanism_stop".split(), ""),
     **dict.fromkeys("lower upper best_lower best_upper exact_lo exact_hi rel_gap lower_err "
                     "upper_err triangles cycles cycle T1 T2 T_mid T1_exact T2_exact f c_over_a "
                     "sqrt_cf_a".split(), "-"),

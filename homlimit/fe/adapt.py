@@ -8,6 +8,10 @@ background field for the next mesh (``geometry.polygon_mesh(size_map=...)``). Th
 when the relative gap (λ⁺ − λ⁻)/mean is at most ``target_gap``, after ``max_cycles`` meshes,
 or before a remesh whose estimated triangle count exceeds ``max_triangles``.
 
+After the bracket, ``refine_mechanism`` may split the best kinematic mesh where its mechanism
+lives (nested: ``mesh.refined_nested``), the kinematic bound alone, until the figures it
+measures (e.g. the crack's edges) move by less than a tolerance from one mesh to the next.
+
 Singular points (corners where the exact static field has a centred fan of discontinuities,
 the ``prandtl_fan`` lesson) are given to the mesher once, as fans of embedded rays
 (``fan_rays``): an adaptive size field alone offers a static field too few edge directions there.
@@ -25,11 +29,12 @@ import numpy as np
 
 from ..errors import ParameterError, check_range
 from .bracket import Bracket, bracket
-from .mesh import element_areas
+from .kinematic import solve_kinematic
+from .mesh import element_areas, refined_nested
 from .solver import SolverOptions
 
 __all__ = ["AdaptOptions", "Cycle", "AdaptResult", "adapt", "refine_sizes", "fan_rays",
-           "estimate_triangles"]
+           "estimate_triangles", "refine_mechanism", "settled", "resume_rung"]
 
 # triangles per unit of Σ area/size²: near-equilateral triangles of side h have area √3/4 h²
 TRIANGLES_PER_AREA = 4.0 / math.sqrt(3.0)
@@ -66,7 +71,9 @@ class AdaptOptions:
 class Cycle:
     """One mesh of the loop: its size, both bounds on it, the best bounds of all meshes so far
     (``best_lower`` = max λ⁻, ``best_upper`` = min λ⁺: each mesh's bounds are rigorous, so the
-    tightest pair brackets λ), the best pair's relative gap and the seconds spent."""
+    tightest pair brackets λ), the best pair's relative gap and the seconds spent. ``kind``:
+    "bracket" (both bounds solved) or "mechanism" (``refine_mechanism``: λ⁺ only, ``lower``
+    NaN)."""
 
     cycle: int
     triangles: int
@@ -79,6 +86,7 @@ class Cycle:
     mesh_seconds: float
     conformed: float | None = None    # λ⁺ of this cycle's ``improve_upper`` search (if any)
     measures: dict = field(default_factory=dict)    # ``adapt``'s ``measure`` of the best λ⁺
+    kind: str = "bracket"
 
     def as_dict(self) -> dict:
         """The cycle's figures, its ``measures`` as columns of their own."""
@@ -94,13 +102,17 @@ class AdaptResult:
     solutions; ``element_gap`` only when both come from one mesh); problem: the problem on
     the best kinematic mesh (its mechanism is the one reported);
     stop: "target" (gap reached), "cycles" (max_cycles meshes), "budget" (the next mesh would
-    exceed max_triangles) or "min_size" (nothing left to refine).
+    exceed max_triangles) or "min_size" (nothing left to refine); mechanism_stop: why
+    ``refine_mechanism`` stopped ("" if it did not run): "settled" (the measured figures moved
+    by at most its tolerance over the last mesh), "cycles", "budget" or "unmarked" (nothing to
+    refine, e.g. no crack).
     """
 
     bracket: Bracket
     problem: object
     cycles: list[Cycle] = field(default_factory=list)
     stop: str = ""
+    mechanism_stop: str = ""
 
     @property
     def converged(self) -> bool:
@@ -108,6 +120,7 @@ class AdaptResult:
 
     def as_dict(self) -> dict:
         return {"stop": self.stop, "converged": self.converged,
+                "mechanism_stop": self.mechanism_stop,
                 "cycles": [c.as_dict() for c in self.cycles]}
 
 
@@ -224,6 +237,90 @@ def adapt(problem, remesh: Callable[[tuple | None, Bracket | None], object],
         mesh = remesh((mesh.p, mesh.t, sizes), br)
         mesh_s = time.perf_counter() - t0
     return AdaptResult(best, up[1], cycles, stop)
+
+
+def settled(before: dict, after: dict, keys, tol: float) -> bool:
+    """Every figure ``keys`` of two measures moved by at most ``tol`` relative to its last
+    value (False where either lacks one)."""
+    for k in keys:
+        a, b = before.get(k), after.get(k)
+        if a is None or b is None or not (math.isfinite(a) and math.isfinite(b)):
+            return False
+        if abs(b - a) > tol * abs(a):
+            return False
+    return True
+
+
+def resume_rung(kinematic, solver: SolverOptions) -> SolverOptions:
+    """``solver`` for a problem refined from ``kinematic``'s: started at the tolerance of the
+    ladder's rung that solved the parent (docs/kinematic.md: on bed-joint meshes the first two
+    rungs stall, and a nested refinement stalls where its parent did), else ``solver``."""
+    attempts = (getattr(kinematic, "sizes", None) or {}).get("attempts") or []
+    rung = attempts[-1][0] if attempts else {}
+    if solver.tol is not None or not isinstance(rung, dict) or "tol_gap_abs" not in rung:
+        return solver
+    return dataclasses.replace(solver, tol=float(rung["tol_gap_abs"]), iterative_refinement=True)
+
+
+def refine_mechanism(result: AdaptResult, mark: Callable[[object], np.ndarray],
+                     on_mesh: Callable[[object], object], measure: Callable[[object], dict],
+                     keys=("T1", "T2", "T_mid"), tol: float = 0.01, max_cycles: int = 3,
+                     max_triangles: int = 60_000, solver: SolverOptions = SolverOptions(),
+                     progress: Callable[[Cycle], None] | None = None) -> AdaptResult:
+    """Split the best kinematic mesh of ``result`` where its mechanism lives, λ⁺ only, until its
+    figures settle.
+
+    Each cycle: ``mark(kinematic)`` → triangle indices (e.g. the crack's band), split with their
+    closure (``mesh.refined_nested``: the new P2 space contains the last, so λ⁺ cannot rise
+    beyond the solver's tolerance), the problem carried there (``on_mesh``), the kinematic
+    bound solved (``resume_rung``) and ``measure``d. Stops when every figure ``keys`` moved by
+    at most ``tol`` (relative) over the last mesh ("settled"), after ``max_cycles`` meshes,
+    before a mesh of more than ``max_triangles``, or when nothing is marked. The static bound
+    is not solved again: the bracket keeps the best λ⁻. Returns ``result`` with the new cycles
+    (``kind`` "mechanism"), the last mesh's λ⁺ and problem (its mechanism is the one reported;
+    nested, its λ⁺ is at most the last one's up to the solver's tolerance) and
+    ``mechanism_stop``."""
+    check_range("tol", tol, 0.0, 1.0, lo_open=True)
+    check_range("max_cycles", max_cycles, 1, 50)
+    br, problem = result.bracket, result.problem
+    kin = br.kinematic
+    before = dict(measure(kin))
+    cycles = list(result.cycles)
+    if cycles and not cycles[-1].measures:
+        cycles[-1] = dataclasses.replace(cycles[-1], measures=before)
+    stop = "cycles"
+    for _ in range(int(max_cycles)):
+        marked = np.asarray(mark(kin), int)
+        if marked.size == 0:
+            stop = "unmarked"
+            break
+        t0 = time.perf_counter()
+        mesh = refined_nested(problem.mesh, marked)
+        if mesh.t.shape[1] > max_triangles:
+            stop = "budget"
+            break
+        mesh_s = time.perf_counter() - t0
+        problem = on_mesh(mesh)
+        solver = resume_rung(kin, solver)     # once resumed, kept for the finer meshes
+        new = solve_kinematic(problem, solver)
+        seconds = time.perf_counter() - t0
+        after = dict(measure(new))
+        upper = float(new.multiplier)      # the last mesh's: its mechanism is the one reported
+        br = Bracket(name=br.name, lower=br.lower, upper=upper, static=br.static, kinematic=new,
+                     times={"kinematic": float(new.times.get("total", math.nan)),
+                            "static": br.times.get("static", math.nan)})
+        cyc = Cycle(len(cycles), problem.n_triangles, math.nan, float(new.multiplier),
+                    br.lower, upper, br.rel_gap, seconds, mesh_s, None, after, "mechanism")
+        cycles.append(cyc)
+        if progress is not None:
+            progress(cyc)
+        done = settled(before, after, keys, tol)
+        kin, before = new, after
+        if done:
+            stop = "settled"
+            break
+    return dataclasses.replace(result, bracket=br, problem=problem, cycles=cycles,
+                               mechanism_stop=stop)
 
 
 def _best(lo: Bracket, up: Bracket) -> Bracket:

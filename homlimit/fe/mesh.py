@@ -8,12 +8,15 @@
   .msh (gmsh 2.2: physical groups), .vtu and .xdmf (one 0/1 cell array "set:<name>" per set).
   Files are written whole or not at all (temporary file + os.replace); .xdmf is written with
   inline XML data so that it is a single file.
+- ``refined_nested(mesh, marked)``: the marked triangles split (with their conforming
+  closure), every old triangle a union of new ones, the named sets kept.
 - ``cached(builder, **params)``: a mesh from ``homlimit.fe.geometry`` generated once per set of
   parameters and kept under ``meshes/cache/`` (or $HOMLIMIT_MESH_CACHE).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import os
@@ -26,7 +29,7 @@ from .._io import atomic_path
 from ..errors import HomlimitError, MeshError, ParameterError
 
 __all__ = ["to_skfem", "from_skfem", "read", "write", "cached", "cache_dir", "element_areas",
-           "quality", "region_tags"]
+           "quality", "region_tags", "refined_nested"]
 
 _SET = "set:"
 
@@ -266,6 +269,57 @@ def _jsonable(x):
     if isinstance(x, np.ndarray | np.generic):
         return x.tolist()
     raise TypeError(f"mesh parameter {x!r} is not JSON-serialisable")
+
+
+# ---------------------------------------------------------------------------- refinement
+
+def refined_nested(mesh, marked) -> object:
+    """``mesh`` with the triangles ``marked`` (indices) split by scikit-fem's adaptive
+    refinement (red–green–blue, with the closure that keeps the mesh conforming), named
+    subdomains and boundaries kept. The new mesh is nested in the old: its vertices start with
+    the old ones, every old triangle is a union of new ones and every old named facet is a new
+    facet or the two halves of it, so a P2 space on it contains the old one."""
+    marked = np.asarray(marked, int)
+    if marked.size == 0:
+        return mesh
+    if marked.min() < 0 or marked.max() >= mesh.t.shape[1]:
+        raise ParameterError(f"marked triangles {marked.min()}..{marked.max()} are out of "
+                             f"range: allowed 0..{mesh.t.shape[1] - 1}")
+    # skfem drops the named facets (and logs it); they are put back below
+    new = dataclasses.replace(mesh, _boundaries=None).refined(marked)
+    n_old = mesh.p.shape[1]
+    if not np.array_equal(new.p[:, :n_old], mesh.p):
+        raise MeshError("refined_nested: the refined mesh does not keep the old vertices first")
+    if not mesh.boundaries:
+        return new
+    nv = new.p.shape[1]
+    keys = np.sort(new.facets, axis=0)
+    keys = keys[0] * nv + keys[1]
+    order = np.argsort(keys)
+
+    def facet_of(a, b):   # new facet index of the vertex pairs (a, b), −1 where none
+        k = np.minimum(a, b) * nv + np.maximum(a, b)
+        i = np.minimum(np.searchsorted(keys, k, sorter=order), keys.size - 1)
+        return np.where(keys[order[i]] == k, order[i], -1)
+
+    from scipy.spatial import cKDTree
+    tree = cKDTree(new.p[:, n_old:].T) if nv > n_old else None
+    named = {}
+    for name, facets in mesh.boundaries.items():
+        a, b = mesh.facets[:, facets]
+        same = facet_of(a, b)
+        split = same < 0
+        if split.any():
+            mid = 0.5 * (mesh.p[:, a[split]] + mesh.p[:, b[split]])
+            dist, m = tree.query(mid.T)
+            m = m + n_old
+            halves = np.concatenate([facet_of(a[split], m), facet_of(m, b[split])])
+            if np.any(dist > 1e-9 * (1.0 + np.abs(mid).max())) or np.any(halves < 0):
+                raise MeshError(f"refined_nested: boundary {name!r} not recovered")
+            named[name] = np.sort(np.concatenate([same[~split], halves]))
+        else:
+            named[name] = np.sort(same)
+    return new.with_boundaries(named)
 
 
 # ---------------------------------------------------------------------------------- measures
