@@ -1,5 +1,5 @@
-"""The DEM's ideal-impulse collapse threshold of Table 1 walls beside UDEC's (docs/dem.md, section
-5): one DEMParams for every wall (the defaults, or those with ``--set KEY=VALUE`` overrides,
+"""The DEM's collapse threshold of Table 1 walls beside UDEC's (docs/dem.md, sections 5, 12, 13),
+under the ideal impulse or a pulse: one DEMParams for every wall (the defaults, or those with ``--set KEY=VALUE`` overrides,
 the same for all walls listed), the T-section with the façade "through", bisection to ±1 %,
 t_max 5 s. One JSON line per wall: v (lo, hi), h, slide flags and slips, trials, the
 overrides, CPU (the trials' and the process's, settling included). About 1–5 min of CPU per
