@@ -1,9 +1,9 @@
 """The DEM's collapse threshold of Table 1 walls beside UDEC's (docs/dem.md, sections 5, 12, 13),
-under the ideal impulse or a pulse: one DEMParams for every wall (the defaults, or those with ``--set KEY=VALUE`` overrides,
-the same for all walls listed), the T-section with the façade "through", bisection to ±1 %,
-t_max 5 s. One JSON line per wall: v (lo, hi), h, slide flags and slips, trials, the
-overrides, CPU (the trials' and the process's, settling included). About 1–5 min of CPU per
-wall on one core.
+under the ideal impulse or a pulse: one DEMParams for every wall (the defaults, or those with
+``--set KEY=VALUE`` overrides, the same for all walls listed), the T-section with the façade
+"through", bisection to ±1 %, t_max 5 s. One JSON line per wall: v (lo, hi), h, slide flags
+and slips, trials, the overrides, CPU (the trials' and the process's, settling included).
+About 1–5 min of CPU per wall on one core.
 
     python benchmarks/dem_table1.py B1 B4 [--guess 0.8] [--t-max 5]
     python benchmarks/dem_table1.py B1 B4 --set kn=0.3e9 --set ks_over_kn=1   # section 12
