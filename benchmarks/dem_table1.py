@@ -1,15 +1,20 @@
-"""The DEM's ideal-impulse collapse threshold of Table 1 walls beside UDEC's (docs/dem.md, section
-5): one DEMParams for every wall (the defaults, or those with ``--set KEY=VALUE`` overrides,
-the same for all walls listed), the T-section with the façade "through", bisection to ±1 %,
-t_max 5 s. One JSON line per wall: v (lo, hi), h, slide flags and slips, trials, the
-overrides, CPU (the trials' and the process's, settling included). About 1–5 min of CPU per
-wall on one core.
+"""The DEM's collapse threshold of Table 1 walls beside UDEC's (docs/dem.md, sections 5, 12, 13),
+under the ideal impulse or a pulse: one DEMParams for every wall (the defaults, or those with
+``--set KEY=VALUE`` overrides, the same for all walls listed), the T-section with the façade
+"through", bisection to ±1 %, t_max 5 s. One JSON line per wall: v (lo, hi), h, slide flags
+and slips, trials, the overrides, CPU (the trials' and the process's, settling included).
+About 1–5 min of CPU per wall on one core.
 
     python benchmarks/dem_table1.py B1 B4 [--guess 0.8] [--t-max 5]
     python benchmarks/dem_table1.py B1 B4 --set kn=0.3e9 --set ks_over_kn=1   # section 12
+    python benchmarks/dem_table1.py B1 B4 --loading rectangular --pulse-period 0.1  # section 13
 
 The guess only sets where the bracket search starts (steps of ×1.5); it does not change the
-threshold beyond the bisection's tolerance.
+threshold beyond the bisection's tolerance. With ``--loading`` a pulse (``dynamics.pulses``,
+polarity +1: the façade's inertia outwards) replaces the ideal impulse; the threshold is its
+amplitude a_g, reported with its pgv (rectangular: a_g·Δt) as "pgv", "ratio" and "vg_norm",
+and the first trial is the guess over Δt (UDEC's v̄_g/Δt by default), so a rectangular
+pulse's trials in pgv are the impulse's.
 """
 
 from __future__ import annotations
@@ -59,12 +64,23 @@ def main(argv=None) -> None:
     ap.add_argument("--set", type=override, action="append", default=[], dest="over",
                     metavar="KEY=VALUE", help="a DEMParams override, the same for every wall "
                     "(repeatable), e.g. kn=0.3e9, ks_over_kn=1, facade_stiffness=1")
+    ap.add_argument("--loading", default="impulse",
+                    choices=("impulse", "rectangular", "one-sine", "one-cosine", "ricker"),
+                    help="the ideal impulse (default) or a base-acceleration pulse")
+    ap.add_argument("--pulse-period", type=float, default=None,
+                    help="Δt of the pulse [s] (rectangular: its duration); needed with a pulse")
     args = ap.parse_args(argv)
+    pulse = args.loading != "impulse"
+    if pulse and (args.pulse_period is None or not 0 < args.pulse_period <= 100):
+        ap.error(f"--pulse-period {args.pulse_period}: a pulse needs 0 < Δt <= 100 s")
+    if not pulse and args.pulse_period is not None:
+        ap.error("--pulse-period: only with --loading other than impulse")
 
     from homlimit.blocks.geometry import t_section_blocks
     from homlimit.closed_form.paper import table1
     from homlimit.dem import DEMParams, build_model
     from homlimit.dem.threshold import collapse_threshold
+    from homlimit.dynamics.pulses import make_pulse
     from homlimit.errors import ParameterError
 
     over = dict(args.over)
@@ -86,10 +102,22 @@ def main(argv=None) -> None:
         c0 = time.process_time()
         model = build_model(t_section_blocks(row.case, facade="through"), params)
         guess = args.guess if args.guess is not None else round(row.vg, 1)
-        th = collapse_threshold(model, guess=guess, t_max=args.t_max)
+        load, pgv = None, (lambda a: a)
+        if pulse:
+            guess /= args.pulse_period
+
+            def load(a):
+                return {"pulse": make_pulse(args.loading, args.pulse_period, a)}
+
+            def pgv(a):
+                return make_pulse(args.loading, args.pulse_period, a).pgv
+        th = collapse_threshold(model, guess=guess, t_max=args.t_max, load=load)
+        v = pgv(th.v)
         out = {**th.as_dict(), "test": name, "udec_vg": row.vg, "udec_h": row.h_v,
-               "ratio": th.v / row.vg, "vg_norm": th.v / (row.case.wall.g
-                                                         * row.case.wall.b) ** 0.5,
+               "loading": args.loading, "pulse_period": args.pulse_period,
+               "pgv": v, "pgv_lo": pgv(th.lo), "pgv_hi": pgv(th.hi),
+               "ratio": v / row.vg, "vg_norm": v / (row.case.wall.g
+                                                    * row.case.wall.b) ** 0.5,
                "overrides": over, "cpu_process": time.process_time() - c0,
                "wall_clock": time.perf_counter() - t0, "trials": th.trials,
                "settle": th.settle}
