@@ -9,7 +9,8 @@ For each façade model (bed joints, the default; homogenised):
   cycle against the cumulative seconds (homogenised: with and without the fan search of
   ``mechanism.conform``);
 - bed joints, the run's chain: the adaptive bracket from the run's size (0.25 m, target 1 %)
-  and then the crack's nested splits (``mechanism.adaptive.refine_crack``), each a point.
+  and then the crack's nested splits (``mechanism.adaptive.refine_crack``), each a point; and
+  the same from 0.5 m with one bracket (``[mesh] size = 0.5``, ``[adapt] max_cycles = 1``).
 
 For the run's chain it prints, at each of its points, the best gap the uniform meshes had
 reached by the same second (a step curve) and whether the chain's lies at or below it.
@@ -18,6 +19,10 @@ wall-clock on this machine with the load average printed first.
 
     python benchmarks/bench_accuracy_per_second.py [--sizes 0.5 0.35 0.25 0.2 0.15 0.125]
         [--cycles 3] [--facades bedjoints homogenised]
+    python benchmarks/bench_accuracy_per_second.py --chains-only   # the run's chains only
+
+Curves not re-run (another façade, or all but the chains with --chains-only) are kept from
+the last .json and named as kept.
 """
 
 from __future__ import annotations
@@ -75,20 +80,21 @@ def adaptive(case, facade, cycles, conform):
     return out
 
 
-def run_chain(case, size=0.25):
+def run_chain(case, size=0.25, max_cycles=3):
     """The run's chain on the bed-joint façade ([adapt] defaults): the adaptive bracket from
-    ``size``, then the crack's splits; every cycle a point (best gap, cumulative seconds)."""
+    ``size`` (at most ``max_cycles`` meshes), then the crack's splits; every cycle a point
+    (best gap, cumulative seconds)."""
     out, t0 = [], time.perf_counter()
 
     def progress(c):
         out.append({"cycle": c.cycle, "kind": c.kind, "triangles": c.triangles,
                     "lower": c.best_lower, "upper": c.best_upper, "gap": c.rel_gap,
                     "seconds": time.perf_counter() - t0, **c.measures})
-        print(f"  run's chain {c.kind:9s} cycle {c.cycle} {c.triangles:6d} tri  "
+        print(f"  run's chain from {size} m {c.kind:9s} cycle {c.cycle} {c.triangles:6d} tri  "
               f"{c.best_lower:.5f} .. {c.best_upper:.5f}  gap {100 * c.rel_gap:5.2f} %  "
               f"{out[-1]['seconds']:6.1f} s", flush=True)
 
-    res = adaptive_bracket(case, "bedjoints", size, AdaptOptions(max_cycles=3),
+    res = adaptive_bracket(case, "bedjoints", size, AdaptOptions(max_cycles=max_cycles),
                            SolverOptions(), progress, mesher="gmsh-strip", h_outer=size / 25)
     refine_crack(case, res, progress=progress)
     return out
@@ -113,26 +119,40 @@ def below(chain, uniform_pts):
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=float, nargs="+",
-                    default=[0.5, 0.35, 0.25, 0.2, 0.15, 0.125])
+                    default=[0.5, 0.35, 0.3, 0.275, 0.25, 0.2, 0.15, 0.125])
     ap.add_argument("--cycles", type=int, default=3)
     ap.add_argument("--facades", nargs="+", default=["bedjoints", "homogenised"],
                     choices=["bedjoints", "homogenised"])
+    ap.add_argument("--chains-only", action="store_true",
+                    help="re-run the run's chains only, into the existing .json")
     args = ap.parse_args()
     print(f"load average before the runs: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     case = Case()
-    res, checks = {}, {}
+    path = FIG / "accuracy_per_second.json"
+    # curves not re-run here are kept from the last file (say which)
+    res = json.loads(path.read_text()) if path.exists() else {}
+    checks = res.pop("checks", {})
     for facade in args.facades:
-        res[f"{facade}, uniform"] = uniform(case, facade, args.sizes)
+        if not args.chains_only:
+            res[f"{facade}, uniform"] = uniform(case, facade, args.sizes)
         if facade == "bedjoints":
-            res["bedjoints, the run's chain (0.25 m + crack splits)"] = chain = run_chain(case)
-            checks["run's chain against uniform"] = below(chain, res["bedjoints, uniform"])
-        res[f"{facade}, adaptive"] = adaptive(case, facade, args.cycles, False)
-    if "homogenised" in args.facades:
+            for name, size, cycles in (("0.25 m + crack splits", 0.25, 3),
+                                       ("0.5 m, one bracket + crack splits", 0.5, 1)):
+                res[f"bedjoints, the run's chain ({name})"] = chain = run_chain(case, size,
+                                                                                cycles)
+                checks[f"the run's chain ({name}) against uniform"] = below(
+                    chain, res["bedjoints, uniform"])
+        if not args.chains_only:
+            res[f"{facade}, adaptive"] = adaptive(case, facade, args.cycles, False)
+    if "homogenised" in args.facades and not args.chains_only:
         res["homogenised, adaptive + fan search"] = adaptive(case, "homogenised", args.cycles,
                                                              True)
+    kept = [k for k in res if not any(k.startswith(f) for f in args.facades)
+            or (args.chains_only and "chain" not in k)]
+    if kept:
+        print("kept from the last run:", ", ".join(kept))
     FIG.mkdir(parents=True, exist_ok=True)
-    (FIG / "accuracy_per_second.json").write_text(
-        json.dumps(res | {"checks": checks}, indent=1) + "\n")
+    path.write_text(json.dumps(res | {"checks": checks}, indent=1) + "\n")
     fig, ax = plt.subplots(figsize=(7, 4.5), dpi=120)
     for name, pts in res.items():
         ax.plot([p["seconds"] for p in pts], [100 * p["gap"] for p in pts],

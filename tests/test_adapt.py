@@ -351,3 +351,22 @@ def test_crack_splits_settle_the_bed_joint_crack_and_never_raise_the_upper_bound
     assert fe["tanpsi"] == pytest.approx(last["T_mid"], abs=1e-12)
     assert fe["crack_change"]["T_mid"] == pytest.approx(abs(last["T_mid"] - before["T_mid"]))
     assert "the crack's band split" in res.summary() and ", settled)" in res.summary()
+
+
+def test_the_summary_names_the_brackets_and_the_cracks_splits():
+    from types import SimpleNamespace
+
+    from homlimit.app.report import _adapt_cycles
+
+    def adapt(kinds, stop="target", mstop=""):
+        return SimpleNamespace(cycles=[SimpleNamespace(kind=k) for k in kinds], stop=stop,
+                               converged=stop == "target", mechanism_stop=mstop)
+
+    assert _adapt_cycles(adapt(["bracket"])) == "1 cycle, target reached"
+    assert _adapt_cycles(adapt(["bracket", "bracket"], "cycles")) == "2 cycles, stopped: cycles"
+    assert _adapt_cycles(adapt(["bracket", "mechanism", "mechanism"], mstop="settled")) == \
+        "1 cycle, target reached; the crack's band split 2 times, settled"
+    assert _adapt_cycles(adapt(["bracket", "mechanism"], mstop="budget")) == \
+        "1 cycle, target reached; the crack's band split 1 time, stopped: budget"
+    assert _adapt_cycles(adapt(["bracket"], mstop="unmarked")) == \
+        "1 cycle, target reached; no crack to split"

@@ -122,7 +122,10 @@ def adaptive_bracket_of(config: CaseConfig, timings: dict):
                f"mid-line move <= {100 * ad.crack_tol:g} %, at most {ad.crack_cycles} times"):
         res = refine_crack(config.case, res, ad.crack_tol, ad.crack_cycles,
                            config.mesh.max_triangles, solver, crack_progress)
-    if res.mechanism_stop != "settled":
+    if res.mechanism_stop == "unmarked":
+        log.info("  no crack to split: the mechanism has no block turning about the façade's "
+                 "outer face")
+    elif res.mechanism_stop != "settled":
         log.warning("warning: the crack refinement stopped (%s) before the crack settled to "
                     "%g %%", res.mechanism_stop, 100 * ad.crack_tol)
     return res

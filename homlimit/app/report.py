@@ -155,7 +155,9 @@ def _adapt_cycles(adapt) -> str:
     k = len(adapt.cycles) - n
     out = (f"{n} cycle{'s' if n != 1 else ''}, "
            + ("target reached" if adapt.converged else f"stopped: {adapt.stop}"))
-    if adapt.mechanism_stop:
+    if adapt.mechanism_stop == "unmarked" and k == 0:
+        out += "; no crack to split"
+    elif adapt.mechanism_stop:
         out += (f"; the crack's band split {k} time{'s' if k != 1 else ''}, "
                 + ("settled" if adapt.mechanism_stop == "settled"
                    else f"stopped: {adapt.mechanism_stop}"))
