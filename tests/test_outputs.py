@@ -149,3 +149,19 @@ def test_pulse_reads_the_fe_result_run_cached_and_never_trusts_a_corrupt_entry(t
     res = CliRunner().invoke(app, ["pulse", str(case_file), "--out", str(tmp_path / "p")])
     assert res.exit_code == 0, res.output
     assert f"FE result read from cache {path}" in res.stdout
+
+
+def test_the_fe_cache_key_follows_the_adapt_section(tmp_path):
+    """[adapt] sets the whole wall's meshes and the crack's splits, so an FE cache entry of
+    one setting is never read for another; the same case gives the same entry."""
+    from homlimit.app.config import load_case
+    from homlimit.app.pipeline import fe_cache_path
+
+    def path(name, **adapt):
+        f = tmp_path / f"{name}.toml"
+        f.write_text(toml(b1(name, adapt=adapt) if adapt else b1(name)))
+        return fe_cache_path(load_case(f))
+
+    assert path("a") == path("b")
+    assert path("c", crack_cycles=0) != path("a")
+    assert path("d", target_gap=0.005) != path("a")

@@ -188,14 +188,15 @@ def _fe_code_digest() -> str:
 
 
 def fe_cache_inputs(config: CaseConfig) -> dict:
-    """Every input the FE path of ``config`` depends on: the case's wall, masonry, mesh and
-    analysis sections, the solver settings, the package version and its FE source code."""
+    """Every input the FE path of ``config`` depends on: the case's wall, masonry, mesh,
+    adapt (the whole wall's mesh and crack splits) and analysis sections, the solver settings,
+    the package version and its FE source code."""
     opts = dataclasses.asdict(solver_options(config.analysis.tol, config.analysis.stress_degree))
     opts.pop("verbose")                       # the solver log changes no number
     d = config.as_dict()
     real = {k: d[k] for k in ARRAYS if d.get(k)}     # none: the paper's inputs
     return {"format": FE_CACHE_FORMAT, **{k: d[k] for k in ("wall", "masonry", "mesh",
-                                                            "analysis")}, **real,
+                                                            "adapt", "analysis")}, **real,
             "solver": opts, "homlimit_version": package_version(), "code": _fe_code_digest()}
 
 
