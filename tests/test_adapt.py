@@ -351,6 +351,13 @@ def test_crack_splits_settle_the_bed_joint_crack_and_never_raise_the_upper_bound
     assert fe["tanpsi"] == pytest.approx(last["T_mid"], abs=1e-12)
     assert fe["crack_change"]["T_mid"] == pytest.approx(abs(last["T_mid"] - before["T_mid"]))
     assert "the crack's band split" in res.summary() and ", settled)" in res.summary()
+    # the static bound stays on the bracket's mesh: its field goes to static.vtu
+    import meshio
+
+    st = meshio.read(tmp_path / "o" / "static.vtu")
+    assert len(st.cells[0].data) == cycles[0]["triangles"] == len(st.points) // 3
+    assert float(np.ravel(st.field_data["lower_bound"])[0]) == pytest.approx(fe["lower_bound"])
+    assert {"sigma_x", "sigma_z", "tau_xz"} <= set(st.point_data)
 
 
 def test_the_summary_names_the_brackets_and_the_cracks_splits():

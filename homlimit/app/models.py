@@ -334,7 +334,8 @@ def check_fe(result) -> None:
 
 def fe_files(result) -> dict:
     """The FE path's files: mesh.png, mechanism.png, stress.png (static bound), fe_adapt.csv
-    and adapt.png (adaptive bracket), fe_scan.csv, mechanism.vtu."""
+    and adapt.png (adaptive bracket), fe_scan.csv, mechanism.vtu, and static.vtu where the
+    static bound lives on another mesh than the mechanism's."""
     art, cfg, title = result.fe, result.config.output, f"case {result.name}"
     if art is None:
         return {}
@@ -357,6 +358,9 @@ def fe_files(result) -> dict:
     out["fe_scan_csv"] = ("fe_scan.csv", [m.record() for m in art.scan])
     if cfg.vtu:
         out["mechanism_vtu"] = ("mechanism.vtu", report.mechanism_mesh(art))
+        from ..fe.bracket import same_mesh
+        if art.static is not None and not same_mesh(art.static.mesh, art.whole.solution.mesh):
+            out["static_vtu"] = ("static.vtu", report.static_mesh(art.static))
     return out
 
 

@@ -18,13 +18,13 @@ import math
 import numpy as np
 
 from . import registry
-from .result_mesh import mechanism_mesh
+from .result_mesh import mechanism_mesh, static_mesh
 from .units import UNITS, column_unit, csv_header, input_units, units_table
 from .writers import OUTPUT_NAMES, OUTPUTS, WRITERS, read_csv, write
 
 __all__ = ["OUTPUTS", "OUTPUT_NAMES", "UNITS", "WRITERS", "column_unit", "csv_header",
            "format_spectra", "format_table", "input_units", "mechanism_mesh", "read_csv",
-           "summary_text", "units_table", "write"]
+           "static_mesh", "summary_text", "units_table", "write"]
 
 
 def _fmt(x) -> str:

@@ -1,5 +1,6 @@
 """The result meshes: the whole wall's mechanism as a meshio mesh for ParaView
-(mechanism.vtu), its fields' units (``MECHANISM_UNITS``) and the notes on the fields left out.
+(mechanism.vtu), its fields' units (``MECHANISM_UNITS``) and the notes on the fields left out;
+the static bound's stress field on its own mesh (static.vtu) where the mechanism's differs.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ import numpy as np
 from .units import unknown_units
 
 __all__ = ["MECHANISM_UNITS", "NO_DISSIPATION", "NO_INTERFACE_DISSIPATION", "interface_cells",
-           "mechanism_mesh"]
+           "mechanism_mesh", "static_mesh"]
 
 
 #: the unit of every field of mechanism.vtu ("-": dimensionless, "": a tag or a flag). The
@@ -121,7 +122,7 @@ def mechanism_mesh(fe):
     elif fe.static is not None:
         notes["static"] = ("the static bound lives on another mesh than the mechanism's (its "
                            "own graded mesh, or the adaptive bracket's best lower bound's): "
-                           "its stress field is drawn in stress.png, not written here")
+                           "its stress field is in static.vtu and stress.png, not here")
     out = interface_cells(out, prob, sol, scale, notes)
     fields = [*out.point_data, *out.cell_data, "velocity_scale"]
     units = {k: MECHANISM_UNITS.get(k) for k in fields}
@@ -129,6 +130,26 @@ def mechanism_mesh(fe):
     out.field_data = {"velocity_scale": np.array([scale]),
                       "units": json.dumps(units, ensure_ascii=False),
                       "notes": json.dumps(notes, ensure_ascii=False)}
+    return out
+
+
+#: the unit of every field of static.vtu (``StaticSolution.to_meshio``)
+STATIC_UNITS: dict[str, str] = {
+    **dict.fromkeys(("sigma_x", "sigma_z", "tau_xz", "sigma_1", "sigma_2"), "Pa"),
+    "compression_angle": "rad", "active_facet": "", "lower_bound": "-"}
+
+
+def static_mesh(static):
+    """The static bound's field on its own mesh for ParaView (``StaticSolution.to_meshio``:
+    three points per triangle, so its jumps show): vertex stresses σ_x, σ_z, τ_xz [Pa] and
+    the active facet as point data, the triangle means and principal stresses as cell data;
+    field data ``lower_bound`` (λ⁻) and ``units``. The section plane is X–Y (X = x, Y = z)."""
+    out = static.to_meshio()
+    fields = [*out.point_data, *out.cell_data, "lower_bound"]
+    units = {k: STATIC_UNITS.get(k) for k in fields}
+    unknown_units(k for k, u in units.items() if u is None)
+    out.field_data = {"lower_bound": np.array([float(static.multiplier)]),
+                      "units": json.dumps(units, ensure_ascii=False)}
     return out
 
 

@@ -97,7 +97,7 @@ OUTPUTS: dict[str, Output] = {o.name: o for o in [
     *_outputs("run", "sections", "summary.json"),
     *_outputs("run", "axes", "vg_lambda.png mesh.png mechanism.png stress.png"),
     *_outputs("run", "columns", "fe_scan.csv"),
-    *_outputs("run", "fields", "mechanism.vtu"),
+    *_outputs("run", "fields", "mechanism.vtu static.vtu"),
     *_outputs("mesh", "fields", "mesh.vtu"),
     *_outputs("table1", "columns", "table1.csv"),
     *_outputs("table1", "keys", "table1.json"),
