@@ -327,6 +327,7 @@ def test_a_non_finite_result_is_exit_3_naming_mechanism_and_quantity(sandbox, mo
 def test_no_fe_collapse_velocity_is_exit_3(sandbox, monkeypatch):
     whole = types.SimpleNamespace(multiplier=0.15, vg=float("nan"),
                                   vg_method="not available: no block")
+    monkeypatch.setattr(models, "adaptive", lambda config: False)   # no bracket to solve
     monkeypatch.setattr(models, "whole_problem",
                         lambda config: types.SimpleNamespace(n_triangles=10))
     monkeypatch.setattr(models, "fe_result", lambda *a, **k: types.SimpleNamespace(
