@@ -353,3 +353,19 @@ def test_animation_is_written_whole_or_not_at_all(tmp_path, monkeypatch):
         plot_animation(tmp_path / "a.gif", model, settled, [("x", frames)])
     assert [p.name for p in tmp_path.iterdir()] == ["a.gif"]
     assert gif.read_bytes() == before
+
+
+def test_the_trial_log_gives_every_digit_where_four_are_not_the_amplitude():
+    """The multi-storey example's bisection (0.8 m/s times 1.5ⁿ, then midpoints) tries
+    1.5000000000000002 and 1.2750000000000001 m/s in floating point, one unit in the last place
+    above 1.5 and 1.275, which moved its collapses by a second (docs/dem.md section 3): the
+    log shows every digit there; values that four digits give exactly keep four."""
+    from homlimit.app.dem_stage import trial_amplitude
+
+    lo, hi = 0.8 * 1.5, 0.8 * 1.5 * 1.5          # 1.2000000000000002, 1.8000000000000003
+    mid = 0.5 * (lo + hi)
+    assert trial_amplitude(mid) == "1.5 (1.5000000000000002)"
+    mid2 = 0.5 * (lo + mid)
+    assert trial_amplitude(mid2) == "1.35"
+    assert trial_amplitude(0.5 * (lo + mid2)) == "1.275 (1.2750000000000001)"
+    assert trial_amplitude(1.275) == "1.275" and trial_amplitude(0.88) == "0.88"

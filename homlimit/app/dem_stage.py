@@ -43,7 +43,7 @@ from .config import CaseConfig, DemConfig
 
 __all__ = ["DEM_PAIRS", "DemRun", "dem_params", "dem_section", "dem_threshold",
            "table1_dem_records", "table1_dem_walls", "trial_task", "wall_record",
-           "write_files"]
+           "write_files", "trial_amplitude"]
 
 log = logging.getLogger(__name__)
 
@@ -170,13 +170,22 @@ def _model(case, dem: DemConfig):
     return build_model(t_section_blocks(case, facade="through"), dem_params(dem))
 
 
+def trial_amplitude(v: float) -> str:
+    """A trial's amplitude for the log: four digits, and every digit where those are not the
+    value (a trial near the threshold is chaotic: one unit in the last place moves its
+    collapse time by a second, docs/dem.md section 3), so a trial can be re-run from the log."""
+    short = f"{v:.4g}"
+    return short if float(short) == v else f"{short} ({v!r})"
+
+
 def _logger(what: str, unit: str):
     def progress(v, collapsed, t_end, trials):
         safe = [a for a, c, _ in trials if not c]
         fell = [a for a, c, _ in trials if c]
         br = (f"{max(safe):.4g} .. {min(fell):.4g} {unit}" if safe and fell else "open")
-        log.info("DEM trial %d: %s = %.4g %s %s at %.2f s; bracket %s", len(trials), what, v,
-                 unit, "collapsed" if collapsed else "stood", t_end, br)
+        log.info("DEM trial %d: %s = %s %s %s at %.2f s; bracket %s", len(trials), what,
+                 trial_amplitude(float(v)), unit, "collapsed" if collapsed else "stood", t_end,
+                 br)
     return progress
 
 
