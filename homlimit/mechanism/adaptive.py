@@ -60,10 +60,16 @@ def hinge_fan(case: Case, kinematic) -> HingeFan | None:
     """Hinge and fan edges of a T-section's kinematic solution, or None if its mechanism has
     no rigid block about a point of the façade's outer face."""
     w = case.wall
+    X, el, mm, z0 = _measured(case, kinematic)
+    return None if z0 is None else _hinge_fan(z0, fan_edges(X, el, mm, w.b, z_top=w.H))
+
+
+def _measured(case: Case, kinematic):
+    """(P2 node positions, triangles' P2 nodes, ``measure_mechanism``, the outer-face hinge
+    height or None) of a T-section's kinematic solution."""
     X, V, el, rho = p2_nodes(kinematic, densities(case))
     mm = measure_mechanism(X, V, el, rho)
-    z0 = _outer_hinge(case, mm, kinematic.mesh.p[1].min())
-    return None if z0 is None else _hinge_fan(z0, fan_edges(X, el, mm, w.b, z_top=w.H))
+    return X, el, mm, _outer_hinge(case, mm, kinematic.mesh.p[1].min())
 
 
 def hinge_fan_of(mech: FEMechanism) -> HingeFan | None:
@@ -192,9 +198,8 @@ def crack_band(case: Case, kinematic, band: float = BAND) -> np.ndarray:
     for a mechanism without a block on the façade's outer face (``hinge_fan``: nothing to
     follow). The façade strip is left alone (its x-aligned grid keeps the bed-joint façade
     from locking: docs/kinematic.md)."""
-    X, V, el, rho = p2_nodes(kinematic, densities(case))
-    mm = measure_mechanism(X, V, el, rho)
-    if _outer_hinge(case, mm, kinematic.mesh.p[1].min()) is None:
+    _, el, mm, z0 = _measured(case, kinematic)
+    if z0 is None:
         return np.zeros(0, int)
     p = mm.node_participation[el]
     crossed = (p.min(axis=1) < 1.0 - band) & (p.max(axis=1) > band)
