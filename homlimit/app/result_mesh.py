@@ -15,6 +15,12 @@ __all__ = ["MECHANISM_UNITS", "NO_DISSIPATION", "NO_INTERFACE_DISSIPATION", "int
            "mechanism_mesh", "static_mesh"]
 
 
+#: the unit of every field of static.vtu (``StaticSolution.to_meshio``); mechanism.vtu carries
+#: the same fields, prefixed "static_", where both bounds share its mesh
+STATIC_UNITS: dict[str, str] = {
+    **dict.fromkeys(("sigma_x", "sigma_z", "tau_xz", "sigma_1", "sigma_2"), "Pa"),
+    "compression_angle": "rad", "active_facet": "", "lower_bound": "-"}
+
 #: the unit of every field of mechanism.vtu ("-": dimensionless, "": a tag or a flag). The
 #: mechanism's amplitude is arbitrary: velocity is v / velocity_scale, and the fields linear in
 #: it are divided by velocity_scale [m/s] too: intensity [1/s] / [m/s] = 1/m, dissipation
@@ -23,9 +29,8 @@ MECHANISM_UNITS: dict[str, str] = {
     "velocity": "-", "velocity_scale": "m/s", "intensity": "1/m", "dissipation": "N/m",
     "interface_dissipation": "N/m", "region": "", "stress": "Pa", "participation": "-",
     "label": "", "crack": "", "body": "", "density": "kg/m^2", "interface": "",
-    **dict.fromkeys(("static_sigma_x", "static_sigma_z", "static_tau_xz", "static_sigma_1",
-                     "static_sigma_2"), "Pa"),
-    "static_compression_angle": "rad", "static_active_facet": "", "bracket_gap": "-"}
+    **{f"static_{k}": u for k, u in STATIC_UNITS.items() if k != "lower_bound"},
+    "bracket_gap": "-"}
 
 #: why a dissipation field is left out of mechanism.vtu (field data "notes")
 NO_DISSIPATION = (
@@ -131,12 +136,6 @@ def mechanism_mesh(fe):
                       "units": json.dumps(units, ensure_ascii=False),
                       "notes": json.dumps(notes, ensure_ascii=False)}
     return out
-
-
-#: the unit of every field of static.vtu (``StaticSolution.to_meshio``)
-STATIC_UNITS: dict[str, str] = {
-    **dict.fromkeys(("sigma_x", "sigma_z", "tau_xz", "sigma_1", "sigma_2"), "Pa"),
-    "compression_angle": "rad", "active_facet": "", "lower_bound": "-"}
 
 
 def static_mesh(static):
