@@ -40,7 +40,8 @@ def override(text: str) -> tuple[str, object]:
 def add_overrides(ap: argparse.ArgumentParser) -> None:
     """The repeatable ``--set KEY=VALUE`` option (``override``), into ``args.over``."""
     ap.add_argument("--set", type=override, action="append", default=[], dest="over",
-                    metavar="KEY=VALUE", help="a DEMParams override (repeatable)")
+                    metavar="KEY=VALUE", help="a DEMParams override, the same for every wall "
+                    "(repeatable), e.g. kn=0.3e9, ks_over_kn=1, facade_stiffness=1")
 
 
 def settled_wall(wall: str, over: dict):
@@ -61,9 +62,7 @@ def main(argv=None) -> None:
     ap.add_argument("--guess", type=float, default=None,
                     help="first trial [m/s] (default: UDEC's value rounded to 0.1)")
     ap.add_argument("--t-max", type=float, default=5.0, help="trial length [s]")
-    ap.add_argument("--set", type=override, action="append", default=[], dest="over",
-                    metavar="KEY=VALUE", help="a DEMParams override, the same for every wall "
-                    "(repeatable), e.g. kn=0.3e9, ks_over_kn=1, facade_stiffness=1")
+    add_overrides(ap)
     ap.add_argument("--loading", default="impulse",
                     choices=("impulse", "rectangular", "one-sine", "one-cosine", "ricker"),
                     help="the ideal impulse (default) or a base-acceleration pulse")
