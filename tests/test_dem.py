@@ -60,6 +60,16 @@ def test_params_are_validated():
         DEMParams(dt_fraction=0.9)
 
 
+def test_time_step_follows_the_stiffer_spring():
+    # dt ∝ 1/√k_max: a shear spring stiffer than the normal one (ks/kn = 4) sets the step,
+    # half the step of ks/kn ≤ 1
+    def dt(ratio):
+        return build_model(stack([B], [H], density=RHO, meta={"f": 0.6}),
+                           DEMParams(ks_over_kn=ratio)).dt
+    assert dt(0.5) == dt(1.0)
+    assert dt(4.0) == pytest.approx(dt(1.0) / 2, rel=1e-12)
+
+
 def test_settled_block_sinks_by_its_weight_over_the_joint_stiffness(block):
     # two contact points of tributary b/2 each: total stiffness kn·b·(1 m), so the block
     # sinks by m g / (kn b)

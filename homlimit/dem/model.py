@@ -215,8 +215,9 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
         fac_x, fac_f = -math.inf, 1.0
         watch = free.copy()
     # the stiffest contact that can form: half the longest free edge, with the façade factor
-    # (a joint point's tributary, one segment, is at most half its edge)
-    k_max = p.kn * thickness * max(fac_f, 1.0) * 0.5 * longest
+    # (a joint point's tributary, one segment, is at most half its edge), in its stiffer
+    # direction (ks > kn is allowed)
+    k_max = p.kn * max(p.ks_over_kn, 1.0) * thickness * max(fac_f, 1.0) * 0.5 * longest
     m_min = float(a.mass[free].min())
     dt = p.dt_fraction * math.sqrt(m_min / k_max)
     size = float(np.ptp(a.vertices[:, 0][free[owner0]])) or 1.0

@@ -39,8 +39,9 @@ class DEMParams:
         stiffened by ρ = l/s like its density) or a positive factor [-]. Applies to contacts
         whose tributary segment lies in the façade strip x < b (T-sections only).
     dt_fraction [-]: dt = dt_fraction × √(m_min / k_max), m_min the lightest free block,
-        k_max the stiffest contact that can form. Default 0.1 (package choice: a block
-        held by up to ~40 such springs stays below the central-difference limit ω dt < 2).
+        k_max the stiffest contact that can form (normal or shear, whichever is stiffer).
+        Default 0.1 (package choice: a block held by up to ~40 such springs stays below the
+        central-difference limit ω dt < 2).
     settle_damping [-]: Cundall's local damping coefficient while settling under gravity
         (each force component reduced by α|F| against the velocity). Default 0.8, UDEC's
         default for static solutions (Itasca UDEC manual). No damping after settling
