@@ -112,6 +112,50 @@ def test_run_with_dem_brackets_its_threshold_and_reports_it(small_run):
     assert json.loads((out / "summary.json").read_text())["units"]["results"]["vg_lo"] == "m/s"
 
 
+@pytest.mark.slow
+def test_run_with_dem_makes_every_trial_a_task_and_resumes(small_run, tmp_path):
+    # `homlimit run` with [analysis] dem: every trial a Dask task with its record kept in
+    # OUT/records/ (issue 29): the trials and threshold of the run here (small_run), a rerun
+    # that reads them all back, a run cut short that resumes at the trial where it stopped
+    from cases import toml
+
+    result, _ = small_run
+    here = result.dem_run.as_dict()
+    case = tmp_path / "small.toml"
+    case.write_text(toml({**SMALL, "output": {"png": False, "vtu": False}}), encoding="utf-8")
+    out = tmp_path / "o"
+    args = ["run", str(case), "--workers", "1", "--json", "--out", str(out)]
+    first = CliRunner().invoke(app, args)
+    assert first.exit_code == 0, first.output
+    d = json.loads(first.stdout)["dem"]
+    for k in ("vg", "vg_lo", "vg_hi", "h", "z0", "base_slip", "hinge_slip", "dt"):
+        assert d[k] == pytest.approx(here[k], rel=1e-12), k      # the JSON's 15 digits
+    assert (d["base_slid"], d["hinge_slid"], d["n_blocks"]) == (
+        here["base_slid"], here["hinge_slid"], here["n_blocks"])
+    assert [(t["vg"], t["collapsed"]) for t in d["trials"]] == [
+        (pytest.approx(t["vg"], rel=1e-12), t["collapsed"]) for t in here["trials"]]
+    records = sorted((out / "records").glob("[!.]*.json"))
+    assert len(records) == d["n_trials"] >= 2                  # one per trial
+    stamps = {p: p.stat().st_mtime_ns for p in records}
+    again = CliRunner().invoke(app, args)
+    assert again.exit_code == 0, again.output
+    assert json.loads(again.stdout)["dem"]["trials"] == d["trials"]
+    assert {p: p.stat().st_mtime_ns for p in records} == stamps   # read back, not re-run
+    # cut short: the last trial's record lost; the rerun runs that trial alone
+    last = max(records, key=lambda p: p.stat().st_mtime_ns)
+    last.unlink()
+    resumed = CliRunner().invoke(app, args)
+    assert resumed.exit_code == 0, resumed.output
+    assert json.loads(resumed.stdout)["dem"]["trials"] == d["trials"]
+    now = sorted((out / "records").glob("[!.]*.json"))
+    assert len(now) == len(records)
+    assert [p for p in now if p.stat().st_mtime_ns != stamps.get(p)] == [last]
+    # --no-resume clears them first: every trial runs again
+    fresh = CliRunner().invoke(app, [*args, "--no-resume"])
+    assert fresh.exit_code == 0, fresh.output
+    assert all(p.stat().st_mtime_ns > stamps[p] for p in records if p != last)
+
+
 def test_dem_is_off_by_default(tmp_path):
     from homlimit.app import pipeline
 
@@ -183,18 +227,18 @@ def test_table1_dem_runs_walls_on_dask_beside_udec_and_resumes(tmp_path, table1_
 def test_table1_dem_one_trial_per_task_repeats_the_walls_run_here():
     # every trial a call of map with one item (a task on an engine), the walls' bisections in
     # threads: the same trials and thresholds as one wall after the other, every trial here
-    from homlimit.app import dem_stage
+    from homlimit.app import dem_table1
 
     # half CHEAP's trial length, twice its first guess: three trials
-    section = dem_stage.dem_section([*CHEAP[1::2], "dem.t_max=0.1", "dem.guess=40"])
+    section = dem_table1.dem_section([*CHEAP[1::2], "dem.t_max=0.1", "dem.guess=40"])
     calls = []
 
     def fake_map(fn, items):
         calls.append((fn.__name__, [dict(x) for x in items]))
         return [fn(x) for x in items]
 
-    here, r_here = dem_stage.table1_dem_records(["C1"], section)
-    tasks, r_tasks = dem_stage.table1_dem_records(["C1"], section, map=fake_map)
+    here, r_here = dem_table1.table1_dem_records(["C1"], section)
+    tasks, r_tasks = dem_table1.table1_dem_records(["C1"], section, map=fake_map)
     assert len(calls) == sum(r["n_trials"] for r in here) == 3
     assert all(name == "trial_task" and len(items) == 1 for name, items in calls)
     timing = ("seconds", "cpu")

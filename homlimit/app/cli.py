@@ -102,12 +102,20 @@ def _main(version: Annotated[bool | None, typer.Option(
 @app.command("run")
 @guarded
 def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
-            verbose: VerboseOpt = False, quiet: QuietOpt = False, overrides: SetOpt = None):
+            verbose: VerboseOpt = False, quiet: QuietOpt = False, overrides: SetOpt = None,
+            workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
+            resume: Annotated[bool, typer.Option(
+                "--resume/--no-resume", help="With [analysis] dem: keep the DEM trials "
+                                             "recorded in OUT/records/ by an earlier run "
+                                             "of this case.")] = True):
     """Run the full pipeline for one wall (no CASE: the embedded default, B1).
 
     Closed-form mechanisms I and II, the FE mechanism and its crack, the impulse criterion;
-    prints a summary and writes summary.json, .vtu and PNG files."""
-    case_cmds.run_case(case, as_json, out, verbose, quiet, overrides)
+    prints a summary and writes summary.json, .vtu and PNG files. With [analysis] dem, every
+    DEM trial is a Dask task (--workers, --scheduler) whose record is kept as it ends, so an
+    interrupted run resumes at the trial where it stopped."""
+    case_cmds.run_case(case, as_json, out, verbose, quiet, overrides, workers=workers,
+                       scheduler=scheduler, resume=resume)
 
 
 @app.command()

@@ -62,7 +62,8 @@ from .sections import (
 __all__ = ["AdaptConfig", "AnalysisConfig", "BlocksConfig", "CaseConfig", "ConfigError",
            "DemConfig", "Key", "MeshConfig", "OutputConfig", "PulseConfig", "SCHEMA", "TOP_LEVEL",
            "array_key", "case_data", "check_base", "check_mesh", "default_case", "load_case",
-           "load_case_inputs", "read_case", "read_text", "schema_markdown", "shown"]
+           "load_case_inputs", "read_case", "read_text", "resolved_inputs", "schema_markdown",
+           "shown", "wall_inputs"]
 
 MAX_CASE_BYTES = 1 << 20          # a case file is a few hundred bytes
 
@@ -276,7 +277,7 @@ def load_case_inputs(path_or_dict=None, overrides=None,
     data, src, stem = case_data(path_or_dict, source)
     new = _override(data, overrides, src) if overrides else data
     config = _parse(new, src, stem)
-    inputs = {k: v for k, v in config.as_dict().items() if k not in ("name", "output")}
+    inputs = resolved_inputs(config)
     changes = _changes(data, new) if overrides else ()
     if not changes:
         return config, inputs
@@ -284,6 +285,18 @@ def load_case_inputs(path_or_dict=None, overrides=None,
     case = dataclasses.replace(config.case, name=f"{config.name}-{digest}")
     return dataclasses.replace(config, case=case, base_name=config.name,
                                changes=changes), inputs
+
+
+def resolved_inputs(config: CaseConfig) -> dict:
+    """A case's resolved inputs: ``as_dict()`` without the name and [output]."""
+    return {k: v for k, v in config.as_dict().items() if k not in ("name", "output")}
+
+
+def wall_inputs(inputs: dict) -> dict:
+    """The part of resolved inputs (``resolved_inputs``) that makes the ``Case``: [wall],
+    [masonry] and the arrays of tables (ties, floors, openings); ``load_case`` of it (with
+    any sections added) gives the same wall under the name "case"."""
+    return {k: v for k, v in inputs.items() if k not in SECTIONS and k != "site"}
 
 
 def _changes(old: dict, new: dict) -> tuple:

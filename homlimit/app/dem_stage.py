@@ -15,15 +15,14 @@ wall (what benchmarks/dem_table1.py used for docs/dem.md, so the doors reproduce
 trial for trial), mechanism I's closed-form v̄_g rounded so otherwise; of a pulse, mechanism
 I's static collapse acceleration (multiplier × g).
 
-``table1_dem_records`` runs the 12 walls of Table 1 (or some) with one parameter set. Given a
-``map`` (``engine.Engine.stored_map``), every trial is a task (``trial_task``; issue 29: one
-trial per task): a client thread per wall runs its bisection (``dem.threshold.bisect``), whose
-trials depend on each other, and waits for each trial's task; the walls' threads run at once,
-so the workers hold one trial of each wall in flight. Each trial's record is stored as it ends
-and read back on a rerun, so an interrupted table resumes at the trial where it stopped (the
-command line's ``table1 --dem`` holds them in a result set). A worker builds and settles a wall
-once, at its first trial of that wall, and keeps it for the next (settling is deterministic,
-so every worker's settled state is the same and the trials are those of a run here).
+Given a ``map`` (``engine.Engine.stored_map``; ``homlimit run`` passes one when the case asks
+for the DEM), every trial is a task (``trial_task``; issue 29: one trial per task): the
+bisection (``threshold_by_trials``) runs here, its trials depend on each other, and it waits
+for each trial's task. Each trial's record is stored as it ends and read back on a rerun, so
+an interrupted run resumes at the trial where it stopped. A worker builds and settles a wall
+once, at its first trial of it, and keeps it for the next (settling is deterministic, so every
+worker's settled state is the same and the trials are those of a run here); the files' trial
+is re-run here from a state settled here. Table 1's column is ``app.dem_table1``.
 """
 
 from __future__ import annotations
@@ -32,23 +31,18 @@ import dataclasses
 import logging
 import math
 import time
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from .._io import json_bytes
 from ..dem.params import DEMParams
-from ..errors import ParameterError, check_choice
-from .config import CaseConfig, DemConfig
+from .config import CaseConfig, DemConfig, resolved_inputs, wall_inputs
 
-__all__ = ["DEM_PAIRS", "DemRun", "dem_params", "dem_section", "dem_threshold",
-           "table1_dem_records", "table1_dem_walls", "trial_task", "wall_record",
-           "write_files", "trial_amplitude"]
+__all__ = ["DemRun", "dem_params", "dem_threshold", "table1_row", "threshold_by_trials",
+           "trial_amplitude", "trial_task", "write_files"]
 
 log = logging.getLogger(__name__)
-
-#: the block-size ratios of v̄_g/√(gb): same wall and façade, smaller blocks over larger
-DEM_PAIRS = ("B4/B1", "B5/B2", "B6/B3", "C4/C1", "C5/C2", "C6/C3")
 
 
 def dem_params(dem: DemConfig) -> DEMParams:
@@ -90,7 +84,8 @@ def _load(dem: DemConfig):
 class DemRun:
     """One case's DEM threshold: loading ("impulse" or a pulse kind), the threshold
     (``dem.threshold.Threshold``: v = the amplitude, v̄_g [m/s] or a_g [m/s²]), the model and
-    its settled state (for the files), b and g of the case, wall-clock seconds."""
+    its settled state (for the files; None until ``write_files`` settles it when the trials
+    were tasks), b and g of the case, wall-clock seconds."""
 
     dem: DemConfig
     threshold: Any
@@ -189,19 +184,26 @@ def _logger(what: str, unit: str):
     return progress
 
 
-def dem_threshold(config: CaseConfig) -> DemRun:
-    """The DEM threshold of a validated case (its [dem] section; module docstring)."""
+def dem_threshold(config: CaseConfig, map=None) -> DemRun:
+    """The DEM threshold of a validated case (its [dem] section; module docstring): every
+    trial here, or with ``map`` every trial a task (``threshold_by_trials``); then the model is
+    settled here only if its files are written (``write_files``)."""
     from ..dem import settle
     from ..dem.threshold import collapse_threshold
 
     dem, case = config.dem, config.case
     t0 = time.perf_counter()
     model = _model(case, dem)
+    what, unit = ("vg", "m/s") if dem.loading == "impulse" else ("a_g", "m/s^2")
+    if map is not None:
+        log.info("DEM: %d blocks, dt = %.3g s; every trial a task", model.n_blocks, model.dt)
+        item = {"wall": wall_inputs(resolved_inputs(config)), "dem": dataclasses.asdict(dem)}
+        th, _ = threshold_by_trials(item, case, dem, map, what)
+        return DemRun(dem, th, model, None, case.wall.b, case.wall.g, time.perf_counter() - t0)
     log.info("DEM: %d blocks, dt = %.3g s; settling under gravity", model.n_blocks, model.dt)
     settled, info = settle(model)
     log.info("DEM: settled in %.2f s of simulated time (%s)", info["time"],
              "converged" if info["converged"] else "not converged: settle_time reached")
-    what, unit = ("vg", "m/s") if dem.loading == "impulse" else ("a_g", "m/s^2")
     th = collapse_threshold(model, settled, guess=_guess(case, dem), rel_tol=dem.rel_tol,
                             t_max=dem.t_max, load=_load(dem), progress=_logger(what, unit))
     th = dataclasses.replace(th, settle=info)
@@ -218,6 +220,11 @@ def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") 
 
     if not (output.vtu or output.png):
         return {}
+    if run.settled is None:            # its trials were tasks: settle here as they did
+        from ..dem import settle
+
+        log.info("DEM: settling the model here for its files")
+        run.settled = settle(run.model)[0]
     th = run.threshold
     log.info("DEM: recording the lowest collapsing trial (%.4g) every %g s", th.hi,
              run.dem.frame_interval)
@@ -245,31 +252,22 @@ def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") 
     return files
 
 
-# ----------------------------------------------------------------------------- Table 1
-def _table1_row(name: str):
+# ----------------------------------------------------------------------------- trial tasks
+def table1_row(name: str):
+    """Table 1's row of the wall ``name`` (``closed_form.paper.table1``)."""
     from ..closed_form.paper import table1
 
     return {t.test: t for t in table1()}[name]
 
 
-def _wall_row(row, th, n_blocks: int, seconds: float) -> dict:
-    """A row of table1_dem.csv from a wall's ``Threshold``."""
-    g, b = row.case.wall.g, row.case.wall.b
-    return {"test": row.test, "vg_udec": row.vg, "h_udec": row.h_v,
-            "vnorm_udec": row.vg_norm, "vg": th.v, "vg_lo": th.lo, "vg_hi": th.hi,
-            "h": th.h, "vnorm": th.v / math.sqrt(g * b), "dem_over_udec": th.v / row.vg,
-            "base_slid": th.base_slid, "hinge_slid": th.hinge_slid,
-            "base_slip": th.base_slip, "hinge_slip": th.hinge_slip,
-            "n_trials": len(th.trials), "n_blocks": n_blocks, "cpu": th.cpu,
-            "seconds": seconds}
+def _wall_of(item: dict):
+    """The ``Case`` of a trial task's item: a Table 1 wall's, or a case's from its wall
+    inputs (``config.wall_inputs``)."""
+    if "test" in item:
+        return table1_row(item["test"]).case
+    from .config import load_case
 
-
-def wall_record(item: dict) -> dict:
-    """One Table 1 wall's DEM threshold, every trial here (``item`` = {"test": name, "dem":
-    the [dem] section as a dict}): the record of a row of table1_dem.csv."""
-    row = _table1_row(item["test"])
-    r = dem_threshold(CaseConfig(case=row.case, dem=DemConfig(**item["dem"])))
-    return _wall_row(row, r.threshold, r.model.n_blocks, r.seconds)
+    return load_case(item["wall"], source="DEM trial").case
 
 
 #: per worker process: (model, settled state, settling report) of each wall and [dem] section
@@ -278,8 +276,9 @@ _SETTLED: dict = {}
 
 
 def trial_task(item: dict) -> dict:
-    """One trial of a Table 1 wall's bisection, a task: ``item`` = {"test": name, "dem": the
-    [dem] section as a dict, "amplitude": v̄_g [m/s]}. The wall is built and settled at this
+    """One trial of a bisection, a task: ``item`` = {"test": a Table 1 wall's name, or "wall":
+    a case's wall inputs (``config.wall_inputs``), "dem": the [dem] section as a dict,
+    "amplitude": v̄_g [m/s] or a pulse's a_g [m/s²]}. The wall is built and settled at this
     worker's first trial of it and kept (module docstring). Returns
     ``dem.threshold.trial_record`` with dt [s], n_blocks, settle (the settling's report),
     settle_cpu [s] (the settling's CPU in this task, 0 when it was kept) and seconds (the
@@ -287,12 +286,12 @@ def trial_task(item: dict) -> dict:
     from ..dem import run, settle
     from ..dem.threshold import trial_record
 
-    key = (item["test"], repr(sorted(item["dem"].items())))
+    key = json_bytes({k: v for k, v in item.items() if k != "amplitude"}, sort_keys=True)
     dem = DemConfig(**item["dem"])
     wall = time.perf_counter()
     t0 = time.thread_time()
     if key not in _SETTLED:
-        model = _model(_table1_row(item["test"]).case, dem)
+        model = _model(_wall_of(item), dem)
         _SETTLED[key] = (model, *settle(model))
     model, settled, info = _SETTLED[key]
     settle_cpu = time.thread_time() - t0
@@ -303,81 +302,16 @@ def trial_task(item: dict) -> dict:
             "seconds": time.perf_counter() - wall}
 
 
-def _wall_by_trials(item: dict, map) -> dict:
-    """``wall_record`` with every trial a task of ``map`` (module docstring); its seconds
-    are those of its trials' tasks, summed (a resumed table reads them from the records)."""
+def threshold_by_trials(item: dict, case, dem: DemConfig, map, label: str):
+    """The threshold of ``case`` with every trial a task of ``map`` (``trial_task`` on
+    ``item`` with the trial's amplitude): (``dem.threshold.Threshold``, the trials' records).
+    The bisection runs here and waits for each task; ``label`` names the trials in the log."""
     from ..dem.threshold import bisect, threshold_of
 
-    row = _table1_row(item["test"])
-    dem = DemConfig(**item["dem"])
-
     def trial(v):
-        return map(trial_task, [{"test": row.test, "dem": item["dem"], "amplitude": v}])[0]
+        return map(trial_task, [{**item, "amplitude": v}])[0]
 
-    lo, hi, recs = bisect(trial, guess=_guess(row.case, dem), rel_tol=dem.rel_tol,
-                          progress=_logger(f"{row.test} vg", "m/s"))
-    th = threshold_of(lo, hi, recs, dem.rel_tol, recs[0]["dt"], recs[0]["settle"])
-    return _wall_row(row, th, recs[0]["n_blocks"], sum(r["seconds"] for r in recs))
-
-
-def table1_dem_walls(tests: list[str] | None = None, dem: DemConfig | None = None
-                     ) -> list[str]:
-    """The walls ``table1_dem_records`` runs, the costliest first, after checking the tests'
-    names and the loading (ParameterError, before any work)."""
-    from ..closed_form.paper import table1
-
-    dem = dem or DemConfig()
-    if dem.loading != "impulse":
-        raise ParameterError(f"[dem] loading = {dem.loading!r} is out of range for table1 "
-                             "--dem: allowed 'impulse' (Table 1 is the ideal impulse's)")
-    walls = {t.test: t for t in table1()}
-    for t in tests or ():
-        check_choice("test", t, tuple(walls))
-    names = [t for t in walls if not tests or t in tests]
-    # the costliest first (blocks × steps per second ~ 1/a), so two workers end together
-    names.sort(key=lambda t: -(walls[t].case.wall.H / walls[t].case.masonry.a) ** 2
-               * walls[t].case.wall.L / walls[t].case.masonry.c)
-    return names
-
-
-def table1_dem_records(tests: list[str] | None = None, dem: DemConfig | None = None,
-                       map=None) -> tuple[list[dict], dict]:
-    """Table 1's DEM column: one row per wall (``wall_record``) and the block-size ratios
-    (``DEM_PAIRS``) of v̄_g/√(gb), this DEM's and UDEC's. One parameter set (``dem``, default
-    [dem]'s defaults) for every wall; ideal impulse only. ``map(fn, items)``: every trial a
-    task, the walls' bisections at once (module docstring); default: the walls one after the
-    other, every trial here."""
-    from ..closed_form.paper import table1
-
-    dem = dem or DemConfig()
-    names = table1_dem_walls(tests, dem)
-    walls = {t.test: t for t in table1()}
-    items = [{"test": t, "dem": dataclasses.asdict(dem)} for t in names]
-    if map is None:
-        recs = [wall_record(x) for x in items]
-    elif items:
-        with ThreadPoolExecutor(len(items)) as pool:
-            recs = list(pool.map(lambda x: _wall_by_trials(x, map), items))
-    else:
-        recs = []
-    by = {r["test"]: r for r in recs}
-    rows = [by[t] for t in walls if t in by]
-    ratios = {}
-    for pair in DEM_PAIRS:
-        hi, lo = pair.split("/")
-        if hi in by and lo in by:
-            ratios[pair] = {"vnorm": by[hi]["vnorm"] / by[lo]["vnorm"],
-                            "vnorm_udec": by[hi]["vnorm_udec"] / by[lo]["vnorm_udec"]}
-    return rows, ratios
-
-
-def dem_section(overrides: list[str] | None) -> DemConfig:
-    """The [dem] section that "dem.key=value" overrides make of the defaults, checked like a
-    case file's (ConfigError naming key, value and range); another section is refused."""
-    from .config import case_data, load_case
-
-    bad = [o for o in overrides or () if not str(o).strip().startswith("dem.")]
-    if bad:
-        raise ParameterError(f"--set {bad[0]!r} is out of range for table1 --dem: allowed "
-                             "dem.KEY=VALUE (the [dem] section; the walls are Table 1's)")
-    return load_case(case_data(None)[0], list(overrides or ()), source="table1 --dem").dem
+    unit = "m/s" if dem.loading == "impulse" else "m/s^2"
+    lo, hi, recs = bisect(trial, guess=_guess(case, dem), rel_tol=dem.rel_tol,
+                          progress=_logger(label, unit))
+    return threshold_of(lo, hi, recs, dem.rel_tol, recs[0]["dt"], recs[0]["settle"]), recs

@@ -383,7 +383,7 @@ registry.register(
           batched=True, files=closed_form_files),
     Model("fe", lambda config: config.analysis.fe, run_fe, check_fe, files=fe_files),
     Model("blocks", lambda config: config.analysis.blocks, run_blocks, files=blocks_files),
-    Model("dem", lambda config: config.analysis.dem, run_dem),
+    Model("dem", lambda config: config.analysis.dem, run_dem, tasks=True),
     # the check itself runs after the results' checks (pipeline.compute, and in a sweep's
     # closed-form batches); this entry adds its picture to a run's files
     Model("code_check", lambda config: config.site is not None, lambda config, result: None,

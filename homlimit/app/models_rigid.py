@@ -93,16 +93,16 @@ def blocks_files(result) -> dict:
             if (cfg.png or not name.endswith(".png")) and (cfg.vtu or not name.endswith(".vtu"))}
 
 
-def run_dem(config, result) -> None:
+def run_dem(config, result, map=None) -> None:
     """The DEM's collapse threshold (``app.dem_stage``): a model that returns v̄_g, the failing
     height and the slide flags directly, not a mechanism; its series is written by
-    ``dem_stage.write_files``."""
+    ``dem_stage.write_files``. ``map``: every trial a task of it (``dem_threshold``)."""
     from .dem_stage import dem_threshold
 
     dem = config.dem
     with stage(result.timings, "DEM threshold", f"{dem.loading}, bisection to "
                                                 f"±{100 * dem.rel_tol:g} %"):
-        result.dem_run = dem_threshold(config)
+        result.dem_run = dem_threshold(config, map)
 
 # ----------------------------------------------------------------------------- the rockers
 def no_real_wall(case, what: str) -> None:

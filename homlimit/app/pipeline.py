@@ -68,13 +68,15 @@ __all__ = ["FERocker", "MAX_FOLDER_NAME", "MAX_RECORD_BYTES", "Result", "announc
 log = logging.getLogger(__name__)
 
 
-def compute(config: CaseConfig) -> Result:
+def compute(config: CaseConfig, map=None) -> Result:
     """The models the case asks for (``registry.models``: the closed forms, the FE path, the
-    rigid blocks, ...), in the registry's order, then ``conclude``; writes nothing."""
+    rigid blocks, ...), in the registry's order, then ``conclude``; writes nothing. ``map``: a
+    map hook (``engine.Engine.stored_map``) for the models that run their work as tasks
+    (``registry.Model.tasks``); without it they run it here."""
     result = Result(config=config, dem=dem_row(config.case))
     for model in registry.models():
         if model.enabled(config):
-            model.run(config, result)
+            model.run(config, result, **({"map": map} if model.tasks and map is not None else {}))
     result = conclude(result)
     result.code_check = code_check(result)
     return result
@@ -83,7 +85,8 @@ def compute(config: CaseConfig) -> Result:
 
 def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
         out: str | Path | None = None, write: bool = True,
-        overrides: list[str] | dict | None = None, command: str = "run") -> Result:
+        overrides: list[str] | dict | None = None, command: str = "run",
+        tasks=None) -> Result:
     """Run the case: validate, closed forms, FE (if asked), write files to ``out``.
 
     ``path_or_dict``: a TOML case file, a dict of the same shape, a CaseConfig, or None for the
@@ -92,7 +95,9 @@ def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
     homlimit-out/NAME/ (``output_dir``); the files are one result set (``result_folder``):
     the folder is checked before any computation and replaced whole at the end; a folder
     holding the set of another source or another command (``command``, recorded in the
-    manifest: "run", or "demo" for the command line's demo) is refused.
+    manifest: "run", or "demo" for the command line's demo) is refused. ``tasks(folder)``:
+    the map hook of ``compute``, asked for once the output folder has been checked (its
+    records may live there); None: every model's work here.
     Raises ConfigError/ParameterError for bad input and an unusable output folder (before any
     computation), SolverError when a conic program does not end optimal, ResultError when a
     result is not a finite number, OutputError when the files cannot be written (the previous
@@ -104,7 +109,7 @@ def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
         return compute(config)
     target = output_dir(config, out)
     with result_folder(target, command, case=config.name, **source_of(config)) as staging:
-        result = compute(config)
+        result = compute(config, None if tasks is None else tasks(Path(target)))
         result.files = write_result(result, staging, target)
     if result.fe is not None:       # for `homlimit pulse` on this case (``fe_rocker``)
         write_fe_cache(config, result.fe)

@@ -75,14 +75,17 @@ class Model:
     ``batched``: a sweep evaluates its cases in vectorised batches (``sweep.batch_closed_form``,
     the closed forms) when it is the only kind of model a case asks for; ``files(result)``:
     key → (file name, data for ``report.write``) of the files it adds to a run's result set,
-    as ``[output]`` asks (its pictures, tables, meshes; {} when it did not run)."""
+    as ``[output]`` asks (its pictures, tables, meshes; {} when it did not run); ``tasks``:
+    ``run`` also takes ``map=``, a map hook (``engine.Engine.stored_map``), and then runs its
+    work as that hook's tasks (the DEM: one trial per task)."""
 
     name: str
     enabled: Callable[[Any], bool]
-    run: Callable[[Any, Any], None]
+    run: Callable[..., None]
     check: Callable[[Any], None] | None = None
     batched: bool = False
     files: Callable[[Any], dict] | None = None
+    tasks: bool = False
 
 
 _MODELS: dict[str, Model] = {}

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from contextlib import ExitStack
 from pathlib import Path
 
 from ...closed_form.paper import dem_row
@@ -9,9 +10,12 @@ from .. import pipeline, plots, report
 from ..config import load_case
 from ..door import (
     emit_json,
+    interruptible,
+    open_engine,
     setup_logging,
     stdout_quiet,
 )
+from ..engine import RecordStore
 
 
 def pulse(case, as_json, out, verbose, quiet, overrides):
@@ -58,10 +62,26 @@ def mesh(case, as_json, out, overrides):
 
 
 def run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
-             quiet: bool, overrides: list[str] | None, command: str = "run"):
+             quiet: bool, overrides: list[str] | None, command: str = "run",
+             workers: int | None = None, scheduler: str | None = None, resume: bool = True):
+    """``homlimit run``'s (and ``demo``'s) work: see ``cli.run_cmd``. With ``[analysis] dem``
+    the DEM's trials are tasks of a Dask engine, their records kept in OUT/records/ as they end
+    and read back by the same run again (``--no-resume``: cleared first)."""
     setup_logging(verbose, quiet, as_json)
-    with stdout_quiet(as_json or verbose) as stdout:
-        result = pipeline.run(case, out=out, write=True, overrides=overrides, command=command)
+    with stdout_quiet(as_json or verbose) as stdout, ExitStack() as stack:
+        config = load_case(case, overrides)
+
+        def tasks(target: Path):
+            # the output folder is checked by now: its records may be read or cleared
+            store = RecordStore(target / "records")
+            stack.enter_context(interruptible(store.folder))
+            if not resume:
+                store.clear()
+            engine = stack.enter_context(open_engine(workers, scheduler, quiet or as_json))
+            return engine.stored_map(store, "run-dem", "DEM trial", show=False)
+
+        result = pipeline.run(config, out=out, write=True, command=command,
+                              tasks=tasks if config.analysis.dem else None)
     if as_json:
         emit_json(stdout, result.to_dict())
     else:

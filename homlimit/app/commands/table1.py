@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ...errors import ParameterError
 from .. import pipeline, plots, report
-from ..dem_stage import dem_section, table1_dem_records, table1_dem_walls
+from ..dem_table1 import dem_section, table1_dem_records, table1_dem_walls
 from ..door import (
     interruptible,
     open_engine,
