@@ -156,6 +156,17 @@ def test_run_with_dem_makes_every_trial_a_task_and_resumes(small_run, tmp_path):
     assert all(p.stat().st_mtime_ns > stamps[p] for p in records if p != last)
 
 
+@pytest.mark.parametrize("extra, flag", [(["--workers", "2"], "--workers 2"),
+                                         (["--no-resume"], "--no-resume")])
+def test_run_refuses_engine_options_without_the_dem(tmp_path, extra, flag):
+    out = tmp_path / "o"
+    res = CliRunner().invoke(app, ["run", "--set", "analysis.fe=false", *extra, "--out",
+                                   str(out)])
+    assert res.exit_code == 2, res.output
+    assert f"{flag} is out of range without [analysis] dem = true" in res.output
+    assert not out.exists()
+
+
 def test_dem_is_off_by_default(tmp_path):
     from homlimit.app import pipeline
 

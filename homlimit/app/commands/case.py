@@ -6,6 +6,7 @@ from contextlib import ExitStack
 from pathlib import Path
 
 from ...closed_form.paper import dem_row
+from ...errors import ParameterError
 from .. import pipeline, plots, report
 from ..config import load_case
 from ..door import (
@@ -70,6 +71,9 @@ def run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
     setup_logging(verbose, quiet, as_json)
     with stdout_quiet(as_json or verbose) as stdout, ExitStack() as stack:
         config = load_case(case, overrides)
+        if not config.analysis.dem:
+            _no_engine_without_dem(workers=workers, scheduler=scheduler,
+                                   resume=None if resume else False)
 
         def tasks(target: Path):
             # the output folder is checked by now: its records may be read or cleared
@@ -86,3 +90,14 @@ def run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
         emit_json(stdout, result.to_dict())
     else:
         print(result.summary())
+
+
+def _no_engine_without_dem(**given):
+    """ParameterError for an engine option (``given``: name → value, None when not given) of
+    ``run`` on a case that does not ask for the DEM: its trials are the engine's only tasks."""
+    for name, value in given.items():
+        if value is not None:
+            flag = "--no-resume" if name == "resume" else f"--{name} {value}"
+            raise ParameterError(f"{flag} is out of range without [analysis] dem = true: "
+                                 "allowed only when the case runs the DEM (its trials are "
+                                 "the engine's tasks)")
