@@ -339,7 +339,7 @@ def test_no_fe_collapse_velocity_is_exit_3(sandbox, monkeypatch):
 
 
 def test_out_of_memory_is_exit_3(sandbox, monkeypatch):
-    def oom(config):
+    def oom(config, *map):
         raise MemoryError
 
     monkeypatch.setattr(pipeline, "compute", oom)
