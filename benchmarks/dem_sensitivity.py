@@ -3,17 +3,22 @@ point 4): one parameter changed at a time from the defaults (``DEMParams()``), t
 every wall, nothing tuned per wall.
 
 Variants: kn × 0.3, 3, 10; ks/kn 0.1 and 1 (default 0.5); the base joint tied (default
-frictional); a rectangular base-acceleration pulse of 0.1 s instead of the ideal impulse (its
-threshold given as the pulse's velocity change a_g Δt = its pgv, comparable with v̄_g). Each
+frictional); instead of the ideal impulse, a base-acceleration pulse of period 0.1 s of each
+finite shape of ``homlimit.dynamics.pulses.make_pulse``: rectangular (Δt = 0.1 s), one-sine,
+one-cosine, Ricker, all of polarity +1 (the first or main lobe throws the façade outwards).
+A pulse's threshold is its amplitude a_g, given as its pgv, the peak |∫a_g dt|
+(``dem_table1.pulse_loading``: the pulses' closed forms, a_g Δt for the rectangle, a_g T/π
+one-sine, a_g T/(2π) one-cosine, a_g T e^{-1/2}/(π√2) Ricker), comparable with v̄_g. Each
 threshold is ``homlimit.dem.threshold.collapse_threshold`` on the T-section with the façade
 "through", bisection to ±1 %, t_max 5 s, the first trial UDEC's v̄_g rounded to 0.1 m/s (as
 benchmarks/dem_table1.py, so the base row repeats docs/dem.md's section 5 trial for trial; a
-pulse's first trial is that over Δt).
+pulse's first trial is the a_g whose pgv is that, so its trials start at the impulse's).
 
 Printed: one line per threshold as it ends, then the table as Markdown (the change from the
 wall's base row; the B4/B1 ratio of v̄_g/√(gb) for a variant run on both walls); written as CSV
 (whole or not at all, ``homlimit._io.write_csv``). One threshold costs 1–5 min of CPU on one
-core (kn × 10: dt / √10); the default selection about 25 min.
+core (kn × 10: dt / √10); the default selection about 30 min. Each trial is also printed on
+stderr as it ends.
 
     python benchmarks/dem_sensitivity.py [--walls B1 B4] [--b4-variants base kn*0.3 ...]
         [--csv homlimit-out/dem-sensitivity/dem_sensitivity.csv]
@@ -23,7 +28,10 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 import time
+
+from dem_table1 import pulse_loading
 
 #: name -> (DEMParams overrides, loading); loading None: the ideal impulse, else (kind, Δt)
 VARIANTS = {
@@ -35,8 +43,11 @@ VARIANTS = {
     "ks/kn=1": ({"ks_over_kn": 1.0}, None),
     "tied base": ({"base_joint": "tied"}, None),
     "rect 0.1 s": ({}, ("rectangular", 0.1)),
+    "one-sine 0.1 s": ({}, ("one-sine", 0.1)),
+    "one-cosine 0.1 s": ({}, ("one-cosine", 0.1)),
+    "ricker 0.1 s": ({}, ("ricker", 0.1)),
 }
-#: B4 (the smaller blocks) where cheap enough: without kn × 10 and the pulse
+#: B4 (the smaller blocks) where cheap enough: without kn × 10 and the pulses
 B4_DEFAULT = ["base", "kn*0.3", "kn*3", "ks/kn=0.1", "ks/kn=1", "tied base"]
 
 
@@ -45,22 +56,27 @@ def threshold(row, name: str) -> dict:
     from homlimit.blocks.geometry import t_section_blocks
     from homlimit.dem import DEMParams, build_model
     from homlimit.dem.threshold import collapse_threshold
-    from homlimit.dynamics.pulses import make_pulse
 
     over, loading = VARIANTS[name]
     params = DEMParams(**over)
     model = build_model(t_section_blocks(row.case, facade="through"), params)
     guess = round(row.vg, 1)
-    load = None
+    load, pgv_of = None, (lambda a: a)
     if loading is not None:
-        kind, period = loading
-        guess /= period
-        load = lambda a: {"pulse": make_pulse(kind, period, a)}   # noqa: E731
+        load, pgv_of, per_ag = pulse_loading(*loading)
+        guess /= per_ag
+
+    def progress(a, collapsed, t_end, trials):
+        print(f"  {row.test} {name}: a {a:.6g} (pgv {pgv_of(a):.4g} m/s) "
+              f"{'collapsed' if collapsed else 'stood'} at {t_end:.2f} s", file=sys.stderr,
+              flush=True)
+
     t0 = time.perf_counter()
     c0 = time.process_time()
-    th = collapse_threshold(model, guess=guess, rel_tol=0.01, t_max=5.0, load=load)
+    th = collapse_threshold(model, guess=guess, rel_tol=0.01, t_max=5.0, load=load,
+                            progress=progress)
     cpu = time.process_time() - c0       # settling included
-    pgv = th.v if loading is None else make_pulse(*loading, th.v).pgv
+    pgv = pgv_of(th.v)
     wall = row.case.wall
     return {"wall": row.test, "variant": name, "kn": params.kn,
             "ks_over_kn": params.ks_over_kn, "base_joint": params.base_joint,
@@ -83,7 +99,7 @@ def table(rows: list[dict]) -> str:
            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lo, hi = r["lo"], r["hi"]
-        if r["loading"] != "impulse":      # the bracket in pgv (rectangular: a_g Δt)
+        if r["loading"] != "impulse":      # the bracket in pgv (pgv is linear in a_g)
             s = r["vg"] / r["amplitude"]
             lo, hi = lo * s, hi * s
         d = (f"{100 * (r['vg'] / base[r['wall']] - 1):+.1f} %"
@@ -104,7 +120,7 @@ def main(argv=None) -> None:
     ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS),
                     help="variants of B1 (and of walls other than B4)")
     ap.add_argument("--b4-variants", nargs="+", default=B4_DEFAULT, choices=list(VARIANTS),
-                    help="variants of B4 (default: without kn*10 and the pulse)")
+                    help="variants of B4 (default: without kn*10 and the pulses)")
     ap.add_argument("--csv", default="homlimit-out/dem-sensitivity/dem_sensitivity.csv",
                     help="the table as CSV")
     args = ap.parse_args(argv)
