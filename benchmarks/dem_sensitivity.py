@@ -47,12 +47,21 @@ VARIANTS = {
     "one-cosine 0.1 s": ({}, ("one-cosine", 0.1)),
     "ricker 0.1 s": ({}, ("ricker", 0.1)),
 }
+#: pgv [m/s] past which a pulse that still stands ends the search: over 3× the project's
+#: bound of recorded ground motion (3 m/s, docs/pulses.md)
+MAX_PGV = 10.0
 #: B4 (the smaller blocks) where cheap enough: without kn × 10 and the pulses
 B4_DEFAULT = ["base", "kn*0.3", "kn*3", "ks/kn=0.1", "ks/kn=1", "tied base"]
 
 
-def threshold(row, name: str) -> dict:
-    """One wall's threshold under one variant: a flat record."""
+class _Beyond(Exception):
+    """A pulse stood at a pgv past the cap: the bracket search stops there."""
+
+
+def threshold(row, name: str, max_pgv: float = MAX_PGV) -> dict:
+    """One wall's threshold under one variant: a flat record. A pulse that still stands at a
+    pgv above max_pgv [m/s] ends the search: the record has lo = that amplitude, hi, vg, h
+    and the slips NaN (no collapse found), n_trials and CPU as spent."""
     from homlimit.blocks.geometry import t_section_blocks
     from homlimit.dem import DEMParams, build_model
     from homlimit.dem.threshold import collapse_threshold
@@ -70,18 +79,31 @@ def threshold(row, name: str) -> dict:
         print(f"  {row.test} {name}: a {a:.6g} (pgv {pgv_of(a):.4g} m/s) "
               f"{'collapsed' if collapsed else 'stood'} at {t_end:.2f} s", file=sys.stderr,
               flush=True)
+        if loading is not None and not collapsed and pgv_of(a) > max_pgv:
+            raise _Beyond(a, len(trials))
 
     t0 = time.perf_counter()
     c0 = time.process_time()
-    th = collapse_threshold(model, guess=guess, rel_tol=0.01, t_max=5.0, load=load,
-                            progress=progress)
+    wall = row.case.wall
+    try:
+        th = collapse_threshold(model, guess=guess, rel_tol=0.01, t_max=5.0, load=load,
+                                progress=progress)
+    except _Beyond as stop:
+        a, n = stop.args
+        nan = float("nan")
+        return {"wall": row.test, "variant": name, "kn": params.kn,
+                "ks_over_kn": params.ks_over_kn, "base_joint": params.base_joint,
+                "loading": f"{loading[0]} {loading[1]:g} s", "amplitude": nan, "lo": a,
+                "hi": nan, "vg": nan, "vg_lo": pgv_of(a), "vnorm": nan, "vg_udec": row.vg,
+                "h": nan, "h_udec": row.h_v, "base_slid": None, "hinge_slid": None,
+                "base_slip": nan, "hinge_slip": nan, "n_trials": n, "dt": model.dt,
+                "cpu": time.process_time() - c0, "wall_clock": time.perf_counter() - t0}
     cpu = time.process_time() - c0       # settling included
     pgv = pgv_of(th.v)
-    wall = row.case.wall
     return {"wall": row.test, "variant": name, "kn": params.kn,
             "ks_over_kn": params.ks_over_kn, "base_joint": params.base_joint,
             "loading": "impulse" if loading is None else f"{loading[0]} {loading[1]:g} s",
-            "amplitude": th.v, "lo": th.lo, "hi": th.hi, "vg": pgv,
+            "amplitude": th.v, "lo": th.lo, "hi": th.hi, "vg": pgv, "vg_lo": pgv_of(th.lo),
             "vnorm": pgv / math.sqrt(wall.g * wall.b), "vg_udec": row.vg,
             "h": th.h, "h_udec": row.h_v, "base_slid": th.base_slid,
             "hinge_slid": th.hinge_slid, "base_slip": th.base_slip,
@@ -98,6 +120,11 @@ def table(rows: list[dict]) -> str:
            "[mm] | hinge slip [mm] | trials | dt [s] | CPU [s] | B4/B1 of v̄_g/√(gb) |",
            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
+        if math.isnan(r["vg"]):            # no collapse up to the cap
+            out.append(f"| {r['variant']} | {r['wall']} | none: stood at {r['vg_lo']:.4g} "
+                       f"| – | – | – | – | {r['n_trials']} | {r['dt']:.3g} | "
+                       f"{r['cpu']:.0f} | – |")
+            continue
         lo, hi = r["lo"], r["hi"]
         if r["loading"] != "impulse":      # the bracket in pgv (pgv is linear in a_g)
             s = r["vg"] / r["amplitude"]
@@ -105,8 +132,9 @@ def table(rows: list[dict]) -> str:
         d = (f"{100 * (r['vg'] / base[r['wall']] - 1):+.1f} %"
              if r["wall"] in base and r["variant"] != "base" else "–")
         ratio = "–"
-        if r["wall"] == "B4" and ("B1", r["variant"]) in by:
-            ratio = f"{r['vnorm'] / by[('B1', r['variant'])]['vnorm']:.3f}"
+        b1 = by.get(("B1", r["variant"]))
+        if r["wall"] == "B4" and b1 is not None and not math.isnan(b1["vg"]):
+            ratio = f"{r['vnorm'] / b1['vnorm']:.3f}"
         out.append(f"| {r['variant']} | {r['wall']} | {r['vg']:.3f} ({lo:.4g}–{hi:.4g}) | "
                    f"{d} | {r['h']:.2f} | {1e3 * r['base_slip']:.0f} | "
                    f"{1e3 * r['hinge_slip']:.0f} | {r['n_trials']} | {r['dt']:.3g} | "
@@ -121,6 +149,9 @@ def main(argv=None) -> None:
                     help="variants of B1 (and of walls other than B4)")
     ap.add_argument("--b4-variants", nargs="+", default=B4_DEFAULT, choices=list(VARIANTS),
                     help="variants of B4 (default: without kn*10 and the pulses)")
+    ap.add_argument("--max-pgv", type=float, default=MAX_PGV,
+                    help="a pulse that stands at a pgv above this [m/s] ends its search "
+                    "(no collapse found)")
     ap.add_argument("--csv", default="homlimit-out/dem-sensitivity/dem_sensitivity.csv",
                     help="the table as CSV")
     args = ap.parse_args(argv)
@@ -132,7 +163,7 @@ def main(argv=None) -> None:
     rows = []
     for w in args.walls:
         for name in (args.b4_variants if w == "B4" else args.variants):
-            r = threshold(walls[w], name)
+            r = threshold(walls[w], name, args.max_pgv)
             rows.append(r)
             print(f"{w} {name}: vg {r['vg']:.4f} m/s ({r['lo']:.4g}..{r['hi']:.4g}), "
                   f"h {r['h']:.2f} m, {r['n_trials']} trials, {r['cpu']:.0f} s CPU, "
