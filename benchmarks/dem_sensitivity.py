@@ -61,33 +61,44 @@ class _Beyond(Exception):
 def threshold(row, name: str, max_pgv: float = MAX_PGV) -> dict:
     """One wall's threshold under one variant: a flat record. A pulse that still stands at a
     pgv above max_pgv [m/s] ends the search: the record has lo = that amplitude, hi, vg, h
-    and the slips NaN (no collapse found), n_trials and CPU as spent."""
+    and the hinge slip NaN (no collapse found), base_slip and bed_slip (the largest bed-joint
+    slip of any block) of that trial, n_trials and CPU as spent. The trials are
+    ``collapse_threshold``'s (settle, then ``bisect`` over ``run``), each printed on stderr
+    with its largest base and bed slips."""
     from homlimit.blocks.geometry import t_section_blocks
     from homlimit.dem import DEMParams, build_model
-    from homlimit.dem.threshold import collapse_threshold
+    from homlimit.dem.model import run, settle
+    from homlimit.dem.threshold import bisect, threshold_of, trial_record
 
     over, loading = VARIANTS[name]
     params = DEMParams(**over)
     model = build_model(t_section_blocks(row.case, facade="through"), params)
     guess = round(row.vg, 1)
-    load, pgv_of = None, (lambda a: a)
+    load, pgv_of = (lambda v: {"v_g": v}), (lambda a: a)     # the ideal impulse
     if loading is not None:
         load, pgv_of, per_ag = pulse_loading(*loading)
         guess /= per_ag
-
-    def progress(a, collapsed, t_end, trials):
-        print(f"  {row.test} {name}: a {a:.6g} (pgv {pgv_of(a):.4g} m/s) "
-              f"{'collapsed' if collapsed else 'stood'} at {t_end:.2f} s", file=sys.stderr,
-              flush=True)
-        if loading is not None and not collapsed and pgv_of(a) > max_pgv:
-            raise _Beyond(a, len(trials))
-
     t0 = time.perf_counter()
     c0 = time.process_time()
+    settled, settle_info = settle(model)
     wall = row.case.wall
+    last = {"n": 0}
+
+    def trial(a):      # collapse_threshold's trial, with every trial's largest slips printed
+        out = run(model, settled, t_max=5.0, **load(a))
+        rec = trial_record(model, settled, out, a)
+        last.update(n=last["n"] + 1, base_slip=float(out.slip_base.max()),
+                    bed_slip=float(out.slip_bed.max()))
+        print(f"  {row.test} {name}: a {a:.6g} (pgv {pgv_of(a):.4g} m/s) "
+              f"{'collapsed' if out.collapsed else 'stood'} at {out.t_end:.2f} s, largest "
+              f"base slip {1e3 * last['base_slip']:.0f} mm, bed slip "
+              f"{1e3 * last['bed_slip']:.0f} mm", file=sys.stderr, flush=True)
+        if loading is not None and not out.collapsed and pgv_of(a) > max_pgv:
+            raise _Beyond(a, last["n"])
+        return rec
+
     try:
-        th = collapse_threshold(model, guess=guess, rel_tol=0.01, t_max=5.0, load=load,
-                                progress=progress)
+        lo, hi, recs = bisect(trial, guess=guess, rel_tol=0.01)
     except _Beyond as stop:
         a, n = stop.args
         nan = float("nan")
@@ -96,8 +107,10 @@ def threshold(row, name: str, max_pgv: float = MAX_PGV) -> dict:
                 "loading": f"{loading[0]} {loading[1]:g} s", "amplitude": nan, "lo": a,
                 "hi": nan, "vg": nan, "vg_lo": pgv_of(a), "vnorm": nan, "vg_udec": row.vg,
                 "h": nan, "h_udec": row.h_v, "base_slid": None, "hinge_slid": None,
-                "base_slip": nan, "hinge_slip": nan, "n_trials": n, "dt": model.dt,
+                "base_slip": last["base_slip"], "hinge_slip": nan,
+                "bed_slip": last["bed_slip"], "n_trials": n, "dt": model.dt,
                 "cpu": time.process_time() - c0, "wall_clock": time.perf_counter() - t0}
+    th = threshold_of(lo, hi, recs, 0.01, model.dt, settle_info)
     cpu = time.process_time() - c0       # settling included
     pgv = pgv_of(th.v)
     return {"wall": row.test, "variant": name, "kn": params.kn,
@@ -106,7 +119,7 @@ def threshold(row, name: str, max_pgv: float = MAX_PGV) -> dict:
             "amplitude": th.v, "lo": th.lo, "hi": th.hi, "vg": pgv, "vg_lo": pgv_of(th.lo),
             "vnorm": pgv / math.sqrt(wall.g * wall.b), "vg_udec": row.vg,
             "h": th.h, "h_udec": row.h_v, "base_slid": th.base_slid,
-            "hinge_slid": th.hinge_slid, "base_slip": th.base_slip,
+            "hinge_slid": th.hinge_slid, "base_slip": th.base_slip, "bed_slip": math.nan,
             "hinge_slip": th.hinge_slip, "n_trials": len(th.trials), "dt": th.dt,
             "cpu": cpu, "wall_clock": time.perf_counter() - t0}
 
