@@ -5,7 +5,8 @@ every wall, nothing tuned per wall.
 Variants: kn × 0.3, 3, 10; ks/kn 0.1 and 1 (default 0.5); the base joint tied (default
 frictional); instead of the ideal impulse, a base-acceleration pulse of period 0.1 s of each
 finite shape of ``homlimit.dynamics.pulses.make_pulse``: rectangular (Δt = 0.1 s), one-sine,
-one-cosine, Ricker, all of polarity +1 (the first or main lobe throws the façade outwards).
+one-cosine, Ricker, all of polarity +1 (the first or main lobe throws the façade outwards),
+on the default frictional base and on a tied one.
 A pulse's threshold is its amplitude a_g, given as its pgv, the peak |∫a_g dt|
 (``dem_table1.pulse_loading``: the pulses' closed forms, a_g Δt for the rectangle, a_g T/π
 one-sine, a_g T/(2π) one-cosine, a_g T e^{-1/2}/(π√2) Ricker), comparable with v̄_g. Each
@@ -46,6 +47,10 @@ VARIANTS = {
     "one-sine 0.1 s": ({}, ("one-sine", 0.1)),
     "one-cosine 0.1 s": ({}, ("one-cosine", 0.1)),
     "ricker 0.1 s": ({}, ("ricker", 0.1)),
+    # the same pulses on a tied base: what the frictional base's sliding does to them
+    "one-sine 0.1 s, tied": ({"base_joint": "tied"}, ("one-sine", 0.1)),
+    "one-cosine 0.1 s, tied": ({"base_joint": "tied"}, ("one-cosine", 0.1)),
+    "ricker 0.1 s, tied": ({"base_joint": "tied"}, ("ricker", 0.1)),
 }
 #: pgv [m/s] past which a pulse that still stands ends the search: over 3× the project's
 #: bound of recorded ground motion (3 m/s, docs/pulses.md)
