@@ -183,8 +183,10 @@ def main(argv=None) -> None:
         for name in (args.b4_variants if w == "B4" else args.variants):
             r = threshold(walls[w], name, args.max_pgv)
             rows.append(r)
-            print(f"{w} {name}: vg {r['vg']:.4f} m/s ({r['lo']:.4g}..{r['hi']:.4g}), "
-                  f"h {r['h']:.2f} m, {r['n_trials']} trials, {r['cpu']:.0f} s CPU, "
+            found = (f"vg {r['vg']:.4f} m/s ({r['lo']:.4g}..{r['hi']:.4g}), h {r['h']:.2f} m"
+                     if not math.isnan(r["vg"]) else
+                     f"no collapse: stood at pgv {r['vg_lo']:.4g} m/s (a_g {r['lo']:.4g})")
+            print(f"{w} {name}: {found}, {r['n_trials']} trials, {r['cpu']:.0f} s CPU, "
                   f"{r['wall_clock']:.0f} s", flush=True)
             write_csv(args.csv, rows)           # whole after every threshold
     print()
