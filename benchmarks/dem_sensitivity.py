@@ -22,7 +22,8 @@ core (kn × 10: dt / √10); the default selection about 30 min. Each trial is a
 stderr as it ends.
 
     python benchmarks/dem_sensitivity.py [--walls B1 B4] [--b4-variants base kn*0.3 ...]
-        [--csv homlimit-out/dem-sensitivity/dem_sensitivity.csv]
+        [--csv homlimit-out/dem-sensitivity/dem_sensitivity.csv] [--max-pgv 10]
+    python benchmarks/dem_sensitivity.py --table a.csv b.csv [--base B1=0.88125]  # no run
 """
 
 from __future__ import annotations
@@ -129,10 +130,28 @@ def threshold(row, name: str, max_pgv: float = MAX_PGV) -> dict:
             "cpu": cpu, "wall_clock": time.perf_counter() - t0}
 
 
-def table(rows: list[dict]) -> str:
-    """The Markdown table: per variant, each wall's v̄_g, its change from the base row, h,
-    slips, and the B4/B1 ratio of v̄_g/√(gb) where both walls ran."""
-    base = {r["wall"]: r["vg"] for r in rows if r["variant"] == "base"}
+#: the CSV's text columns; the others are numbers (empty: NaN)
+_TEXT = {"wall", "variant", "base_joint", "loading", "base_slid", "hinge_slid"}
+
+
+def read_rows(paths) -> list[dict]:
+    """The records of earlier runs' CSVs (``main``'s), in file order."""
+    import csv
+
+    rows = []
+    for path in paths:
+        with open(path, newline="", encoding="utf-8") as fh:
+            for r in csv.DictReader(fh):
+                rows.append({k: v if k in _TEXT else int(v) if k == "n_trials"
+                             else float(v) if v != "" else math.nan for k, v in r.items()})
+    return rows
+
+
+def table(rows: list[dict], base: dict | None = None) -> str:
+    """The Markdown table: per variant, each wall's v̄_g, its change from the base row (or
+    from ``base``: wall -> v̄_g of a base row run before), h, slips, and the B4/B1 ratio of
+    v̄_g/√(gb) where both walls ran."""
+    base = {**(base or {}), **{r["wall"]: r["vg"] for r in rows if r["variant"] == "base"}}
     by = {(r["wall"], r["variant"]): r for r in rows}
     out = ["| variant | wall | v̄_g [m/s] (safe–collapsed) | vs base | h [m] | base slip "
            "[mm] | hinge slip [mm] | trials | dt [s] | CPU [s] | B4/B1 of v̄_g/√(gb) |",
@@ -140,8 +159,8 @@ def table(rows: list[dict]) -> str:
     for r in rows:
         if math.isnan(r["vg"]):            # no collapse up to the cap
             out.append(f"| {r['variant']} | {r['wall']} | none: stood at {r['vg_lo']:.4g} "
-                       f"| – | – | – | – | {r['n_trials']} | {r['dt']:.3g} | "
-                       f"{r['cpu']:.0f} | – |")
+                       f"| – | – | {1e3 * r['base_slip']:.0f} (that trial) | – | "
+                       f"{r['n_trials']} | {r['dt']:.3g} | {r['cpu']:.0f} | – |")
             continue
         lo, hi = r["lo"], r["hi"]
         if r["loading"] != "impulse":      # the bracket in pgv (pgv is linear in a_g)
@@ -172,7 +191,15 @@ def main(argv=None) -> None:
                     "(no collapse found)")
     ap.add_argument("--csv", default="homlimit-out/dem-sensitivity/dem_sensitivity.csv",
                     help="the table as CSV")
+    ap.add_argument("--table", nargs="+", metavar="CSV", default=None,
+                    help="print the table of earlier runs' CSVs and stop (no run)")
+    ap.add_argument("--base", nargs="+", default=[], metavar="WALL=VG",
+                    help="with --table: a wall's base v̄_g [m/s] from a run not in the CSVs")
     args = ap.parse_args(argv)
+    if args.table:
+        base = {w: float(v) for w, _, v in (b.partition("=") for b in args.base)}
+        print(table(read_rows(args.table), base))
+        return
 
     from homlimit._io import write_csv
     from homlimit.closed_form.paper import table1
