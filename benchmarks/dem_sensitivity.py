@@ -6,20 +6,21 @@ Variants: kn × 0.3, 3, 10; ks/kn 0.1 and 1 (default 0.5); the base joint tied (
 frictional); instead of the ideal impulse, a base-acceleration pulse of period 0.1 s of each
 finite shape of ``homlimit.dynamics.pulses.make_pulse``: rectangular (Δt = 0.1 s), one-sine,
 one-cosine, Ricker, all of polarity +1 (the first or main lobe throws the façade outwards),
-on the default frictional base and on a tied one.
-A pulse's threshold is its amplitude a_g, given as its pgv, the peak |∫a_g dt|
+on the default frictional base and (one-sine, one-cosine, Ricker) on a tied one. A pulse's
+threshold is its amplitude a_g, given as its pgv, the peak |∫a_g dt|
 (``dem_table1.pulse_loading``: the pulses' closed forms, a_g Δt for the rectangle, a_g T/π
 one-sine, a_g T/(2π) one-cosine, a_g T e^{-1/2}/(π√2) Ricker), comparable with v̄_g. Each
-threshold is ``homlimit.dem.threshold.collapse_threshold`` on the T-section with the façade
-"through", bisection to ±1 %, t_max 5 s, the first trial UDEC's v̄_g rounded to 0.1 m/s (as
-benchmarks/dem_table1.py, so the base row repeats docs/dem.md's section 5 trial for trial; a
-pulse's first trial is the a_g whose pgv is that, so its trials start at the impulse's).
+threshold is ``homlimit.dem.threshold.collapse_threshold``'s on the T-section with the
+façade "through" (its trials run here, to print their slips), bisection to ±1 %, t_max 5 s,
+the first trial UDEC's v̄_g rounded to 0.1 m/s (as benchmarks/dem_table1.py, so the base row
+repeats docs/dem.md's section 5 trial for trial; a pulse's first trial is the a_g whose pgv is
+that, so its trials start at the impulse's).
 
 Printed: one line per threshold as it ends, then the table as Markdown (the change from the
 wall's base row; the B4/B1 ratio of v̄_g/√(gb) for a variant run on both walls); written as CSV
 (whole or not at all, ``homlimit._io.write_csv``). One threshold costs 1–5 min of CPU on one
-core (kn × 10: dt / √10); the default selection about 30 min. Each trial is also printed on
-stderr as it ends.
+core (kn × 10: dt / √10; a pulse that stands to --max-pgv: 2–5 min); the default selection
+about 45 min. Each trial is also printed on stderr as it ends.
 
     python benchmarks/dem_sensitivity.py [--walls B1 B4] [--b4-variants base kn*0.3 ...]
         [--csv homlimit-out/dem-sensitivity/dem_sensitivity.csv] [--max-pgv 10]
