@@ -12,9 +12,10 @@ About 1–5 min of CPU per wall on one core.
 The guess only sets where the bracket search starts (steps of ×1.5); it does not change the
 threshold beyond the bisection's tolerance. With ``--loading`` a pulse (``dynamics.pulses``,
 polarity +1: the façade's inertia outwards) replaces the ideal impulse; the threshold is its
-amplitude a_g, reported with its pgv (rectangular: a_g·Δt) as "pgv", "ratio" and "vg_norm",
-and the first trial is the guess over Δt (UDEC's v̄_g/Δt by default), so a rectangular
-pulse's trials in pgv are the impulse's.
+amplitude a_g, reported with its pgv (rectangular: a_g·Δt; ``pulse_loading``) as "pgv",
+"ratio" and "vg_norm", and the first trial is the a_g whose pgv is the guess (UDEC's v̄_g
+over pgv/a_g, Δt for the rectangle), so a rectangular pulse's trials in pgv are the
+impulse's.
 """
 
 from __future__ import annotations
@@ -42,6 +43,25 @@ def add_overrides(ap: argparse.ArgumentParser) -> None:
     ap.add_argument("--set", type=override, action="append", default=[], dest="over",
                     metavar="KEY=VALUE", help="a DEMParams override, the same for every wall "
                     "(repeatable), e.g. kn=0.3e9, ks_over_kn=1, facade_stiffness=1")
+
+
+def pulse_loading(kind: str, period: float):
+    """(load, pgv, pgv_per_ag) of the pulse ``kind`` of period T_p [s] (``make_pulse``,
+    polarity +1: the first or main lobe throws the façade outwards): load(a_g) -> the
+    keywords of ``run``; pgv(a_g) -> its peak |∫a_g dt| [m/s] (``Pulse.pgv``: the pulses'
+    closed forms, a_g T_p for the rectangle, a_g T_p/π one-sine, a_g T_p/(2π) one-cosine,
+    a_g T_p e^{-1/2}/(π√2) Ricker, checked against the numerical integral in
+    tests/test_dynamics_pulses.py); pgv_per_ag = pgv(1), the factor that turns a velocity
+    guess into a first trial a_g."""
+    from homlimit.dynamics.pulses import make_pulse
+
+    def load(a):
+        return {"pulse": make_pulse(kind, period, a)}
+
+    def pgv(a):
+        return make_pulse(kind, period, a).pgv
+
+    return load, pgv, pgv(1.0)
 
 
 def settled_wall(wall: str, over: dict):
@@ -79,7 +99,6 @@ def main(argv=None) -> None:
     from homlimit.closed_form.paper import table1
     from homlimit.dem import DEMParams, build_model
     from homlimit.dem.threshold import collapse_threshold
-    from homlimit.dynamics.pulses import make_pulse
     from homlimit.errors import ParameterError
 
     over = dict(args.over)
@@ -103,13 +122,8 @@ def main(argv=None) -> None:
         guess = args.guess if args.guess is not None else round(row.vg, 1)
         load, pgv = None, (lambda a: a)
         if pulse:
-            guess /= args.pulse_period
-
-            def load(a):
-                return {"pulse": make_pulse(args.loading, args.pulse_period, a)}
-
-            def pgv(a):
-                return make_pulse(args.loading, args.pulse_period, a).pgv
+            load, pgv, per_ag = pulse_loading(args.loading, args.pulse_period)
+            guess /= per_ag
         th = collapse_threshold(model, guess=guess, t_max=args.t_max, load=load)
         v = pgv(th.v)
         out = {**th.as_dict(), "test": name, "udec_vg": row.vg, "udec_h": row.h_v,
