@@ -23,6 +23,7 @@ __all__ = ["world_vertices", "build_candidates", "advance", "FLAT_CONE"]
 #: so the corners' small tolerance would drop it once the two blocks turn by 0.05 rad apart,
 #: while it still lies in the other's face (a rocking block's crushed toe)
 FLAT_CONE = math.pi / 4
+SIN_FLAT_CONE = math.sin(FLAT_CONE)
 
 
 @njit(cache=True)
@@ -49,23 +50,38 @@ def _edge(X, nxt, e):
 
 
 @njit(cache=True)
-def _in_cone(X, nxt, prv, flat, p, mx, mz, tol):
+def _in_cone(X, nxt, prv, flat, p, mx, mz, sin_tol):
     """Does the unit direction (mx, mz) lie in the outward normal cone of vertex p (between
-    the normals of its two edges, counter-clockwise), widened by sin(tol)? A flat vertex
-    (flat[p]: its two edges collinear, one normal): within FLAT_CONE (> any tol allowed) of
-    its normal, on its side."""
-    fl = flat[p]
+    the normals of its two edges, counter-clockwise), widened by sin_tol = sin(tol)? A flat
+    vertex (flat[p]: its two edges collinear, one normal): within FLAT_CONE (> any tol
+    allowed) of its normal, on its side (``_cone_test``)."""
     a = prv[p]
     d1x, d1z = X[p, 0] - X[a, 0], X[p, 1] - X[a, 1]
     l1 = math.sqrt(d1x * d1x + d1z * d1z)
-    n1x, n1z = d1z / l1, -d1x / l1
     b = nxt[p]
     d2x, d2z = X[b, 0] - X[p, 0], X[b, 1] - X[p, 1]
     l2 = math.sqrt(d2x * d2x + d2z * d2z)
-    n2x, n2z = d2z / l2, -d2x / l2
-    st = math.sin(FLAT_CONE if fl else tol)
+    return _cone_test(d1z / l1, -d1x / l1, d2z / l2, -d2x / l2, flat[p], mx, mz, sin_tol)
+
+
+@njit(cache=True)
+def _cone_test(n1x, n1z, n2x, n2z, fl, mx, mz, sin_tol):
+    """``_in_cone`` given the outward normals of the vertex's edge in (n1) and edge out
+    (n2)."""
+    st = SIN_FLAT_CONE if fl else sin_tol
     return ((n1x * mz - n1z * mx >= -st) and (mx * n2z - mz * n2x >= -st)
             and (not fl or mx * n1x + mz * n1z > 0.0))
+
+
+@njit(cache=True)
+def edge_table(X, nxt, T):
+    """T[e] = (t_x, t_z, L) of every edge e (from vertex e to nxt[e]), as ``_edge``."""
+    for e in range(X.shape[0]):
+        dx, dz = X[nxt[e], 0] - X[e, 0], X[nxt[e], 1] - X[e, 1]
+        L = math.sqrt(dx * dx + dz * dz)
+        T[e, 0] = dx / L
+        T[e, 1] = dz / L
+        T[e, 2] = L
 
 
 @njit(cache=True)
@@ -112,6 +128,7 @@ def build_candidates(X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, co
     tied, slip, twin, cap, plastic closure)."""
     n = offsets.shape[0] - 1
     P = X.shape[0]
+    sin_build = math.sin(cone_build)
     lo = np.empty((n, 2))
     hi = np.empty((n, 2))
     for b in range(n):
@@ -166,7 +183,7 @@ def build_candidates(X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, co
                             o = _find(old_key, n_old, kk)
                             if o < 0 or g < -margin - old_dp[o]:
                                 continue
-                        if not _in_cone(X, nxt, prv, flat, p, -nx, -nz, cone_build):
+                        if not _in_cone(X, nxt, prv, flat, p, -nx, -nz, sin_build):
                             continue
                         if m == cap:
                             cap *= 2
@@ -322,6 +339,9 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
     step = 0
     m = key.shape[0]
     acted = np.zeros(m, np.bool_)
+    geo = np.empty((m, 3))      # per acting contact: its edge's unit tangent and the gap
+    T = np.empty((X.shape[0], 3))     # per edge, each step: unit tangent and length
+    sin_tol = math.sin(cone_tol)
     for step in range(nsteps):
         # rebuild the Verlet list once a block has moved by margin/2
         moved = 0.0
@@ -334,6 +354,7 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             if d > moved:
                 moved = d
         world_vertices(pos, th, rel, owner, X)
+        edge_table(X, nxt, T)
         if moved > 0.5 * margin:
             key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c = build_candidates(
                 X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, cone_build,
@@ -387,25 +408,28 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
                 elastic += 0.5 * ft * ft / kt
             F[b, 0] += ft
             F[b, 2] -= rz * ft
+        if geo.shape[0] < m:
+            geo = np.empty((m, 3))
         for c in range(m):
             acted[c] = False
             p = cv[c]
             e = ce[c]
-            i = owner[p]
-            j = owner[e]
-            ax, az, tx, tz, L = _edge(X, nxt, e)
+            tx, tz, L = T[e, 0], T[e, 1], T[e, 2]
             nx, nz = tz, -tx
-            rx, rz = X[p, 0] - ax, X[p, 1] - az
+            rx, rz = X[p, 0] - X[e, 0], X[p, 1] - X[e, 1]
             s = rx * tx + rz * tz
             gap = rx * nx + rz * nz
             if not tied[c]:
                 if gap >= (-dp_c[c] if crush else 0.0) or s < -edge_tol or s > L + edge_tol:
                     fs_c[c] = 0.0
                     continue
-                if not _in_cone(X, nxt, prv, flat, p, -nx, -nz, cone_tol):
+                a = prv[p]
+                if not _cone_test(T[a, 1], -T[a, 0], T[p, 1], -T[p, 0], flat[p], -nx, -nz,
+                                  sin_tol):
                     fs_c[c] = 0.0
                     continue
             acted[c] = True
+            geo[c, 0], geo[c, 1], geo[c, 2] = tx, tz, gap     # for the forces below
         for c in range(m):
             if not acted[c]:
                 continue
@@ -413,13 +437,11 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             if t2 >= 0 and acted[t2] and owner[cv[t2]] < owner[cv[c]]:
                 continue      # the twin acts; this one follows it below
             p = cv[c]
-            e = ce[c]
             i = owner[p]
-            j = owner[e]
-            ax, az, tx, tz, L = _edge(X, nxt, e)
+            j = owner[ce[c]]
+            tx, tz, gap = geo[c, 0], geo[c, 1], geo[c, 2]
             nx, nz = tz, -tx
             px, pz = X[p, 0], X[p, 1]
-            gap = (px - ax) * nx + (pz - az) * nz
             if crush:
                 fn = kn_c[c] * (-gap - dp_c[c])
                 if fn > cn_c[c]:                  # crushing: the excess closure is plastic
