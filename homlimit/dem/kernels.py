@@ -75,12 +75,11 @@ def _cone_test(n1x, n1z, n2x, n2z, fl, mx, mz, sin_tol):
 
 @njit(cache=True)
 def edge_table(X, nxt, T):
-    """T[e] = (t_x, t_z, L) of every edge e (from vertex e to nxt[e]), as ``_edge``."""
+    """T[e] = (t_x, t_z, L) of every edge e (from vertex e to nxt[e]): ``_edge`` once each."""
     for e in range(X.shape[0]):
-        dx, dz = X[nxt[e], 0] - X[e, 0], X[nxt[e], 1] - X[e, 1]
-        L = math.sqrt(dx * dx + dz * dz)
-        T[e, 0] = dx / L
-        T[e, 1] = dz / L
+        _, _, tx, tz, L = _edge(X, nxt, e)
+        T[e, 0] = tx
+        T[e, 1] = tz
         T[e, 2] = L
 
 
