@@ -31,6 +31,7 @@ from .report import format_table
 
 __all__ = ["EXIT_BAD_INPUT", "EXIT_SOLVER", "LOG", "Interrupted", "emit_json", "fail",
            "guarded", "interruptible", "open_engine", "setup_logging", "show", "signals",
+           "stored_tasks",
            "stdout_quiet"]
 
 EXIT_BAD_INPUT = 2
@@ -198,3 +199,15 @@ def interruptible(where):
 
 def open_engine(workers: int | None, scheduler: str | None, quiet: bool):
     return Engine(workers=workers, scheduler=scheduler, progress=not quiet)
+
+
+@contextmanager
+def stored_tasks(store, kind: str, description: str, *, resume: bool, workers: int | None,
+                 scheduler: str | None, quiet: bool, show: bool = True):
+    """The map hook of a command whose tasks' records live in ``store`` (a ``RecordStore``):
+    its records cleared first unless ``resume``, an engine open for the block (``open_engine``),
+    ``engine.stored_map(store, kind, description, show=show)``."""
+    if not resume:
+        store.clear()
+    with open_engine(workers, scheduler, quiet) as engine:
+        yield engine.stored_map(store, kind, description, show=show)

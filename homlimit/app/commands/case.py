@@ -12,9 +12,9 @@ from ..config import load_case
 from ..door import (
     emit_json,
     interruptible,
-    open_engine,
     setup_logging,
     stdout_quiet,
+    stored_tasks,
 )
 from ..engine import RecordStore
 
@@ -79,10 +79,9 @@ def run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
             # the output folder is checked by now: its records may be read or cleared
             store = RecordStore(target / "records")
             stack.enter_context(interruptible(store.folder))
-            if not resume:
-                store.clear()
-            engine = stack.enter_context(open_engine(workers, scheduler, quiet or as_json))
-            return engine.stored_map(store, "run-dem", "DEM trial", show=False)
+            return stack.enter_context(stored_tasks(
+                store, "run-dem", "DEM trial", resume=resume, workers=workers,
+                scheduler=scheduler, quiet=quiet or as_json, show=False))
 
         result = pipeline.run(config, out=out, write=True, command=command,
                               tasks=tasks if config.analysis.dem else None)

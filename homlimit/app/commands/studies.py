@@ -10,10 +10,10 @@ from ..door import (
     LOG,
     emit_json,
     interruptible,
-    open_engine,
     setup_logging,
     show,
     stdout_quiet,
+    stored_tasks,
 )
 from ..engine import RecordStore
 from ..verify import verify_records
@@ -83,11 +83,9 @@ def crack_study(as_json, out, verbose, quiet, mesh_size, finer, quick, c_over_a,
     with stdout_quiet(as_json or verbose) as stdout, interruptible(store.folder), \
             pipeline.result_folder(out, "crack-study") as staging:
         pipeline.crack_study_records(**grid, map=lambda fn, points: [])   # validate before any work
-        if not resume:
-            store.clear()
-        with open_engine(workers, scheduler, quiet or as_json) as engine:
-            records = pipeline.crack_study_records(**grid, map=engine.stored_map(
-                store, "crack-study", "crack-study"))
+        with stored_tasks(store, "crack-study", "crack-study", resume=resume, workers=workers,
+                          scheduler=scheduler, quiet=quiet or as_json) as map_:
+            records = pipeline.crack_study_records(**grid, map=map_)
         report.write(staging / "crack_study.csv", records)
         plots.plot_crack_study(staging / "crack_study.png", records,
                                title="crack-angle study: FE crack against √(cf/a), f and c/a")

@@ -15,6 +15,7 @@ from ..door import (
     setup_logging,
     show,
     stdout_quiet,
+    stored_tasks,
 )
 from ..engine import RecordStore
 
@@ -38,12 +39,11 @@ def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, m
         store = RecordStore(out / "records")
         with stdout_quiet(as_json or verbose) as stdout, interruptible(store.folder), \
                 pipeline.result_folder(out, **owner) as staging:
-            if not resume:
-                store.clear()
-            with open_engine(workers, scheduler, quiet or as_json) as engine:
-                # each trial logs its line; one bar per trial's map would be noise
-                rows, ratios = table1_dem_records(tests, section, map=engine.stored_map(
-                    store, "table1-dem", "DEM trial", show=False))
+            # each trial logs its line; one bar per trial's map would be noise
+            with stored_tasks(store, "table1-dem", "DEM trial", resume=resume,
+                              workers=workers, scheduler=scheduler, quiet=quiet or as_json,
+                              show=False) as map_:
+                rows, ratios = table1_dem_records(tests, section, map=map_)
             report.write(staging / "table1_dem.csv", rows)
             report.write(staging / "table1_dem_ratios.json", {
                 "ratios": ratios, "dem": asdict(section),
