@@ -72,8 +72,9 @@ def run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
     with stdout_quiet(as_json or verbose) as stdout, ExitStack() as stack:
         config = load_case(case, overrides)
         if not config.analysis.dem:
-            _no_engine_without_dem(workers=workers, scheduler=scheduler,
-                                   resume=None if resume else False)
+            _no_engine_without_dem({f"--workers {workers}": workers is not None,
+                                    f"--scheduler {scheduler}": scheduler is not None,
+                                    "--no-resume": not resume})
 
         def tasks(target: Path):
             # the output folder is checked by now: its records may be read or cleared
@@ -91,12 +92,11 @@ def run_case(case: Path | None, as_json: bool, out: Path | None, verbose: bool,
         print(result.summary())
 
 
-def _no_engine_without_dem(**given):
-    """ParameterError for an engine option (``given``: name → value, None when not given) of
+def _no_engine_without_dem(given: dict):
+    """ParameterError for the first engine option given (``given``: flag → whether it was) of
     ``run`` on a case that does not ask for the DEM: its trials are the engine's only tasks."""
-    for name, value in given.items():
-        if value is not None:
-            flag = "--no-resume" if name == "resume" else f"--{name} {value}"
-            raise ParameterError(f"{flag} is out of range without [analysis] dem = true: "
-                                 "allowed only when the case runs the DEM (its trials are "
-                                 "the engine's tasks)")
+    flag = next((f for f, on in given.items() if on), None)
+    if flag is not None:
+        raise ParameterError(f"{flag} is out of range without [analysis] dem = true: allowed "
+                             "only when the case runs the DEM (its trials are the engine's "
+                             "tasks)")
