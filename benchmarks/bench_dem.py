@@ -8,9 +8,13 @@ CPU seconds per simulated second, Verlet rebuilds; and the kernels' first-call t
 compiles on a cold cache, ~30 s, or loads the cached machine code).
 
     python benchmarks/bench_dem.py [--seconds 0.5] [--vg 0.8]
+    python benchmarks/bench_dem.py --table1 [--workers 2]    # and `homlimit table1 --dem`
 
 Targets (issue 29): <= 150 µs per step, goal 60 µs. The machine is shared with other work: CPU
-seconds (process time) are printed, not wall clock.
+seconds (process time) are printed, not wall clock. With ``--table1`` it also runs ``homlimit
+table1 --dem`` (all twelve walls, the Dask engine, into a temporary folder) and prints its wall
+clock and the CPU of it and its workers, the trials per wall and their CPU (target:
+<= 15 min on 2 cores; about 12 min on an idle machine).
 """
 
 from __future__ import annotations
@@ -23,6 +27,11 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seconds", type=float, default=0.5, help="simulated time [s]")
     ap.add_argument("--vg", type=float, default=0.8, help="ideal impulse [m/s]")
+    ap.add_argument("--table1", action="store_true",
+                    help="also time `homlimit table1 --dem` (about 12 min on 2 cores)")
+    ap.add_argument("--workers", type=int, default=2, help="its Dask workers (with --table1)")
+    ap.add_argument("--test", "-t", action="append", default=[],
+                    help="with --table1: only this wall (repeatable) [default: all 12]")
     args = ap.parse_args(argv)
 
     t0 = time.process_time()
@@ -50,6 +59,36 @@ def main(argv=None) -> None:
     print(f"impulse v_g = {args.vg:g} m/s, {out.t_end:.3f} s simulated: {out.steps} steps, "
           f"{us:.1f} µs/step, {out.cpu / out.t_end:.2f} s CPU per simulated second, "
           f"{out.builds} Verlet rebuilds, {out.state.contacts[0].size} candidates at the end")
+    if args.table1:
+        table1_dem(args.workers, args.test)
+
+
+def table1_dem(workers: int, tests: list[str]) -> None:
+    """Time ``homlimit table1 --dem`` in a child process (its CPU is the children's, the
+    engine's workers included) and print per wall its trials and their CPU."""
+    import csv
+    import os
+    import subprocess
+    import sys
+    import tempfile
+    from pathlib import Path
+
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "table1-dem"
+        c0, w0 = os.times(), time.perf_counter()
+        subprocess.run([sys.executable, "-m", "homlimit", "table1", "--dem", "--workers",
+                        str(workers), "--quiet", "--out", str(out),
+                        *[a for t in tests for a in ("-t", t)]], check=True,
+                       stdout=subprocess.DEVNULL)
+        wall, c1 = time.perf_counter() - w0, os.times()
+        rows = list(csv.DictReader(open(out / "table1_dem.csv", encoding="utf-8")))
+    cpu = (c1.children_user - c0.children_user) + (c1.children_system - c0.children_system)
+    print(f"table1 --dem ({', '.join(tests) or 'all 12 walls'}), {workers} workers: "
+          f"{wall / 60:.1f} min wall clock ({wall:.0f} s), "
+          f"{cpu:.0f} s CPU with its workers")
+    for r in rows:
+        print(f"  {r['test']}: {r['n_trials [-]']} trials, {float(r['cpu [s]']):.0f} s CPU in "
+              f"them, v_g {float(r['vg [m/s]']):.4g} m/s")
 
 
 if __name__ == "__main__":
