@@ -194,6 +194,24 @@ def test_pulse_loading_finds_the_pulse_amplitude(tmp_path):
     assert not (tmp_path / "o" / "dem.pvd").exists()
 
 
+@pytest.mark.parametrize("loading, period, expected", [
+    ("impulse", 0.2, 0.8),            # B1: UDEC's 0.83 m/s rounded to 0.1
+    ("rectangular", 0.1, 8.0),        # the a_g whose pgv a_g Δt is 0.8 m/s
+    ("one-sine", 0.1, 0.8 * math.pi / 0.1),   # pgv = a_g T/π
+    ("rectangular", 2.0, "static")])  # 0.4 m/s² is below mechanism I's λ g: that instead
+def test_a_pulse_search_starts_where_its_pgv_is_the_impulse_guess(loading, period, expected):
+    from homlimit.app.dem_stage import _guess
+    from homlimit.closed_form.mechanisms import mechanism_I
+
+    config = load_case(overrides={"dem.loading": loading, "dem.pulse_period": period})
+    case = config.case
+    assert case.name.startswith("B1")      # B1-<hash> once --set changed an input
+    lam_g = mechanism_I(case).multiplier * case.wall.g       # 2.07 m/s² for B1
+    assert 0.4 < lam_g < 8.0
+    want = lam_g if expected == "static" else expected
+    assert _guess(case, config.dem) == pytest.approx(want, rel=1e-12)
+
+
 # ----------------------------------------------------------------------------- table1 --dem
 #: a cheap, coarse setting for the door only (never the table's): short trials from a high
 #: first guess, so a wall takes three trials; a 5 cm Verlet margin, since the blocks fly at

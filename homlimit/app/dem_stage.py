@@ -12,8 +12,9 @@ The first trial (``[dem] guess``, 0: automatic) only sets where the bracket sear
 (steps of ×1.5); the threshold does not depend on it beyond the bisection's tolerance. The
 automatic guess of the ideal impulse is the paper's v̄_g rounded to 0.1 m/s for a Table 1
 wall (what benchmarks/dem_table1.py used for docs/dem.md, so the doors reproduce that table
-trial for trial), mechanism I's closed-form v̄_g rounded so otherwise; of a pulse, mechanism
-I's static collapse acceleration (multiplier × g).
+trial for trial), mechanism I's closed-form v̄_g rounded so otherwise; of a pulse, the larger
+of mechanism I's static collapse acceleration (multiplier × g) and the a_g whose pgv is that
+velocity guess (as benchmarks/dem_sensitivity.py).
 
 Given a ``map`` (``engine.Engine.stored_map``; ``homlimit run`` passes one when the case asks
 for the DEM), every trial is a task (``trial_task``; issue 29: one trial per task): the
@@ -66,11 +67,14 @@ def _guess(case, dem: DemConfig) -> float:
     from ..closed_form.mechanisms import mechanism_I
     from ..closed_form.paper import dem_row
 
-    if dem.loading != "impulse":
-        return mechanism_I(case).multiplier * case.wall.g
     row = dem_row(case)
     v = row.vg if row is not None else mechanism_I(case).vg
-    return round(v, 1) or v
+    v = round(v, 1) or v
+    if dem.loading == "impulse":
+        return v
+    # a pulse below the static collapse acceleration cannot start the rocking, and one whose
+    # pgv is below the impulse's v̄_g rarely overturns (the impulse is the short-pulse limit)
+    return max(mechanism_I(case).multiplier * case.wall.g, v / _pulse(dem, 1.0).pgv)
 
 
 def _load(dem: DemConfig):

@@ -80,7 +80,8 @@ DEM_KEYS: dict[str, Key] = {
     "guess": Key(float, 0.0, "", 0.0, 1e4,
                  doc="first trial amplitude (m/s, or m/s² for a pulse; 0: the paper's "
                      "v̄_g rounded to 0.1 for a Table 1 wall, else mechanism I's; a "
-                     "pulse: mechanism I's static multiplier × g); it only sets where "
+                     "pulse: the larger of mechanism I's static multiplier × g and the "
+                     "a_g whose pgv is that v̄_g); it only sets where "
                      "the bracket search (steps of ×1.5) starts"),
     "max_blocks": Key(int, 5000, "", 1, 10 ** 6,
                       doc="largest assembly allowed ((H/a)(L/2c + 1) blocks; B1's 480 "
