@@ -212,6 +212,69 @@ def test_a_pulse_search_starts_where_its_pgv_is_the_impulse_guess(loading, perio
     assert _guess(case, config.dem) == pytest.approx(want, rel=1e-12)
 
 
+def _one_sine_csv(path, period=0.3, step=1e-3):
+    """A one-sine pulse of a_g = 1 m/s² sampled every ``step`` s as a record CSV."""
+    t = np.arange(0.0, period + step / 2, step)
+    a = np.sin(2 * np.pi * t / period)
+    path.write_text("t,a_g\n" + "".join(f"{x!r},{y!r}\n" for x, y in zip(t.tolist(), a.tolist())))
+    return path
+
+
+def test_a_record_is_a_base_acceleration_equal_to_the_pulse_it_samples(tmp_path):
+    # a one-sine of 0.3 s sampled every 1 ms, linear between samples: a_g within
+    # (2π·1e-3/0.3)²/8 = 5.5e-5 of the pulse's (measured below). Its threshold, as its pga,
+    # is the one-sine's within the bisection's tolerance, from the same first trial
+    from homlimit.app import pipeline
+    from homlimit.app.config import resolved_inputs, wall_inputs
+    from homlimit.app.dem_stage import _pulse, _record, dem_threshold, threshold_by_trials
+
+    csv = _one_sine_csv(tmp_path / "sine.csv")
+    dem = {**SMALL["dem"], "rel_tol": 0.1, "t_max": 1.5, "guess": 10.0}
+    runs = {}
+    for loading in ("one-sine", "record"):
+        extra = {"loading": loading, "pulse_period": 0.3}
+        if loading == "record":
+            extra["record"] = str(csv)
+        case = {**SMALL, "dem": {**dem, **extra}, "output": {"vtu": False, "png": False}}
+        runs[loading] = pipeline.run(case, out=tmp_path / loading).to_dict()["dem"]
+    sine, rec = runs["one-sine"], runs["record"]
+    assert rec["loading"] == "record" and rec["record"] == str(csv)
+    assert rec["pga_lo"] < rec["pga"] < rec["pga_hi"]
+    assert rec["pga"] == pytest.approx(sine["pga"], rel=0.1)
+    # the record's pgv at its threshold: a_g T/π of the one-sine, within the sampling error
+    assert rec["pgv"] == pytest.approx(rec["pga"] * 0.3 / math.pi, rel=1e-4)
+    config = load_case({**SMALL, "dem": {**dem, "loading": "record", "record": str(csv)}})
+    record = _record(config)
+    t = np.linspace(0.0, 0.3, 3001)
+    err = _pulse(config.dem, 7.0, record).a(t) - 7.0 * np.sin(2 * np.pi * t / 0.3)
+    assert np.abs(err).max() < 7.0 * 5.6e-5
+    # every trial a task carries the samples: the same trials as the run here, bit for bit
+    here = dem_threshold(config).threshold
+    item = {"wall": wall_inputs(resolved_inputs(config)),
+            "dem": dataclasses.asdict(config.dem), "record": {
+                "t": record.t.tolist(), "a_g": record.a_g.tolist(), "name": record.name}}
+    tasks, _ = threshold_by_trials(item, config.case, config.dem,
+                                   lambda fn, items: [fn(x) for x in items], "a_g")
+    assert tasks.trials == here.trials
+
+
+@pytest.mark.parametrize("dem, message", [
+    ({"loading": "record"}, "[dem] loading = 'record' needs [dem] record: out of range"),
+    ({"record": "a.csv"}, "[dem] record = 'a.csv' is used only with loading = 'record': out "
+                          "of range with loading = 'impulse'"),
+    ({"loading": "record", "record": "nope.csv"}, "[dem] record = 'nope.csv': record = ")])
+def test_a_bad_record_is_refused_before_any_work(tmp_path, monkeypatch, dem, message):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ConfigError) as e:
+        load_case({**SMALL, "dem": {**SMALL["dem"], **dem}})
+    assert message in str(e.value)
+    res = CliRunner().invoke(app, ["run", "--set", "analysis.dem=true",
+                               *[x for k, v in dem.items() for x in ("--set", f"dem.{k}={v}")],
+                               "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2 and message in res.output, res.output
+    assert not (tmp_path / "o").exists()
+
+
 # ----------------------------------------------------------------------------- table1 --dem
 #: a cheap, coarse setting for the door only (never the table's): short trials from a high
 #: first guess, so a wall takes three trials; a 5 cm Verlet margin, since the blocks fly at

@@ -289,6 +289,15 @@ def cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> li
                 out.append(f"[analysis] {model} = true needs about {n} blocks ((H/a)(L/2c + "
                            f"1)): out of range: allowed up to [{model}] max_blocks = "
                            f"{lim['max_blocks']} (larger blocks a, c, or raise max_blocks)")
+    dem = v.get("dem", {})
+    if not mesh_only and has(dem, "loading", "record"):    # the accelerogram and its file
+        if dem["loading"] == "record" and not dem["record"]:
+            out.append("[dem] loading = 'record' needs [dem] record: out of range: allowed a "
+                       "two-column CSV t [s], a_g [m/s^2] (relative to the case file)")
+        elif dem["record"] and dem["loading"] != "record":
+            out.append(f"[dem] record = {dem['record']!r} is used only with loading = "
+                       f"'record': out of range with loading = {dem['loading']!r}: allowed "
+                       "loading = 'record', or record = '' (none)")
     pulse_fe = registry.needs_mesh(v.get("pulse", {}).get("mechanisms") or ())  # FE for `pulse`
     fe = mesh_only or an.get("fe", False) or pulse_fe
     if not (fe and has(me, "size", "max_triangles") and has(w, "H", "b", "L")):

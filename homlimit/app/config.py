@@ -37,6 +37,7 @@ from .._io import json_bytes
 from ..check.site import Site
 from ..errors import ParameterError
 from ..params import Case, FacadeOpening, Floor, Masonry, Tie, Wall, WallOpening
+from .accelerogram import record_problems
 from .case_checks import array_key, collect, cross_checks, shown, warnings_of
 from .schema import (
     ARRAYS,
@@ -96,6 +97,8 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
     problems: list[str] = []
     values = collect(data, problems)
     problems += cross_checks(values)
+    if not problems:
+        problems += record_problems(values, source)
     if problems:
         raise ConfigError(source, [p.strip() for p in problems])
     name = data.get("name") or default_name

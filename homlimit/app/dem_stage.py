@@ -2,11 +2,12 @@
 ``homlimit table1 --dem``, over the explicit rigid-block DEM of ``homlimit.dem``.
 
 A case's [dem] section (``config.DemConfig``, validated with the rest of the case) gives the
-DEM's parameters (``dem_params``) and the load: the ideal impulse (the threshold is v̄_g) or a
+DEM's parameters (``dem_params``) and the load: the ideal impulse (the threshold is v̄_g), a
 base-acceleration pulse of duration/period ``pulse_period`` (the threshold is its amplitude
-a_g; ``dynamics.pulses.make_pulse``). The model is the case's T-section as blocks with the
-façade "through" (``blocks.geometry.t_section_blocks``, the paper's UDEC model). The threshold
-is ``dem.threshold.collapse_threshold``; its trials are logged on stderr as they end.
+a_g; ``dynamics.pulses.make_pulse``) or the accelerogram ``[dem] record`` (the threshold is
+its scale, as its pga; ``dynamics.RecordPulse``). The model is the case's T-section as blocks
+with the façade "through" (``blocks.geometry.t_section_blocks``, the paper's UDEC model). The
+threshold is ``dem.threshold.collapse_threshold``; its trials are logged on stderr as they end.
 
 The first trial (``[dem] guess``, 0: automatic) only sets where the bracket search starts
 (steps of ×1.5); the threshold does not depend on it beyond the bisection's tolerance. The
@@ -54,13 +55,31 @@ def dem_params(dem: DemConfig) -> DEMParams:
     return DEMParams(**kw)
 
 
-def _pulse(dem: DemConfig, amplitude: float):
+def _pulse(dem: DemConfig, amplitude: float, record=None):
+    """The base acceleration of amplitude a_g [m/s²]: [dem] loading's pulse, or the
+    accelerogram ``record`` (``dynamics.RecordPulse``) scaled to that pga."""
+    if dem.loading == "record":
+        return dataclasses.replace(record.with_pga(amplitude), polarity=dem.polarity)
     from ..dynamics.pulses import make_pulse
 
     return make_pulse(dem.loading, dem.pulse_period, amplitude, dem.polarity)
 
 
-def _guess(case, dem: DemConfig) -> float:
+def _record(config: CaseConfig):
+    """[dem] record read (``pulses.read_record``) when [dem] loading is "record", else None."""
+    if config.dem.loading != "record":
+        return None
+    from .accelerogram import read_record
+
+    return read_record(config.source, config.dem.record, "[dem] record")
+
+
+def _record_item(record) -> dict:
+    """A record as a trial task carries it (its samples: a worker need not read the file)."""
+    return {"t": record.t.tolist(), "a_g": record.a_g.tolist(), "name": record.name}
+
+
+def _guess(case, dem: DemConfig, record=None) -> float:
     """The first trial (module docstring)."""
     if dem.guess > 0:
         return dem.guess
@@ -74,14 +93,14 @@ def _guess(case, dem: DemConfig) -> float:
         return v
     # a pulse below the static collapse acceleration cannot start the rocking, and one whose
     # pgv is below the impulse's v̄_g rarely overturns (the impulse is the short-pulse limit)
-    return max(mechanism_I(case).multiplier * case.wall.g, v / _pulse(dem, 1.0).pgv)
+    return max(mechanism_I(case).multiplier * case.wall.g, v / _pulse(dem, 1.0, record).pgv)
 
 
-def _load(dem: DemConfig):
+def _load(dem: DemConfig, record=None):
     """amplitude -> keyword arguments of ``dem.run``."""
     if dem.loading == "impulse":
         return lambda v: {"v_g": v}
-    return lambda a: {"pulse": _pulse(dem, a)}
+    return lambda a: {"pulse": _pulse(dem, a, record)}
 
 
 @dataclass
@@ -89,7 +108,8 @@ class DemRun:
     """One case's DEM threshold: loading ("impulse" or a pulse kind), the threshold
     (``dem.threshold.Threshold``: v = the amplitude, v̄_g [m/s] or a_g [m/s²]), the model and
     its settled state (for the files; None until ``write_files`` settles it when the trials
-    were tasks), b and g of the case, wall-clock seconds."""
+    were tasks), b and g of the case, wall-clock seconds, the accelerogram (loading
+    "record")."""
 
     dem: DemConfig
     threshold: Any
@@ -98,6 +118,7 @@ class DemRun:
     b: float
     g: float
     seconds: float
+    record: Any = None
 
     @property
     def impulse(self) -> bool:
@@ -106,7 +127,9 @@ class DemRun:
     @property
     def pgv(self) -> float:
         """v̄_g (ideal impulse), or the peak ground velocity of the threshold pulse [m/s]."""
-        return self.threshold.v if self.impulse else _pulse(self.dem, self.threshold.v).pgv
+        if self.impulse:
+            return self.threshold.v
+        return _pulse(self.dem, self.threshold.v, self.record).pgv
 
     def as_dict(self) -> dict:
         """summary.json's "dem": the threshold and its bracket (vg or pga), h, λ = h/b, the
@@ -114,7 +137,9 @@ class DemRun:
         th = self.threshold
         k = "vg" if self.impulse else "pga"
         d = {"loading": self.dem.loading}
-        if not self.impulse:
+        if self.record is not None:
+            d.update(record=self.dem.record, polarity=self.dem.polarity)
+        elif not self.impulse:
             d.update(pulse_period=self.dem.pulse_period, polarity=self.dem.polarity)
         d.update({k: th.v, f"{k}_lo": th.lo, f"{k}_hi": th.hi, "pgv": self.pgv,
                   "vnorm": self.pgv / math.sqrt(self.g * self.b), "rel_tol": th.rel_tol,
@@ -134,6 +159,8 @@ class DemRun:
     def label(self) -> str:
         if self.impulse:
             return "DEM (homlimit.dem), ideal impulse"
+        if self.record is not None:
+            return f"DEM (homlimit.dem), record {self.record.name}: its pgv"
         return (f"DEM (homlimit.dem), {self.dem.loading} pulse {self.dem.pulse_period:g} s: "
                 "its pgv")
 
@@ -197,21 +224,27 @@ def dem_threshold(config: CaseConfig, map=None) -> DemRun:
 
     dem, case = config.dem, config.case
     t0 = time.perf_counter()
+    record = _record(config)
     model = _model(case, dem)
     what, unit = ("vg", "m/s") if dem.loading == "impulse" else ("a_g", "m/s^2")
     if map is not None:
         log.info("DEM: %d blocks, dt = %.3g s; every trial a task", model.n_blocks, model.dt)
         item = {"wall": wall_inputs(resolved_inputs(config)), "dem": dataclasses.asdict(dem)}
+        if record is not None:
+            item["record"] = _record_item(record)
         th, _ = threshold_by_trials(item, case, dem, map, what)
-        return DemRun(dem, th, model, None, case.wall.b, case.wall.g, time.perf_counter() - t0)
+        return DemRun(dem, th, model, None, case.wall.b, case.wall.g, time.perf_counter() - t0,
+                      record)
     log.info("DEM: %d blocks, dt = %.3g s; settling under gravity", model.n_blocks, model.dt)
     settled, info = settle(model)
     log.info("DEM: settled in %.2f s of simulated time (%s)", info["time"],
              "converged" if info["converged"] else "not converged: settle_time reached")
-    th = collapse_threshold(model, settled, guess=_guess(case, dem), rel_tol=dem.rel_tol,
-                            t_max=dem.t_max, load=_load(dem), progress=_logger(what, unit))
+    th = collapse_threshold(model, settled, guess=_guess(case, dem, record), rel_tol=dem.rel_tol,
+                            t_max=dem.t_max, load=_load(dem, record),
+                            progress=_logger(what, unit))
     th = dataclasses.replace(th, settle=info)
-    return DemRun(dem, th, model, settled, case.wall.b, case.wall.g, time.perf_counter() - t0)
+    return DemRun(dem, th, model, settled, case.wall.b, case.wall.g, time.perf_counter() - t0,
+                  record)
 
 
 def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") -> dict:
@@ -233,7 +266,7 @@ def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") 
     log.info("DEM: recording the lowest collapsing trial (%.4g) every %g s", th.hi,
              run.dem.frame_interval)
     frames = record_frames(run.model, run.settled, t_max=run.dem.t_max,
-                           interval=run.dem.frame_interval, **_load(run.dem)(th.hi))
+                           interval=run.dem.frame_interval, **_load(run.dem, run.record)(th.hi))
     files = {}
     unit = "m/s" if run.impulse else "m/s²"
     if output.vtu:
@@ -246,7 +279,8 @@ def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") 
     if output.png and run.dem.animation:
         log.info("DEM: recording the highest standing trial (%.4g) for the animation", th.lo)
         standing = record_frames(run.model, run.settled, t_max=run.dem.t_max,
-                                 interval=run.dem.frame_interval, **_load(run.dem)(th.lo))
+                                 interval=run.dem.frame_interval,
+                                 **_load(run.dem, run.record)(th.lo))
         what = "vg" if run.impulse else "a_g"
         plot_animation(staging / "dem_animation.gif", run.model, run.settled,
                        [(f"{what} = {th.hi:.4g} {unit}: collapsed", frames),
@@ -282,7 +316,8 @@ _SETTLED: dict = {}
 def trial_task(item: dict) -> dict:
     """One trial of a bisection, a task: ``item`` = {"test": a Table 1 wall's name, or "wall":
     a case's wall inputs (``config.wall_inputs``), "dem": the [dem] section as a dict,
-    "amplitude": v̄_g [m/s] or a pulse's a_g [m/s²]}. The wall is built and settled at this
+    "amplitude": v̄_g [m/s] or a pulse's a_g [m/s²], and with loading "record" "record": its
+    samples (``_record_item``)}. The wall is built and settled at this
     worker's first trial of it and kept (module docstring). Returns
     ``dem.threshold.trial_record`` with dt [s], n_blocks, settle (the settling's report),
     settle_cpu [s] (the settling's CPU in this task, 0 when it was kept) and seconds (the
@@ -300,10 +335,20 @@ def trial_task(item: dict) -> dict:
     model, settled, info = _SETTLED[key]
     settle_cpu = time.thread_time() - t0
     amp = float(item["amplitude"])
-    out = run(model, settled, t_max=dem.t_max, **_load(dem)(amp))
+    out = run(model, settled, t_max=dem.t_max, **_load(dem, _record_of(item))(amp))
     return {**trial_record(model, settled, out, amp), "dt": model.dt,
             "n_blocks": model.n_blocks, "settle": info, "settle_cpu": settle_cpu,
             "seconds": time.perf_counter() - wall}
+
+
+def _record_of(item: dict):
+    """The accelerogram a trial task carries (``_record_item``), or None."""
+    if "record" not in item:
+        return None
+    from ..dynamics import RecordPulse
+
+    r = item["record"]
+    return RecordPulse(r["t"], r["a_g"], name=r["name"])
 
 
 def threshold_by_trials(item: dict, case, dem: DemConfig, map, label: str):
@@ -316,6 +361,6 @@ def threshold_by_trials(item: dict, case, dem: DemConfig, map, label: str):
         return map(trial_task, [{**item, "amplitude": v}])[0]
 
     unit = "m/s" if dem.loading == "impulse" else "m/s^2"
-    lo, hi, recs = bisect(trial, guess=_guess(case, dem), rel_tol=dem.rel_tol,
+    lo, hi, recs = bisect(trial, guess=_guess(case, dem, _record_of(item)), rel_tol=dem.rel_tol,
                           progress=_logger(label, unit))
     return threshold_of(lo, hi, recs, dem.rel_tol, recs[0]["dt"], recs[0]["settle"]), recs

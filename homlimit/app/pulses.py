@@ -5,12 +5,11 @@ its rocker)."""
 from __future__ import annotations
 
 import logging
-from pathlib import Path
 
-from ..dynamics import RecordPulse, overturning_spectrum
+from ..dynamics import overturning_spectrum
 from ..dynamics.spectra import PLAUSIBLE_PGA_G, PLAUSIBLE_PGV, record_thresholds
-from ..errors import ParameterError
 from . import registry
+from .accelerogram import MAX_RECORD_BYTES, read_record
 from .config import CaseConfig
 from .models import FERocker, stage
 from .models_rigid import no_joint_strength
@@ -19,9 +18,6 @@ from .result import Result
 __all__ = ["MAX_RECORD_BYTES", "pulse_records"]
 
 log = logging.getLogger("homlimit.app.pipeline")
-
-MAX_RECORD_BYTES = 64 << 20  # an accelerogram of a million samples is ~30 MB
-
 
 def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
     """The overturning spectra of ``[pulse]`` (``homlimit.dynamics``): every pulse kind ×
@@ -35,24 +31,7 @@ def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
     # refused before any work (the FE path): what the chosen rockers do not take
     # (every rocker takes fc, ties and floors: the FE body's with the FE impulse's LoadWork)
     no_joint_strength(case, "the pulse spectra's rocker of every mechanism")
-    record = None
-    if pc.record:
-        base = Path(config.source).parent if Path(config.source).is_file() else Path.cwd()
-        path = base / pc.record
-        try:
-            if path.is_file() and path.stat().st_size > MAX_RECORD_BYTES:
-                raise ParameterError(f"[pulse] record = {pc.record!r} has "
-                                     f"{path.stat().st_size:,} bytes: allowed at most "
-                                     f"{MAX_RECORD_BYTES:,}")
-            record = RecordPulse.from_csv(path)
-        except UnicodeDecodeError as e:     # dynamics reads it as UTF-8 text
-            raise ParameterError(f"[pulse] record = {pc.record!r} is not UTF-8 text (byte "
-                                 f"0x{e.object[e.start]:02x} at offset {e.start}): allowed a "
-                                 "two-column CSV t [s], a_g [m/s^2]") from None
-        except ParameterError as e:         # name the key as well as the record
-            raise ParameterError(f"[pulse] record = {pc.record!r}: {e}") from None
-        for note in record.warnings:
-            log.warning("warning: [pulse] record = %r: %s", pc.record, note)
+    record = read_record(config.source, pc.record, "[pulse] record") if pc.record else None
     chosen = {e.name: _alone(e, config) for e in registry.mechanisms()
               if e.name in pc.mechanisms}
     rockers = {name: registry.mechanism(name).rocker(case, m, gravity_I=pc.gravity_I,

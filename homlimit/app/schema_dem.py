@@ -61,16 +61,21 @@ DEM_KEYS: dict[str, Key] = {
                               "stress block only with points along the joint; package "
                               "choice, docs/dem.md)"),
     "loading": Key(str, "impulse", choices=("impulse", "rectangular", "one-sine",
-                                            "one-cosine", "ricker"),
+                                            "one-cosine", "ricker", "record"),
                    doc="the load whose threshold is found: the ideal impulse (v̄_g, the "
-                       "paper's) or a base-acceleration pulse of duration/period "
-                       "pulse_period (its amplitude a_g; homlimit.dynamics.pulses)"),
+                       "paper's), a base-acceleration pulse of duration/period "
+                       "pulse_period (its amplitude a_g; homlimit.dynamics.pulses) or the "
+                       "accelerogram of record (its scale, as its pga)"),
     "pulse_period": Key(float, 0.2, "s", 1e-3, 100.0,
                         doc="Δt of the pulse (rectangular: its duration; loading other "
                             "than impulse)"),
     "polarity": Key(int, 1, choices=(1, -1),
                     doc="pulse polarity: +1 pushes the ground towards +x first (the "
                         "façade's inertia outwards)"),
+    "record": Key(str, "", doc="with loading = \"record\": a ground-acceleration record, "
+                               "two-column CSV t [s], a_g [m/s²] (relative to the case "
+                               "file), applied as base acceleration from t = 0, scaled by "
+                               "polarity; the threshold is its pga"),
     "rel_tol": Key(float, 0.01, "", 0.0, 0.5, lo_open=True,
                    doc="bisection tolerance of the threshold: (hi − lo)/(hi + lo)"),
     "t_max": Key(float, 5.0, "s", 0.0, 600.0, lo_open=True,

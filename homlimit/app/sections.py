@@ -105,6 +105,7 @@ class DemConfig:
     loading: str
     pulse_period: float
     polarity: int
+    record: str
     rel_tol: float
     t_max: float
     guess: float
