@@ -16,12 +16,12 @@ log = logging.getLogger("homlimit.app.pipeline")
 MAX_RECORD_BYTES = 64 << 20  # an accelerogram of a million samples is ~30 MB
 
 
-def read_record(source: str, value: str, key: str) -> RecordPulse:
+def read_record(source: str, value: str, key: str, warn: bool = True) -> RecordPulse:
     """The accelerogram ``value`` of the case key ``key`` (e.g. "[pulse] record"): a
     two-column CSV t [s], a_g [m/s²] (``dynamics.RecordPulse``), relative to the case file
     ``source`` (to the working directory if the case is not a file). ParameterError naming
     the key and its value (no file, over MAX_RECORD_BYTES, not UTF-8, bad rows); its sampling
-    warnings are logged."""
+    warnings are logged if ``warn``."""
     base = Path(source).parent if Path(source).is_file() else Path.cwd()
     path = base / value
     try:
@@ -37,19 +37,19 @@ def read_record(source: str, value: str, key: str) -> RecordPulse:
         if str(e).startswith(f"{key} = "):
             raise
         raise ParameterError(f"{key} = {value!r}: {e}") from None
-    for note in record.warnings:
+    for note in record.warnings if warn else ():
         log.warning("warning: %s = %r: %s", key, value, note)
     return record
 
 
 def record_problems(values: dict, source: str) -> list[str]:
     """The DEM's accelerogram read before any work, when the case asks for it: [] or the
-    problem naming [dem] record (``pulses.read_record``)."""
+    problem naming [dem] record (``read_record``; its warnings are logged when the DEM runs)."""
     dem = values.get("dem", {})
     if not (values.get("analysis", {}).get("dem") and dem.get("loading") == "record"):
         return []
     try:
-        read_record(source, dem["record"], "[dem] record")
+        read_record(source, dem["record"], "[dem] record", warn=False)
     except ParameterError as e:
         return [str(e)]
     return []

@@ -66,7 +66,7 @@ def _pulse(dem: DemConfig, amplitude: float, record=None):
 
 
 def _record(config: CaseConfig):
-    """[dem] record read (``pulses.read_record``) when [dem] loading is "record", else None."""
+    """[dem] record read (``accelerogram.read_record``) with loading "record", else None."""
     if config.dem.loading != "record":
         return None
     from .accelerogram import read_record
