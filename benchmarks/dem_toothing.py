@@ -1,0 +1,80 @@
+"""One density per toothing block (docs/dem.md section 16, criterion in
+docs/figures/dem_toothing_criterion.md): a Table 1 wall's ideal-impulse threshold with the
+toothing blocks [0, b + c] at the façade's density ρ·γ over their whole area (T1), and also
+with the façade's contact factor ρ out to x = b + c (T2). Everything else at the defaults, as
+``benchmarks/dem_table1.py``. Prints one JSON line (every trial; stderr: each trial).
+
+    python benchmarks/dem_toothing.py B1 T1      # B1 or any Table 1 wall; T1 or T2
+
+Measured (section 16): B1 0.906 / 0.981 m/s, B4 0.867 / 0.811 m/s (T1 / T2); 65-79 s of CPU
+each.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import sys
+import time
+
+import numpy as np
+
+
+def toothing_at_facade_density(a):
+    """The assembly ``a`` with its toothing blocks (rectangles) of uniform density ρ·γ·s:
+    mass, centroid and inertia of the rectangle. Returns (assembly, added mass [kg])."""
+    from homlimit.blocks.geometry import TOOTHING
+
+    m = a.meta
+    t = np.flatnonzero(a.kind == TOOTHING)
+    mass, cen, ine = a.mass.copy(), a.centroid.copy(), a.inertia.copy()
+    v = a.vertices[a.offsets[t][:, None] + np.arange(4)]          # (k, 4, 2): rectangles
+    assert np.all(np.diff(a.offsets)[t] == 4)
+    lo, hi = v.min(axis=1), v.max(axis=1)
+    w, h = (hi - lo).T
+    mass[t] = m["rho"] * m["gamma"] * m["s"] * w * h
+    cen[t] = 0.5 * (lo + hi)
+    ine[t] = mass[t] * (w * w + h * h) / 12
+    return (dataclasses.replace(a, mass=mass, centroid=cen, inertia=ine),
+            float(mass[t].sum() - a.mass[t].sum()))
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("wall", help="a Table 1 wall")
+    ap.add_argument("variant", choices=("T1", "T2"))
+    args = ap.parse_args(argv)
+
+    from homlimit.blocks.geometry import t_section_blocks
+    from homlimit.closed_form.paper import table1
+    from homlimit.dem import DEMParams, build_model, settle
+    from homlimit.dem.threshold import collapse_threshold
+
+    row = {r.test: r for r in table1()}[args.wall]
+    a, extra = toothing_at_facade_density(t_section_blocks(row.case, facade="through"))
+    m = a.meta
+    model = build_model(a, DEMParams())
+    if args.variant == "T2":
+        model = dataclasses.replace(model, fac_x=float(m["b"] + m["c"]))
+    c0 = time.process_time()
+    settled, info = settle(model)
+
+    def progress(v, c, t_end, trials):
+        print(f"{args.wall} {args.variant} vg {v!r} {'collapsed' if c else 'stood'} at "
+              f"{t_end:.2f} s", file=sys.stderr, flush=True)
+
+    th = collapse_threshold(model, settled, guess=round(row.vg, 1), rel_tol=0.01, t_max=5.0,
+                            progress=progress)
+    g, b = m["g"], m["b"]
+    print(json.dumps({
+        "wall": args.wall, "variant": args.variant, "vg": th.v, "lo": th.lo, "hi": th.hi,
+        "vnorm": th.v / (g * b) ** 0.5, "udec": row.vg, "err": th.v / row.vg - 1, "h": th.h,
+        "udec_h": row.h_v, "base_slip": th.base_slip, "hinge_slip": th.hinge_slip,
+        "trials": th.trials, "dt": model.dt, "settle": info,
+        "toothing_blocks": int(np.sum(a.kind == 2)), "extra_mass_kg": extra,
+        "cpu": time.process_time() - c0}), flush=True)
+
+
+if __name__ == "__main__":
+    main()
