@@ -5,6 +5,7 @@ with the façade's contact factor ρ out to x = b + c (T2). Everything else at t
 ``benchmarks/dem_table1.py``. Prints one JSON line (every trial; stderr: each trial).
 
     python benchmarks/dem_toothing.py B1 T1      # B1 or any Table 1 wall; T1 or T2
+    python benchmarks/dem_toothing.py B1 T1 --set ks_over_kn=1     # DEMParams overrides
 
 Measured (section 16): B1 0.906 / 0.981 m/s, B4 0.867 / 0.811 m/s (T1 / T2); 65-79 s of CPU
 each.
@@ -44,7 +45,10 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("wall", help="a Table 1 wall")
     ap.add_argument("variant", choices=("T1", "T2"))
+    ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
+                    help="DEMParams overrides, e.g. ks_over_kn=1")
     args = ap.parse_args(argv)
+    over = {k: float(v) for k, v in (x.split("=", 1) for x in args.set)}
 
     from homlimit.blocks.geometry import t_section_blocks
     from homlimit.closed_form.paper import table1
@@ -54,7 +58,7 @@ def main(argv=None) -> None:
     row = {r.test: r for r in table1()}[args.wall]
     a, extra = toothing_at_facade_density(t_section_blocks(row.case, facade="through"))
     m = a.meta
-    model = build_model(a, DEMParams())
+    model = build_model(a, DEMParams(**over))
     if args.variant == "T2":
         model = dataclasses.replace(model, fac_x=float(m["b"] + m["c"]))
     c0 = time.process_time()
@@ -68,7 +72,8 @@ def main(argv=None) -> None:
                             progress=progress)
     g, b = m["g"], m["b"]
     print(json.dumps({
-        "wall": args.wall, "variant": args.variant, "vg": th.v, "lo": th.lo, "hi": th.hi,
+        "wall": args.wall, "variant": args.variant, "set": over, "vg": th.v, "lo": th.lo,
+        "hi": th.hi,
         "vnorm": th.v / (g * b) ** 0.5, "udec": row.vg, "err": th.v / row.vg - 1, "h": th.h,
         "udec_h": row.h_v, "base_slip": th.base_slip, "hinge_slip": th.hinge_slip,
         "trials": th.trials, "dt": model.dt, "settle": info,
