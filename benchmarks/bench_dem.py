@@ -35,11 +35,10 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
 
     t0 = time.process_time()
-    from homlimit.blocks.geometry import t_section_blocks
-    from homlimit.dem import build_model, run, settle
+    from homlimit.dem import run, settle, t_section_model
     from homlimit.params import Case
 
-    model = build_model(t_section_blocks(Case(), facade="through"))
+    model = t_section_model(Case())
     state = model.initial_state()          # the first kernel call: compile or load
     t_first = time.process_time() - t0
     print(f"blocks {model.n_blocks} (free {model.assembly.n_free}), candidates "

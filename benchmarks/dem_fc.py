@@ -21,13 +21,11 @@ import time
 
 
 def one(fc: float, segments: int, rel_tol: float, guess: float, t_max: float) -> dict:
-    from homlimit.blocks.geometry import t_section_blocks
-    from homlimit.dem import DEMParams, build_model
+    from homlimit.dem import DEMParams, t_section_model
     from homlimit.dem.threshold import collapse_threshold
     from homlimit.params import Case, Masonry
 
-    model = build_model(t_section_blocks(Case(masonry=Masonry(fc=fc)), facade="through"),
-                        DEMParams(joint_segments=segments))
+    model = t_section_model(Case(masonry=Masonry(fc=fc)), DEMParams(joint_segments=segments))
     t0 = time.process_time()
     th = collapse_threshold(model, guess=guess, rel_tol=rel_tol, t_max=t_max, step=1.1)
     cpu = time.process_time() - t0

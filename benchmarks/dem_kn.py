@@ -33,14 +33,12 @@ SECTION8 = {0.3e9: 0.788, 1e9: 0.881, 3e9: 1.069, 10e9: 1.131}
 
 
 def one(factor: float, rel_tol: float, t_max: float) -> dict:
-    from homlimit.blocks.geometry import t_section_blocks
-    from homlimit.dem import DEMParams, build_model
+    from homlimit.dem import DEMParams, t_section_model
     from homlimit.dem.threshold import collapse_threshold
     from homlimit.params import Case
 
     p = DEMParams()
-    model = build_model(t_section_blocks(Case(), facade="through"),
-                        DEMParams(kn=factor * p.kn))
+    model = t_section_model(Case(), DEMParams(kn=factor * p.kn))
     guess = GUESS.get(factor, 0.9)
     t0 = time.process_time()
     th = collapse_threshold(model, guess=guess, rel_tol=rel_tol, t_max=t_max, step=1.1)

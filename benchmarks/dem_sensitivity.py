@@ -72,14 +72,13 @@ def threshold(row, name: str, max_pgv: float = MAX_PGV) -> dict:
     slip of any block) of that trial, n_trials and CPU as spent. The trials are
     ``collapse_threshold``'s (settle, then ``bisect`` over ``run``), each printed on stderr
     with its largest base and bed slips."""
-    from homlimit.blocks.geometry import t_section_blocks
-    from homlimit.dem import DEMParams, build_model
+    from homlimit.dem import DEMParams, t_section_model
     from homlimit.dem.model import run, settle
     from homlimit.dem.threshold import bisect, threshold_of, trial_record
 
     over, loading = VARIANTS[name]
     params = DEMParams(**over)
-    model = build_model(t_section_blocks(row.case, facade="through"), params)
+    model = t_section_model(row.case, params)
     guess = round(row.vg, 1)
     load, pgv_of = (lambda v: {"v_g": v}), (lambda a: a)     # the ideal impulse
     if loading is not None:

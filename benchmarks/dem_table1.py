@@ -67,12 +67,11 @@ def pulse_loading(kind: str, period: float):
 def settled_wall(wall: str, over: dict):
     """(model, settled state) of Table 1's ``wall`` (the T-section, façade through) with the
     DEMParams ``over``rides, settled under gravity."""
-    from homlimit.blocks.geometry import t_section_blocks
     from homlimit.closed_form.paper import table1
-    from homlimit.dem import DEMParams, build_model, settle
+    from homlimit.dem import DEMParams, settle, t_section_model
 
     row = {r.test: r for r in table1()}[wall]
-    model = build_model(t_section_blocks(row.case, facade="through"), DEMParams(**over))
+    model = t_section_model(row.case, DEMParams(**over))
     return model, settle(model)[0]
 
 
@@ -95,9 +94,8 @@ def main(argv=None) -> None:
     if not pulse and args.pulse_period is not None:
         ap.error("--pulse-period: only with --loading other than impulse")
 
-    from homlimit.blocks.geometry import t_section_blocks
     from homlimit.closed_form.paper import table1
-    from homlimit.dem import DEMParams, build_model
+    from homlimit.dem import DEMParams, t_section_model
     from homlimit.dem.threshold import collapse_threshold
     from homlimit.errors import ParameterError
 
@@ -118,7 +116,7 @@ def main(argv=None) -> None:
         row = rows[name]
         t0 = time.perf_counter()
         c0 = time.process_time()
-        model = build_model(t_section_blocks(row.case, facade="through"), params)
+        model = t_section_model(row.case, params)
         guess = args.guess if args.guess is not None else round(row.vg, 1)
         load, pgv = None, (lambda a: a)
         if pulse:

@@ -1,8 +1,11 @@
-"""One density per toothing block (docs/dem.md section 16, criterion in
-docs/figures/dem_toothing_criterion.md): a Table 1 wall's ideal-impulse threshold with the
-toothing blocks [0, b + c] at the façade's density ρ·γ over their whole area (T1), and also
-with the façade's contact factor ρ out to x = b + c (T2). Everything else at the defaults, as
-``benchmarks/dem_table1.py``. Prints one JSON line (every trial; stderr: each trial).
+"""One density per toothing block (docs/dem.md sections 16-17, criteria in
+docs/figures/dem_toothing*_criterion.md): a Table 1 wall's ideal-impulse threshold with the
+toothing blocks [0, b + c] at the façade's density ρ·γ over their whole area (T1: DEMParams
+toothing = "block"), and also with the façade's contact factor ρ out to x = b + c (T2).
+Everything else at the defaults or ``--set``, as ``benchmarks/dem_table1.py``. Prints one
+JSON line (every trial; stderr: each trial). The sections' JSON lines were made before
+``toothing`` was a parameter, by this script setting the same masses, centroids and
+inertias itself (equal to ``t_section_blocks(..., toothing="block")``'s within 1e-11).
 
     python benchmarks/dem_toothing.py B1 T1      # B1 or any Table 1 wall; T1 or T2
     python benchmarks/dem_toothing.py B1 T1 --set ks_over_kn=1     # DEMParams overrides
@@ -22,25 +25,6 @@ import time
 import numpy as np
 
 
-def toothing_at_facade_density(a):
-    """The assembly ``a`` with its toothing blocks (rectangles) of uniform density ρ·γ·s:
-    mass, centroid and inertia of the rectangle. Returns (assembly, added mass [kg])."""
-    from homlimit.blocks.geometry import TOOTHING
-
-    m = a.meta
-    t = np.flatnonzero(a.kind == TOOTHING)
-    mass, cen, ine = a.mass.copy(), a.centroid.copy(), a.inertia.copy()
-    v = a.vertices[a.offsets[t][:, None] + np.arange(4)]          # (k, 4, 2): rectangles
-    assert np.all(np.diff(a.offsets)[t] == 4)
-    lo, hi = v.min(axis=1), v.max(axis=1)
-    w, h = (hi - lo).T
-    mass[t] = m["rho"] * m["gamma"] * m["s"] * w * h
-    cen[t] = 0.5 * (lo + hi)
-    ine[t] = mass[t] * (w * w + h * h) / 12
-    return (dataclasses.replace(a, mass=mass, centroid=cen, inertia=ine),
-            float(mass[t].sum() - a.mass[t].sum()))
-
-
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("wall", help="a Table 1 wall")
@@ -50,15 +34,14 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
     over = {k: float(v) for k, v in (x.split("=", 1) for x in args.set)}
 
-    from homlimit.blocks.geometry import t_section_blocks
+    from homlimit.blocks.geometry import TOOTHING
     from homlimit.closed_form.paper import table1
-    from homlimit.dem import DEMParams, build_model, settle
+    from homlimit.dem import DEMParams, settle, t_section_model
     from homlimit.dem.threshold import collapse_threshold
 
     row = {r.test: r for r in table1()}[args.wall]
-    a, extra = toothing_at_facade_density(t_section_blocks(row.case, facade="through"))
-    m = a.meta
-    model = build_model(a, DEMParams(**over))
+    model = t_section_model(row.case, DEMParams(toothing="block", **over))
+    a, m = model.assembly, model.assembly.meta
     if args.variant == "T2":
         model = dataclasses.replace(model, fac_x=float(m["b"] + m["c"]))
     c0 = time.process_time()
@@ -77,7 +60,7 @@ def main(argv=None) -> None:
         "vnorm": th.v / (g * b) ** 0.5, "udec": row.vg, "err": th.v / row.vg - 1, "h": th.h,
         "udec_h": row.h_v, "base_slip": th.base_slip, "hinge_slip": th.hinge_slip,
         "trials": th.trials, "dt": model.dt, "settle": info,
-        "toothing_blocks": int(np.sum(a.kind == 2)), "extra_mass_kg": extra,
+        "toothing_blocks": int(np.sum(a.kind == TOOTHING)),
         "cpu": time.process_time() - c0}), flush=True)
 
 

@@ -240,6 +240,40 @@ def test_t_section_settles_with_the_papers_uniform_lowering():
     assert facade.mean() == pytest.approx(wall.mean(), rel=0.05)
 
 
+def test_toothing_blocks_of_one_density_weigh_rho_times_their_tooth_more():
+    # B1: 30 courses, 15 toothed, each toothing block [0, b + c] = [0, 0.7] x a = 0.3 m. With
+    # one density per block ("block") its tooth [0.5, 0.7] weighs ρ γ s c a = 12 x 2000 x 0.5
+    # x 0.2 x 0.3 = 720 kg instead of γ s c a = 60 kg: +660 kg a tooth, +9900 kg in all; the
+    # block's centroid is the rectangle's centre, its inertia m (w² + h²)/12
+    from homlimit.blocks.geometry import TOOTHING, t_section_blocks
+    from homlimit.dem import t_section_model
+    from homlimit.params import Case
+
+    split = t_section_blocks(Case(), facade="through")
+    block = t_section_blocks(Case(), facade="through", toothing="block")
+    t = np.flatnonzero(block.kind == TOOTHING)
+    assert t.size == 15 and block.meta["toothing"] == "block"
+    assert block.mass.sum() - split.mass.sum() == pytest.approx(15 * 660.0, rel=1e-12)
+    m = 12 * 2000.0 * 0.5 * 0.7 * 0.3
+    np.testing.assert_allclose(block.mass[t], m, rtol=1e-12)
+    np.testing.assert_allclose(block.centroid[t, 0], 0.35, rtol=1e-12)
+    # (polygon moments about the origin, shifted to the centroid at z up to 8.9 m: round-off
+    # of a few 1e-12)
+    np.testing.assert_allclose(block.inertia[t], m * (0.7 ** 2 + 0.3 ** 2) / 12, rtol=1e-10)
+    other = np.flatnonzero(block.kind != TOOTHING)
+    np.testing.assert_array_equal(block.mass[other], split.mass[other])
+    # the DEM builds the assembly its parameters name, and refuses another
+    assert t_section_model(Case(), DEMParams(toothing="block")).mass.sum() == \
+        pytest.approx(block.mass.sum(), rel=1e-12)
+    with pytest.raises(ParameterError, match="toothing = 'block' is out of range: the "
+                                             "assembly's toothing blocks are 'split'"):
+        build_model(split, DEMParams(toothing="block"))
+    with pytest.raises(ParameterError, match="toothing = 'glued' is out of range"):
+        DEMParams(toothing="glued")
+    with pytest.raises(ParameterError, match="'block' with the façade 'through' only"):
+        t_section_blocks(Case(), facade="running-bond", toothing="block")
+
+
 def test_failing_part_follows_the_block_that_met_the_criterion():
     # a column of five 0.5 x 0.3 m blocks (watched: every free block; disp_limit: the widest
     # block, 0.5 m): blocks 3 and 4 turned 0.6 rad and went out 0.8 and 1.0 m (4 past the

@@ -190,10 +190,9 @@ class DemRun:
 
 
 def _model(case, dem: DemConfig):
-    from ..blocks.geometry import t_section_blocks
-    from ..dem import build_model
+    from ..dem import t_section_model
 
-    return build_model(t_section_blocks(case, facade="through"), dem_params(dem))
+    return t_section_model(case, dem_params(dem))
 
 
 def trial_amplitude(v: float) -> str:

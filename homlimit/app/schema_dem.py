@@ -3,7 +3,7 @@ parameters, their defaults read from ``dem.params.DEMParams`` (no numba imported
 
 from __future__ import annotations
 
-from ..dem.params import BASE_JOINTS, DEMParams
+from ..dem.params import BASE_JOINTS, TOOTHINGS, DEMParams
 from .schema_key import Key
 
 __all__ = ["DEM_KEYS"]
@@ -24,6 +24,12 @@ DEM_KEYS: dict[str, Key] = {
                             doc="factor on the façade's contact stiffness (0: ρ = l/s, "
                                 "the paper's uniform lowering: contacts stiffened like "
                                 "the façade's density)"),
+    "toothing": Key(str, _DEM.toothing, choices=TOOTHINGS,
+                    doc="density of the toothing blocks (each spans the façade and its "
+                        "tooth in the wall): split (ρ·γ over the façade, γ over the "
+                        "tooth) or block (ρ·γ over the whole block: a DEM's one material "
+                        "per block, its centroid in the façade; docs/dem.md sections "
+                        "16-17)"),
     "dt_fraction": Key(float, _DEM.dt_fraction, "", 0.0, 0.5, lo_open=True,
                        doc="dt = dt_fraction × √(m_min/k_max) (package choice: a block "
                            "held by ~40 such springs stays below the central-difference "

@@ -92,6 +92,7 @@ class DemConfig:
     kn: float
     ks_over_kn: float
     facade_stiffness: float
+    toothing: str
     dt_fraction: float
     settle_damping: float
     settle_time: float

@@ -37,8 +37,8 @@ from ..params import Case
 from .real import from_case
 
 __all__ = ["Assembly", "Interfaces", "KIND_NAMES", "polygon_moments", "find_interfaces",
-           "from_rectangles", "t_section_blocks", "FACADE_BONDS", "vertex_velocity",
-           "block_speed", "stack", "running_bond_panel", "course_blocks"]
+           "from_rectangles", "t_section_blocks", "FACADE_BONDS", "TOOTHINGS",
+           "vertex_velocity", "block_speed", "stack", "running_bond_panel", "course_blocks"]
 
 # block kinds
 SUPPORT, FACADE, TOOTHING, WALL, OTHER = 0, 1, 2, 3, 4
@@ -399,6 +399,7 @@ def running_bond_panel(n_blocks: int, n_courses: int, a: float, c: float,
 
 
 FACADE_BONDS = ("through", "running-bond")
+TOOTHINGS = ("split", "block")     # a toothing block's density (t_section_blocks)
 
 
 def _course_breaks(geo: TSection, c: float, toothed: bool, facade: str, tol: float
@@ -519,8 +520,8 @@ def course_blocks(geo: TSection, a: float, c: float, toothed_first: bool = True,
     return x0, x1, course, zs, tuple(narrow)
 
 
-def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "through"
-                     ) -> Assembly:
+def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "through",
+                     toothing: str = "split") -> Assembly:
     """The paper's T-section as rigid blocks (module docstring): façade strip [0, b], transversal
     wall [b, b + L] in running bond 2c × a, toothed at the abutment with overlap c, on a fixed
     ground; any H, L, b, a, c of ``case``. The bottom course is toothed if ``toothed_first``.
@@ -531,10 +532,18 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     the façade parts cut at its edges), wall γ·s; a block straddling x = b has a
     façade part and a wall part.
 
+    toothing: "split" (default: a block straddling x = b is ρ·γ·s over [x0, b] and γ·s over
+    [b, x1]) or "block" (one density per block, as a DEM gives each block one material: the
+    straddling blocks of the façade "through", whose centroids lie in the façade, at ρ·γ·s
+    over their whole area; docs/dem.md sections 16-17).
     facade: "through" (default, the paper's: one block across the façade's thickness per
     course, so the façade shows bed joints only) or "running-bond" (the wall's bond continued
     through the façade: the discrete counterpart of the homogenised façade of eq. 15).
     """
+    if toothing not in TOOTHINGS or (toothing == "block" and facade != "through"):
+        raise ParameterError(f"toothing = {toothing!r} is out of range with facade = "
+                             f"{facade!r}: allowed {TOOTHINGS} ('block' with the façade "
+                             "'through' only)")
     geo = TSection.from_case(case)
     w, mas = case.wall, case.masonry
     H, L, b, a, c = geo.H, geo.L, geo.x_junction, mas.a, mas.c
@@ -552,9 +561,9 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     kind = np.r_[SUPPORT, kind]
     course = np.r_[-1, course]
     outline = _rectangles(X0, X1, Z0, Z1)
-    # parts: every block is one part, except the blocks straddling x = b: façade [x0, b] +
-    # wall [b, x1]
-    split = kind == TOOTHING
+    # parts: every block is one part, except with toothing "split" the blocks straddling
+    # x = b: façade [x0, b] + wall [b, x1]
+    split = (kind == TOOTHING) & (toothing == "split")
     last = np.where(split, b, X1)
     dens = np.where(kind == SUPPORT, 0.0, np.where(kind == WALL, gs, case.rho * gs))
     tooth = np.flatnonzero(split)
@@ -570,7 +579,8 @@ def t_section_blocks(case: Case, toothed_first: bool = True, facade: str = "thro
     parts = (pv, po, pb, pd)
     meta = {"H": H, "L": L, "b": b, "a": a, "c": c, "f": mas.f, "rho": case.rho,
             "gamma": w.gamma, "s": w.s, "g": w.g, "n_courses": n_c,
-            "toothed_first": bool(toothed_first), "facade": facade, "name": case.name}
+            "toothed_first": bool(toothed_first), "facade": facade, "toothing": toothing,
+            "name": case.name}
     real = from_case(case)              # ties, floors, fc per bay (blocks.real); None: paper's
     if real is not None:
         meta["real"] = real

@@ -1,8 +1,7 @@
 """An explicit rigid-block DEM of the package's block assemblies (issue 29), UDEC-style.
 
-    from homlimit.blocks.geometry import t_section_blocks
-    from homlimit.dem import DEMParams, build_model, settle, run
-    model = build_model(t_section_blocks(case))
+    from homlimit.dem import DEMParams, settle, run, t_section_model
+    model = t_section_model(case)                # or build_model(any assembly, DEMParams())
     settled, info = settle(model)
     out = run(model, settled, v_g=0.8)          # the ideal impulse
 
@@ -21,11 +20,11 @@ from typing import TYPE_CHECKING
 from .params import BASE_JOINTS, DEMParams
 
 if TYPE_CHECKING:  # the deferred names, for type checkers and editors
-    from .model import DEMModel, DEMState, Outcome, build_model, run, settle
+    from .model import DEMModel, DEMState, Outcome, build_model, run, settle, t_section_model
 
 __all__ = ["BASE_JOINTS", "DEMModel", "DEMParams", "DEMState", "Outcome", "build_model", "run",
-           "settle"]
-_MODEL = ("DEMModel", "DEMState", "Outcome", "build_model", "run", "settle")
+           "settle", "t_section_model"]
+_MODEL = ("DEMModel", "DEMState", "Outcome", "build_model", "run", "settle", "t_section_model")
 
 
 def __getattr__(name: str):

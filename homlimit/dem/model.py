@@ -36,7 +36,7 @@ from . import kernels
 from .params import DEMParams
 
 __all__ = ["DEMModel", "DEMState", "Outcome", "build_model", "kicked", "pulse_function",
-           "settle", "run"]
+           "settle", "run", "t_section_model"]
 
 
 @dataclass
@@ -155,6 +155,10 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
     if not isinstance(p, DEMParams):
         raise ParameterError(f"params = {p!r} is not a DEMParams")
     meta = assembly.meta
+    if meta.get("toothing", p.toothing) != p.toothing:
+        raise ParameterError(f"toothing = {p.toothing!r} is out of range: the assembly's "
+                             f"toothing blocks are {meta['toothing']!r}; allowed the same "
+                             "(build both with t_section_model)")
     real = meta.get("real")
     fc = float(real.fc) if real is not None else 0.0
     f = meta.get("f") if f is None else f
@@ -248,6 +252,16 @@ def build_model(assembly: Assembly, params: DEMParams | None = None, *, f: float
                           "joint_segments": p.segments(fc),
                           "joint_points": int(P - a.vertices.shape[0])},
                     loads=loads, ties=ties, offsets=offsets, crush=crush, flat=flat)
+
+
+def t_section_model(case, params: DEMParams | None = None) -> DEMModel:
+    """The DEM of ``case``'s T-section, the paper's UDEC model: its blocks with the façade
+    "through" and the toothing blocks' density of ``params.toothing``
+    (``blocks.geometry.t_section_blocks``)."""
+    from ..blocks.geometry import t_section_blocks
+
+    p = params or DEMParams()
+    return build_model(t_section_blocks(case, facade="through", toothing=p.toothing), p)
 
 
 def _split_bottoms(verts: np.ndarray, offsets: np.ndarray, fixed: np.ndarray, n_seg: int,

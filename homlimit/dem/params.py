@@ -13,9 +13,10 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from ..blocks.geometry import TOOTHINGS  # a T-section's toothing blocks' density
 from ..errors import ParameterError, check_range
 
-__all__ = ["DEMParams", "BASE_JOINTS", "AUTO_SEGMENTS"]
+__all__ = ["DEMParams", "BASE_JOINTS", "AUTO_SEGMENTS", "TOOTHINGS"]
 
 BASE_JOINTS = ("frictional", "tied")
 #: joint_segments = 0 (auto) with a finite f_c: each free block's bottom edge in 8 segments
@@ -38,6 +39,11 @@ class DEMParams:
     facade_stiffness: "rho" (default: the paper's uniform lowering, the façade's contacts
         stiffened by ρ = l/s like its density) or a positive factor [-]. Applies to contacts
         whose tributary segment lies in the façade strip x < b (T-sections only).
+    toothing: the density of a T-section's toothing blocks, each [0, b + c] across the façade
+        and its tooth in the wall (``t_section_model`` builds it; ``t_section_blocks``):
+        "split" (default: ρ·γ over the façade, γ over the tooth) or "block" (ρ·γ over the
+        whole block, as a DEM that gives each block one material and assigns it by the
+        block's centroid, which lies in the façade). Not in the paper (docs/dem.md 16-17).
     dt_fraction [-]: dt = dt_fraction × √(m_min / k_max), m_min the lightest free block,
         k_max the stiffest contact that can form (normal or shear, whichever is stiffer).
         Default 0.1 (package choice: a block held by up to ~40 such springs stays below the
@@ -74,6 +80,7 @@ class DEMParams:
     kn: float = 1.0e9
     ks_over_kn: float = 0.5
     facade_stiffness: object = "rho"
+    toothing: str = "split"
     dt_fraction: float = 0.1
     settle_damping: float = 0.8
     settle_time: float = 2.0
@@ -92,6 +99,9 @@ class DEMParams:
         if not (fs == "rho" or (not isinstance(fs, (str, bool)) and _positive(fs))):
             raise ParameterError(f"facade_stiffness = {fs!r} is out of range: allowed 'rho' or "
                                  "a number > 0")
+        if self.toothing not in TOOTHINGS:
+            raise ParameterError(f"toothing = {self.toothing!r} is out of range: allowed "
+                                 f"{', '.join(TOOTHINGS)}")
         check_range("dt_fraction", self.dt_fraction, 0.0, 0.5, lo_open=True)
         check_range("settle_damping", self.settle_damping, 0.0, 1.0, hi_open=True)
         check_range("settle_time", self.settle_time, 0.0, unit="s")
