@@ -184,10 +184,11 @@ def dask_cluster(tmp_path):
     logs = [open(tmp_path / f"dask{k}.log", "w") for k in range(3)]
 
     def stop():
-        for p in procs:
+        # the workers first, each gone before the next, the scheduler last: terminated
+        # together, the workers lose the scheduler while closing and take 8 s (0.6 s this way)
+        for p in procs[::-1]:
             if p.poll() is None:
                 p.terminate()
-        for p in procs:
             try:
                 p.wait(timeout=20)
             except subprocess.TimeoutExpired:
