@@ -8,11 +8,20 @@ also check the shipped copy.
 from __future__ import annotations
 
 import csv
+import os
+import sys
 from pathlib import Path
 
-import pytest
+# one BLAS thread, as the engine's workers run (app.engine.BLAS_ENV), so that a result computed
+# here equals the engine's bit for bit (OpenBLAS's sums depend on its thread count); set before
+# numpy loads its BLAS
+_NUMPY_EARLY = "numpy" in sys.modules     # False: checked under pytest -n 2 and -n 0
+for _k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_k, "1")
 
-from homlimit.params import Case, Masonry, Wall
+import pytest  # noqa: E402  (after the BLAS threads above)
+
+from homlimit.params import Case, Masonry, Wall  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED_TABLE1 = ROOT.parent / "shared" / "reference" / "table1_dem.csv"

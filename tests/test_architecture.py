@@ -227,3 +227,17 @@ def test_frozen_fields_are_set_through_one_helper():
            if isinstance(node, ast.Attribute) and node.attr == "__setattr__"
            and getattr(node.value, "id", None) == "object"]
     assert not bad, "object.__setattr__ outside fields.set_fields:\n  " + "\n  ".join(bad)
+
+
+def test_the_suite_runs_one_blas_thread_as_the_engines_workers():
+    # the engine tests compare results made here with the workers' bit for bit; OpenBLAS's
+    # sums depend on its thread count, so conftest sets the workers' BLAS_ENV before numpy
+    # loads (measured: B1's h = 0.3 m part, v̄_g ...7734 with two threads, ...7736 with one)
+    import os
+
+    import conftest
+
+    from homlimit.app.engine import BLAS_ENV
+
+    assert not conftest._NUMPY_EARLY
+    assert all(os.environ.get(k) == v for k, v in BLAS_ENV.items())
