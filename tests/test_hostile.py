@@ -264,6 +264,9 @@ def test_the_triangle_budget_stops_before_meshing(sandbox, no_meshing):
     assert res.exit_code == 2 and "[mesh] max_triangles" in res.stderr
     res = invoke("table1", "--fe", "--mesh-size", "0.005", "-t", "B1")
     assert res.exit_code == 2 and doc("--max-triangles") in res.stderr
+    res = invoke("table1", "--fe", "--part-divisions", "1", "-t", "B1")   # [mesh]'s range
+    assert res.exit_code == 2 and ("part_divisions = 1 is out of range: allowed 2 <= "
+                                   "part_divisions and part_divisions <= 1000") in res.stderr
     res = invoke("crack-study", "--mesh-size", "0.05", "--finer", "0.004")
     assert res.exit_code == 2 and "--finer = 0.004 m gives about" in res.stderr
     assert not (sandbox / "homlimit-out").exists()

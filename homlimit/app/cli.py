@@ -34,7 +34,7 @@ from typing import Annotated
 
 import typer
 
-from ..params import MESHER_DEFAULT
+from ..params import MESHER_DEFAULT, PART_DIVISIONS
 from .budget import DEFAULT_MAX_TRIANGLES
 from .commands import case as case_cmds
 from .commands import studies as study_cmds
@@ -148,6 +148,9 @@ def table1(as_json: JsonOpt = False, out: _out(
            = None,
            max_triangles: MaxTriOpt = DEFAULT_MAX_TRIANGLES,
            mesher: MesherOpt = MESHER_DEFAULT,
+           part_divisions: Annotated[int, typer.Option(
+               help="Elements per part height of the FE scan's parts (with --fe; the case "
+                    "file's [mesh] part_divisions).")] = PART_DIVISIONS,
            workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
            blocks: Annotated[bool, typer.Option("--blocks", help="Instead: the rigid-block "
                                                 "model's column (slow: one scan per wall).")]

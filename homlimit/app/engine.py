@@ -35,7 +35,7 @@ from contextlib import contextmanager
 
 from .._io import to_jsonable
 from ..errors import ParameterError, check_range
-from ..params import MESHER_DEFAULT
+from ..params import MESHER_DEFAULT, PART_DIVISIONS
 from .records import RecordStore, batch_json, json_text, read_json, record_key
 from .scheduler import ADDRESS_HINT, SCHEDULER_TIMEOUT, check_scheduler, handshake
 
@@ -297,20 +297,21 @@ class Engine:
         return map_
 
     def fe_results(self, cases: Sequence, mesh_size: float, facade: str, heights: int,
-                   options=None, mesher: str = MESHER_DEFAULT) -> list:
+                   options=None, mesher: str = MESHER_DEFAULT,
+                   divisions: int = PART_DIVISIONS) -> list:
         """The FE path of several walls with every collapse height a task: each wall's scan
         (``analysis.fe_result``: its starting heights, whole wall included, then each round
         of the refinement around the minimum) through its ``map`` hook, all walls at once (a
         client thread per wall only waits). Returns one ``mechanism.analysis.FEResult`` per
         wall, as ``fe_result(case, mesh_size, facade, options, heights=heights,
-        mesher=mesher)`` would."""
+        mesher=mesher, divisions=divisions)`` would."""
         from concurrent.futures import ThreadPoolExecutor
 
         from ..mechanism.analysis import fe_result
 
         def one(case):
             return fe_result(case, mesh_size, facade, options, heights=heights, map=self.map,
-                             mesher=mesher)
+                             mesher=mesher, divisions=divisions)
 
         if not cases:
             return []

@@ -14,7 +14,7 @@ from ..closed_form.paper import table1, table1_rows
 from ..errors import ParameterError, check_choice, check_range
 from ..fe.mesh import from_skfem
 from ..mechanism.analysis import fe_result
-from ..params import FACADE_DEFAULT, FACADE_MODELS, MESHER_DEFAULT, MESHERS, Case
+from ..params import FACADE_DEFAULT, FACADE_MODELS, MESHER_DEFAULT, MESHERS, PART_DIVISIONS, Case
 from . import budget, models, plots, report
 from .config import CaseConfig, check_mesh
 from .models import solver_options, stage
@@ -51,21 +51,24 @@ def check_budget(option: str, cases, size: float, max_triangles: int, scan: bool
 def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
                    tests: list[str] | None = None, facade: str = FACADE_DEFAULT,
                    max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, fe_results=None,
-                   mesher: str = MESHER_DEFAULT) -> list[dict]:
+                   mesher: str = MESHER_DEFAULT, part_divisions: int = PART_DIVISIONS
+                   ) -> list[dict]:
     """Table 1 reproduced (``paper.table1_rows``), optionally with the FE body's columns
     lam_fe, vnorm_fe, vg_fe, tanpsi_fe, tanpsi_fe_edges, mechanism_fe, multiplier_fe,
     critical_at_fe, hinge_ratio_fe (the critical height of the FE scan, ``fe_result``, from
     ``heights`` starting heights). ``tests``: a subset of the test names (B1 ... C6).
     ``max_triangles``: the problem-size budget of the FE meshes (``budget``), checked before
-    any work; ``mesher``: the FE meshes (``problems.MESHERS``).
-    ``fe_results(cases, mesh_size, facade, heights, options, mesher)``: the FE path of the
-    walls, one ``FEResult`` each (default: ``fe_result`` wall after wall here;
+    any work; ``mesher``: the FE meshes (``problems.MESHERS``); ``part_divisions``: elements
+    per part height of the scan's parts ([mesh] part_divisions).
+    ``fe_results(cases, mesh_size, facade, heights, options, mesher, divisions)``: the FE
+    path of the walls, one ``FEResult`` each (default: ``fe_result`` wall after wall here;
     ``engine.Engine.fe_results`` runs every height as a Dask task)."""
     check_range("mesh_size", mesh_size, 0.0, 9.0, lo_open=True, unit="m")
     _option("analysis", "heights", heights)
     check_choice("facade", facade, FACADE_MODELS)
     check_choice("mesher", mesher, MESHERS)
     _option("mesh", "max_triangles", max_triangles)
+    _option("mesh", "part_divisions", part_divisions)
     cases = {t.test: t.case for t in table1()}
     for t in tests or ():
         check_choice("test", t, tuple(cases))
@@ -81,10 +84,11 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
         with stage(timings, "FE body", f"{len(walls)} walls"):
             if fe_results is None:
                 results = [fe_result(case, mesh_size, facade, solver_options(),
-                                     heights=heights, mesher=mesher) for case in walls]
+                                     heights=heights, mesher=mesher, divisions=part_divisions)
+                           for case in walls]
             else:
                 results = fe_results(walls, mesh_size, facade, heights, solver_options(),
-                                     mesher)
+                                     mesher, part_divisions)
     for row, res in zip(rows, results):
         crit = res.critical
         if crit is None:

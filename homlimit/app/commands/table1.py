@@ -21,7 +21,8 @@ from ..engine import RecordStore
 
 
 def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, max_triangles,
-           mesher, workers, scheduler, blocks, blocks_facade, dem, overrides, resume):
+           mesher, part_divisions, workers, scheduler, blocks, blocks_facade, dem, overrides,
+           resume):
     """``homlimit table1``'s work: see ``cli.table1``."""
     if overrides and not dem:
         raise ParameterError(f"--set {overrides[0]!r} is out of range without --dem: allowed "
@@ -72,7 +73,7 @@ def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, m
              [out / "table1_blocks.csv", out / "table1_blocks_ratios.json"])
         return
     kw = dict(fe=fe, mesh_size=mesh_size, heights=heights, tests=test, facade=facade,
-              max_triangles=max_triangles, mesher=mesher)
+              max_triangles=max_triangles, mesher=mesher, part_divisions=part_divisions)
     with stdout_quiet(as_json or verbose) as stdout, \
             pipeline.result_folder(out, **owner) as staging:
         if fe:  # validated before any work, then every height of every wall a Dask task
