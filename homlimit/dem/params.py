@@ -42,8 +42,9 @@ class DEMParams:
     toothing: the density of a T-section's toothing blocks, each [0, b + c] across the façade
         and its tooth in the wall (``t_section_model`` builds it; ``t_section_blocks``):
         "split" (default: ρ·γ over the façade, γ over the tooth) or "block" (ρ·γ over the
-        whole block, as a DEM that gives each block one material and assigns it by the
-        block's centroid, which lies in the façade). Not in the paper (docs/dem.md 16-17).
+        whole block, as a DEM that gives each block one material, assigned by where the
+        block lies: its centroid lies in the façade when c < b, as in all of Table 1). Not
+        in the paper (docs/dem.md sections 16-17).
     dt_fraction [-]: dt = dt_fraction × √(m_min / k_max), m_min the lightest free block,
         k_max the stiffest contact that can form (normal or shear, whichever is stiffer).
         Default 0.1 (package choice: a block held by up to ~40 such springs stays below the
