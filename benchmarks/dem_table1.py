@@ -45,9 +45,10 @@ def add_overrides(ap: argparse.ArgumentParser) -> None:
                     "(repeatable), e.g. kn=0.3e9, ks_over_kn=1, facade_stiffness=1")
 
 
-def pulse_loading(kind: str, period: float):
-    """(load, pgv, pgv_per_ag) of the pulse ``kind`` of period T_p [s] (``make_pulse``,
-    polarity +1: the first or main lobe throws the façade outwards): load(a_g) -> the
+def pulse_loading(kind: str, period: float, polarity: int = 1):
+    """(load, pgv, pgv_per_ag) of the pulse ``kind`` of period T_p [s] (``make_pulse``;
+    polarity +1: the first or main lobe throws the façade outwards, −1 the pulse flipped, whose
+    last lobe does): load(a_g) -> the
     keywords of ``run``; pgv(a_g) -> its peak |∫a_g dt| [m/s] (``Pulse.pgv``: the pulses'
     closed forms, a_g T_p for the rectangle, a_g T_p/π one-sine, a_g T_p/(2π) one-cosine,
     a_g T_p e^{-1/2}/(π√2) Ricker, checked against the numerical integral in
@@ -56,10 +57,10 @@ def pulse_loading(kind: str, period: float):
     from homlimit.dynamics.pulses import make_pulse
 
     def load(a):
-        return {"pulse": make_pulse(kind, period, a)}
+        return {"pulse": make_pulse(kind, period, a, polarity)}
 
     def pgv(a):
-        return make_pulse(kind, period, a).pgv
+        return make_pulse(kind, period, a, polarity).pgv
 
     return load, pgv, pgv(1.0)
 
@@ -87,6 +88,8 @@ def main(argv=None) -> None:
                     help="the ideal impulse (default) or a base-acceleration pulse")
     ap.add_argument("--pulse-period", type=float, default=None,
                     help="Δt of the pulse [s] (rectangular: its duration); needed with a pulse")
+    ap.add_argument("--polarity", type=int, default=1, choices=(1, -1),
+                    help="the pulse's polarity (+1: its first lobe throws the façade out)")
     args = ap.parse_args(argv)
     pulse = args.loading != "impulse"
     if pulse and (args.pulse_period is None or not 0 < args.pulse_period <= 100):
@@ -120,12 +123,13 @@ def main(argv=None) -> None:
         guess = args.guess if args.guess is not None else round(row.vg, 1)
         load, pgv = None, (lambda a: a)
         if pulse:
-            load, pgv, per_ag = pulse_loading(args.loading, args.pulse_period)
+            load, pgv, per_ag = pulse_loading(args.loading, args.pulse_period, args.polarity)
             guess /= per_ag
         th = collapse_threshold(model, guess=guess, t_max=args.t_max, load=load)
         v = pgv(th.v)
         out = {**th.as_dict(), "test": name, "udec_vg": row.vg, "udec_h": row.h_v,
                "loading": args.loading, "pulse_period": args.pulse_period,
+               "polarity": args.polarity,
                "pgv": v, "pgv_lo": pgv(th.lo), "pgv_hi": pgv(th.hi),
                "ratio": v / row.vg, "vg_norm": v / (row.case.wall.g
                                                     * row.case.wall.b) ** 0.5,
