@@ -8,7 +8,8 @@ JSON line (every trial; stderr: each trial). The sections' JSON lines were made 
 inertias itself (equal to ``t_section_blocks(..., toothing="block")``'s within 1e-11).
 
     python benchmarks/dem_toothing.py B1 T1      # B1 or any Table 1 wall; T1 or T2
-    python benchmarks/dem_toothing.py B1 T1 --set ks_over_kn=1     # DEMParams overrides
+    python benchmarks/dem_toothing.py B1 T1 --set ks_over_kn=1     # DEMParams overrides, as
+                                                                   # dem_table1.py's --set
 
 Measured (section 16): B1 0.906 / 0.981 m/s, B4 0.867 / 0.811 m/s (T1 / T2); 65-79 s of CPU
 each.
@@ -23,16 +24,16 @@ import sys
 import time
 
 import numpy as np
+from dem_table1 import add_overrides  # benchmarks/ is on sys.path when run
 
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("wall", help="a Table 1 wall")
     ap.add_argument("variant", choices=("T1", "T2"))
-    ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
-                    help="DEMParams overrides, e.g. ks_over_kn=1")
+    add_overrides(ap)
     args = ap.parse_args(argv)
-    over = {k: float(v) for k, v in (x.split("=", 1) for x in args.set)}
+    over = dict(args.over)
 
     from homlimit.blocks.geometry import TOOTHING
     from homlimit.closed_form.paper import table1
