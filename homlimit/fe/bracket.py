@@ -143,7 +143,8 @@ def bracket(problem, *, static_mesh=None, kinematic_mesh=None,
     The two conic programs are independent: the kinematic one is solved in a second thread
     while the static one is solved here (Clarabel releases the GIL; measured on the demo's
     first B1 mesh, 3278 triangles: 8.4 s one after the other, 5.9 s at once, the same
-    multipliers bit for bit). ``times``: each bound's own wall seconds.
+    multipliers bit for bit; ``benchmarks/bench_bracket.py concurrent``). ``times``: each
+    bound's own wall seconds.
     """
     pk = problem if kinematic_mesh is None else dataclasses.replace(problem, mesh=kinematic_mesh)
     ps = problem if static_mesh is None else dataclasses.replace(problem, mesh=static_mesh)
