@@ -240,6 +240,42 @@ def test_t_section_settles_with_the_papers_uniform_lowering():
     assert facade.mean() == pytest.approx(wall.mean(), rel=0.05)
 
 
+def test_facade_factor_follows_the_reference_side_of_the_inner_face():
+    # B1: a contact's façade factor (ρ = 12) is chosen by where its tributary lies in the
+    # reference configuration, not where the blocks happen to be when it forms. The façade
+    # shifted outwards by 1 µm and its contacts formed afresh: the inner-face contacts
+    # (x = b, vertical) keep the wall's kn·(a/2)·s, the façade's bed joints get ρ·kn·(b/2)·s.
+    # (Before, a contact re-formed at the inner face during a trial took ρ when the façade
+    # stood a few µm outwards: 12 of B1's 40 such contacts after 2 s at 0.875 m/s.)
+    import dataclasses
+
+    from homlimit.blocks.geometry import FACADE, TOOTHING, t_section_blocks
+    from homlimit.params import Case
+
+    case = Case()
+    a = t_section_blocks(case, facade="through")
+    model = build_model(a)
+    moved = a.centroid.copy()
+    moved[a.kind == FACADE, 0] -= 1e-6
+    shifted = dataclasses.replace(model, assembly=dataclasses.replace(a, centroid=moved))
+    key, cv, ce, kn, *_ = shifted.initial_state().contacts
+    nxt = model.nxt
+    own_v, own_e = model.owner[cv], model.owner[ce]
+    kind_v, kind_e = a.kind[own_v], a.kind[own_e]
+    d = model.rel[nxt[ce]] - model.rel[ce]
+    vertical = np.abs(d[:, 0]) < 1e-9
+    inner = vertical & ((kind_v == FACADE) != (kind_e == FACADE)) & ~a.fixed[own_v] \
+        & ~a.fixed[own_e]
+    unit = DEMParams().kn * case.wall.s
+    assert inner.sum() == 60            # 15 façade blocks between wall blocks, 4 pairs each
+    np.testing.assert_allclose(kn[inner], unit * case.masonry.a / 2, rtol=1e-12)
+    # a façade block's corners on the toothing blocks: 15 below, 14 above (course 29 is the top)
+    bed = ~vertical & (kind_v == FACADE) & (kind_e == TOOTHING)
+    assert bed.sum() == 2 * (15 + 14)
+    # (the 1 µm shift shortens a corner's overlap, b = 0.5 m, by 1 µm: 2·10⁻⁶ relative)
+    np.testing.assert_allclose(kn[bed], case.wall.rho * unit * case.wall.b / 2, rtol=3e-6)
+
+
 def test_toothing_blocks_of_one_density_weigh_rho_times_their_tooth_more():
     # B1: 30 courses, 15 toothed, each toothing block [0, b + c] = [0, 0.7] x a = 0.3 m. With
     # one density per block ("block") its tooth [0.5, 0.7] weighs ρ γ s c a = 12 x 2000 x 0.5

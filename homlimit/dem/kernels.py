@@ -108,7 +108,7 @@ def _grow(a, cap):
 @njit(cache=True)
 def build_candidates(X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, cone_build,
                      old_key, old_kn, old_ks, old_fs, old_tied, old_sl, old_cap, old_dp, n_old,
-                     kn, ks_ratio, thick, fac_x, fac_f, trib_floor, tie_base,
+                     kn, ks_ratio, thick, fac_x, fac_f, xref, trib_floor, tie_base,
                      fc, dep_f, dep_w, x_j):
     """The Verlet list: every (vertex of i, edge of j) pair of distinct blocks, not both fixed,
     with the vertex within ``margin`` of the edge's line and span and its normal cone within
@@ -118,7 +118,10 @@ def build_candidates(X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, co
     contact keeps its memory); a new one gets kn·trib·thick·factor, trib = half the overlap of
     the vertex's adjacent edge (the one facing the edge) with the edge (a flat vertex: half
     the overlap of each of its two edges), at least trib_floor × the shorter of the two,
-    factor fac_f if the tributary's centre has x < fac_x. Its crushing cap is
+    factor fac_f if the tributary's centre has x < fac_x. That x is the centre's material
+    point on its edge in the reference configuration (``xref``: every vertex's x before any
+    motion), and "<" holds by more than ``coinc``: an interface edge at x = fac_x (the
+    façade's inner face) keeps factor 1 however the blocks have moved. Its crushing cap is
     fc·trib·depth, depth dep_f if the tributary's centre has x < x_j, else dep_w (infinite
     for fc = 0). ``tie_base``: new contacts with a fixed block that touch (gap < coinc) are
     tied. Twins: a pair whose vertex lies within margin of an end of its edge, and the
@@ -235,11 +238,11 @@ def build_candidates(X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, co
                             trib = 0.5 * abs(sq - sp)
                             trib = max(trib, trib_floor * min(L, ladj))
                             sc = sp + (0.5 * trib if sq >= sp else -0.5 * trib)
-                        xc = ax + tx * sc
-                        f = fac_f if xc < fac_x else 1.0
+                        xc = xref[e] + (xref[nxt[e]] - xref[e]) * (sc / L)
+                        f = fac_f if xc < fac_x - coinc else 1.0
                         kn_c[m] = kn * trib * thick * f
                         if fc > 0.0:
-                            cn_c[m] = fc * trib * (dep_f if xc < x_j else dep_w)
+                            cn_c[m] = fc * trib * (dep_f if xc < x_j - coinc else dep_w)
                         else:
                             cn_c[m] = np.inf
                         dp_c[m] = 0.0
@@ -288,7 +291,7 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             inv_I, mass, radius, g, fric, ag, ag_t0, damping,
             key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c,
             build_pos, build_th, margin, coinc, cone_build, cone_tol, edge_tol,
-            kn, ks_ratio, thick, fac_x, fac_f, trib_floor, fc, dep_f, dep_w, x_j,
+            kn, ks_ratio, thick, fac_x, fac_f, xref, trib_floor, fc, dep_f, dep_w, x_j,
             watch, ref_pos, ref_th, disp_limit, rot_limit, check_every,
             slip_base, slip_bed, rec_every, rec, z_ref, vel_tol, loads, ties, tstate):
     """Central differences for nsteps steps of dt.
@@ -358,7 +361,8 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c = build_candidates(
                 X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, cone_build,
                 key, kn_c, ks_c, fs_c, tied, sl_c, cn_c, dp_c, key.shape[0],
-                kn, ks_ratio, thick, fac_x, fac_f, trib_floor, False, fc, dep_f, dep_w, x_j)
+                kn, ks_ratio, thick, fac_x, fac_f, xref, trib_floor, False, fc, dep_f, dep_w,
+                x_j)
             m = key.shape[0]
             acted = np.zeros(m, np.bool_)
             builds += 1

@@ -66,7 +66,8 @@ class DEMModel:
     (rel[offsets[i]:offsets[i+1]]; the assembly's, plus the joint points when its bottom edges
     are split); ``crush``: (f_c [Pa] (0: infinite), depth in the façade, depth elsewhere [m],
     x of the façade's inner face [m]) of the contacts' caps; ``flat``: per vertex, whether its
-    two edges are collinear (a joint point)."""
+    two edges are collinear (a joint point); ``xref``: per vertex, its x before any motion
+    (which side of the façade's inner face ``fac_x`` a new contact's tributary lies on)."""
 
     assembly: Assembly
     params: DEMParams
@@ -96,12 +97,15 @@ class DEMModel:
     offsets: np.ndarray | None = None
     crush: tuple = (0.0, 1.0, 1.0, math.inf)
     flat: np.ndarray | None = None
+    xref: np.ndarray | None = None
 
     def __post_init__(self):
         if self.offsets is None:
             self.offsets = self.assembly.offsets
         if self.flat is None:
             self.flat = np.zeros(self.rel.shape[0], np.bool_)
+        if self.xref is None:
+            self.xref = self.assembly.centroid[self.owner, 0] + self.rel[:, 0]
 
     @property
     def n_blocks(self) -> int:
@@ -121,7 +125,8 @@ class DEMModel:
             X, self.offsets, self.nxt, self.prv, self.flat, self.owner, a.fixed,
             p.verlet_margin,
             self.coinc, p.cone_tolerance + 0.1, *empty, 0, p.kn, p.ks_over_kn,
-            self.thickness, self.fac_x, self.fac_f, p.trib_floor, p.base_joint == "tied",
+            self.thickness, self.fac_x, self.fac_f, self.xref, p.trib_floor,
+            p.base_joint == "tied",
             *self.crush)
         return DEMState(pos, th, np.zeros((n, 2)), np.zeros(n), c, pos.copy(), th.copy(),
                         np.zeros((len(self.ties), 2)))
@@ -375,9 +380,9 @@ def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: floa
         *state.contacts,
         state.build_pos, state.build_th, p.verlet_margin, model.coinc, p.cone_tolerance + 0.1,
         p.cone_tolerance, model.coinc, p.kn, p.ks_over_kn, model.thickness, model.fac_x,
-        model.fac_f, p.trib_floor, *model.crush, model.watch, ref.pos, ref.th, model.disp_limit,
-        model.rot_limit, int(check_every), slip_base, slip_bed, int(rec_every), rec, z_ref,
-        vel_tol, model.loads, model.ties, state.tstate)
+        model.fac_f, model.xref, p.trib_floor, *model.crush, model.watch, ref.pos, ref.th,
+        model.disp_limit, model.rot_limit, int(check_every), slip_base, slip_bed,
+        int(rec_every), rec, z_ref, vel_tol, model.loads, model.ties, state.tstate)
     steps, status, nrow = out[0], out[1], out[2]
     state.contacts = tuple(out[3:14])
     return steps, status, rec[:nrow], slip_base, slip_bed, out[14]
