@@ -114,3 +114,23 @@ def test_parts_solved_at_part_tol_give_the_ladders_v_g(table1_case):
     assert ladder.record()["solver_tol"] in (1e-9, 1e-7)      # the ladder's first or last rung
     assert part.vg == pytest.approx(ladder.vg, rel=1e-4)
     assert part.multiplier == pytest.approx(ladder.multiplier, rel=1e-4)
+
+
+def test_scan_heights_in_threads_equal_one_after_another(table1_case):
+    """h_scan's default (every part meshed here, then solved in threads, ``solve_here``) gives
+    the builtin map's mechanisms bit for bit, in order."""
+    import builtins
+
+    from homlimit.mechanism import analysis
+
+    case = table1_case("B1")
+    hs = [0.6, 1.5, 3.0]
+    kw = dict(mesh_size=0.5, facade="bedjoints", divisions=3)
+    threads = h_scan(case, hs, **kw)
+    serial = h_scan(case, hs, map=builtins.map, **kw)
+    assert [m.h_part for m in threads] == hs
+    for x, y in zip(threads, serial):
+        assert x.n_triangles == y.n_triangles
+        assert x.multiplier == y.multiplier and x.h == y.h
+        assert x.vg == y.vg or (math.isnan(x.vg) and math.isnan(y.vg))
+    assert not analysis._on_dask_worker()

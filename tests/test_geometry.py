@@ -231,6 +231,41 @@ def test_failure_during_meshing_finalises(monkeypatch):
     assert not gmsh.isInitialized()
 
 
+def test_gmsh_sessions_of_two_threads_wait_for_each_other():
+    # gmsh holds global state: meshes made in two threads at once equal those made one after
+    # the other (gmsh_session's lock), and no session is left open
+    from concurrent.futures import ThreadPoolExecutor
+
+    sizes = [0.5, 0.3, 0.4, 0.25]
+    def mesh(size):
+        return polygon_mesh({"a": [(0, 0), (2, 0), (2, 1), (0, 1)]}, size=size)
+    serial = [mesh(h) for h in sizes]
+    with ThreadPoolExecutor(2) as pool:
+        threaded = list(pool.map(mesh, sizes))
+    for x, y in zip(serial, threaded):
+        np.testing.assert_array_equal(x.points, y.points)
+        np.testing.assert_array_equal(x.cells_dict["triangle"], y.cells_dict["triangle"])
+    assert not gmsh.isInitialized()
+
+
+def test_a_gmsh_session_keeps_the_processs_sigterm_handler():
+    # gmsh.initialize resets SIGTERM, SIGHUP and SIGPIPE to the default, so a SIGTERM after
+    # meshing killed `homlimit run` before its clean-up; gmsh_session puts Python's back
+    import subprocess
+    import sys
+
+    code = """
+import os, signal, sys, time
+signal.signal(signal.SIGTERM, lambda s, f: sys.exit(7))
+from homlimit.fe.geometry import polygon_mesh
+polygon_mesh({"a": [(0, 0), (2, 0), (2, 1), (0, 1)]}, size=0.5)
+os.kill(os.getpid(), signal.SIGTERM)
+time.sleep(5)
+"""
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, timeout=120)
+    assert proc.returncode == 7, (proc.returncode, proc.stderr[-500:])
+
+
 def test_overlapping_regions_and_nested_sessions():
     with pytest.raises(MeshError, match="overlap"):
         polygon_mesh({"a": [(0, 0), (2, 0), (2, 1), (0, 1)],

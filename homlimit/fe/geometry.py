@@ -22,6 +22,8 @@ one cell block per physical group ("triangle" for regions, "line" for named segm
 from __future__ import annotations
 
 import math
+import signal
+import threading
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 
@@ -42,30 +44,54 @@ TSECTION_BOUNDARIES = BOUNDARIES
 STRIPS = ("free", "structured")       # tsection's meshes of the façade strip
 
 
+#: gmsh holds global state: one session at a time in this process, whichever thread opens it
+_GMSH_LOCK = threading.RLock()
+#: the signals whose handlers ``gmsh.initialize`` resets to the default (measured: SIGHUP,
+#: SIGFPE, SIGPIPE and SIGTERM), put back by ``gmsh_session``
+_SIGNALS = ("SIGHUP", "SIGINT", "SIGTERM", "SIGPIPE", "SIGFPE", "SIGXFSZ")
+
+
 @contextmanager
 def gmsh_session(name: str = "homlimit", verbosity: int = 0) -> Iterator:
     """Open a gmsh session (yields the ``gmsh`` module); always finalised on exit.
 
-    Errors raised by gmsh itself are re-raised as MeshError; one session at a time.
+    Errors raised by gmsh itself are re-raised as MeshError. One session at a time: a session
+    opened in another thread waits for this one to close; a nested one raises MeshError.
+    ``gmsh.initialize`` resets the process's handlers of SIGTERM, SIGHUP and SIGPIPE, which
+    would let SIGTERM kill a run before its clean-up: opened in the main thread, the session
+    puts Python's handlers back (only the main thread may). Mesh in the main thread.
     """
     import gmsh
 
-    if gmsh.isInitialized():
-        raise MeshError("a gmsh session is already open: gmsh holds global state, "
-                        "nest no sessions")
-    gmsh.initialize(readConfigFiles=False, interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 1 if verbosity > 0 else 0)
-        gmsh.option.setNumber("General.Verbosity", int(verbosity))
-        gmsh.option.setNumber("General.NumThreads", 1)     # reproducible meshes
-        gmsh.model.add(name)
-        yield gmsh
-    except Exception as exc:
-        if type(exc) is Exception:                        # gmsh's own error type
-            raise MeshError(f"gmsh failed while meshing {name!r}: {exc}") from exc
-        raise
-    finally:
-        gmsh.finalize()
+    with _GMSH_LOCK:
+        if gmsh.isInitialized():
+            raise MeshError("a gmsh session is already open: gmsh holds global state, "
+                            "nest no sessions")
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
+        _put_back_signals()
+        try:
+            gmsh.option.setNumber("General.Terminal", 1 if verbosity > 0 else 0)
+            gmsh.option.setNumber("General.Verbosity", int(verbosity))
+            gmsh.option.setNumber("General.NumThreads", 1)     # reproducible meshes
+            gmsh.model.add(name)
+            yield gmsh
+        except Exception as exc:
+            if type(exc) is Exception:                        # gmsh's own error type
+                raise MeshError(f"gmsh failed while meshing {name!r}: {exc}") from exc
+            raise
+        finally:
+            gmsh.finalize()
+
+
+def _put_back_signals() -> None:
+    """Python's handler of each of ``_SIGNALS``, installed again (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        return
+    for name in _SIGNALS:
+        sig = getattr(signal, name, None)
+        handler = None if sig is None else signal.getsignal(sig)
+        if handler is not None:
+            signal.signal(sig, handler)
 
 
 # ---------------------------------------------------------------------------------- checks

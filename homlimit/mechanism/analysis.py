@@ -30,6 +30,9 @@ import dataclasses
 import functools
 import logging
 import math
+import os
+import sys
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -291,39 +294,78 @@ def analyse(case: Case, problem: Problem, options=None, solution=None) -> FEMech
 def _analyse_height(case: Case, mesh_size: float, facade: str, options, divisions: int,
                     h_part: float, mesher: str = MESHER_DEFAULT) -> FEMechanism:
     """One height of the scan: ``analyse`` on the top part of height ``h_part`` (the whole
-    wall, meshed at ``mesh_size``, when h_part >= H). A part is solved to ``PART_TOL`` unless
-    ``options`` sets a tolerance. A module function, so that an executor can run it as a task
-    (``h_scan``'s ``map``)."""
+    wall, meshed at ``mesh_size``, when h_part >= H). A module function, so that an executor
+    can run it as a task (``h_scan``'s ``map``)."""
+    return analyse(case, *_height_problem(case, mesh_size, facade, options, divisions, h_part,
+                                          mesher))
+
+
+def _height_problem(case: Case, mesh_size: float, facade: str, options, divisions: int,
+                    h_part: float, mesher: str = MESHER_DEFAULT) -> tuple[Problem, object]:
+    """The problem of one height of the scan and its solver options: a part is solved to
+    ``PART_TOL`` unless ``options`` sets a tolerance."""
     if h_part >= case.wall.H:
         log.info("FE mechanism of the whole wall")
-        return analyse(case, t_section(case, facade=facade, h=mesh_size, mesher=mesher),
-                       options)
+        return t_section(case, facade=facade, h=mesh_size, mesher=mesher), options
     from ..fe.solver import SolverOptions
 
     log.info("FE analysis: part of height %.3f m", h_part)
     options = options or SolverOptions()
     if options.tol is None:
         options = dataclasses.replace(options, tol=PART_TOL)
-    return analyse(case, part_problem(case, h_part, facade, mesh_size, divisions, mesher),
-                   options)
+    return part_problem(case, h_part, facade, mesh_size, divisions, mesher), options
 
 
 def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
-           options=None, map=map, divisions: int = PART_DIVISIONS, mesher: str = MESHER_DEFAULT
-           ) -> list[FEMechanism]:
+           options=None, map=None, divisions: int = PART_DIVISIONS,
+           mesher: str = MESHER_DEFAULT) -> list[FEMechanism]:
     """``analyse`` on the top part of height h_part for every h_part in ``h_parts`` [m] (the
     whole wall for h_part = H). The hinge may float above the base of the analysed part: each
     mechanism's own h = H − z_O. ``map(fn, h_parts)``: how the heights are evaluated, results
-    in order (default: one after another here; ``app.engine.Engine.map`` makes each height a
-    Dask task); ``divisions``: elements per part height (``part_problem``); ``mesher``:
-    ``problems.MESHERS``."""
+    in order (``app.engine.Engine.map`` makes each height a Dask task; the builtin ``map``:
+    one after another here). The default, None: here, every part meshed in this thread, then
+    solved as many at a time as there are cores (``solve_here``). ``divisions``: elements per
+    part height (``part_problem``); ``mesher``: ``problems.MESHERS``."""
     w = case.wall
     check_choice("mesher", mesher, MESHERS)
     h_parts = [check_range("h_part", hp, 0.0, w.H, lo_open=True, unit="m") for hp in h_parts]
     divisions = int(check_range("divisions", divisions, 1, 1000))
     log.info("FE scan: %d collapse heights", len(h_parts))
+    if map is None:
+        jobs = [_height_problem(case, mesh_size, facade, options, divisions, hp, mesher)
+                for hp in h_parts]
+        return solve_here(lambda job: analyse(case, *job), jobs)
     return list(map(functools.partial(_analyse_height, case, mesh_size, facade, options,
                                       divisions, mesher=mesher), h_parts))
+
+
+def solve_here(fn, items) -> list:
+    """``[fn(x) for x in items]``, as many at a time as there are cores, each in a thread
+    (Clarabel releases the GIL), in order; one after another on a Dask worker, where the
+    engine already runs one task per core. ``fn`` must not mesh: gmsh holds global state and
+    resets the process's signal handlers (``fe.geometry.gmsh_session``), which only the main
+    thread may put back. On the demo's B1 scan: the mechanisms of the one-after-another run,
+    bit for bit."""
+    items = list(items)
+    n = 1 if _on_dask_worker() else min(len(items), os.cpu_count() or 1)
+    if n < 2:
+        return [fn(x) for x in items]
+    pool = ThreadPoolExecutor(n, thread_name_prefix="homlimit-solve")
+    try:
+        return list(pool.map(fn, items))
+    finally:                    # interrupted: the items not started are not started
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _on_dask_worker() -> bool:
+    dist = sys.modules.get("distributed")       # not imported: not a worker
+    if dist is None:
+        return False
+    try:
+        dist.get_worker()
+    except ValueError:
+        return False
+    return True
 
 
 @dataclass(frozen=True)
@@ -497,7 +539,7 @@ def scan_midpoints(hs, vg, step: float, rtol: float) -> list[float]:
 
 def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT, options=None,
               whole: Problem | None = None, static: bool = False, heights: int = 6,
-              step: float | None = None, rtol: float = 0.005, map=map,
+              step: float | None = None, rtol: float = 0.005, map=None,
               divisions: int = PART_DIVISIONS, mesher: str = MESHER_DEFAULT,
               adapted=None, static_problem: Problem | None = None) -> FEResult:
     """The FE impulse scan over a <= h_part <= H (module docstring): ``heights`` starting
