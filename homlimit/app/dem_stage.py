@@ -103,6 +103,14 @@ def _load(dem: DemConfig, record=None):
     return lambda a: {"pulse": _pulse(dem, a, record)}
 
 
+def amplitude(dem: DemConfig, plot: bool = False) -> tuple[str, str]:
+    """The name and unit of a threshold's amplitude: ("vg", "m/s") under the ideal impulse,
+    ("a_g", "m/s^2") under a pulse or a record ("m/s²" on plots)."""
+    if dem.loading == "impulse":
+        return "vg", "m/s"
+    return "a_g", "m/s²" if plot else "m/s^2"
+
+
 @dataclass
 class DemRun:
     """One case's DEM threshold: loading ("impulse" or a pulse kind), the threshold
@@ -167,8 +175,7 @@ class DemRun:
     def lines(self) -> str:
         """The summary's DEM lines: threshold bracket, slides, trials, time."""
         th = self.threshold
-        unit = "m/s" if self.impulse else "m/s^2"
-        what = "vg" if self.impulse else "a_g"
+        what, unit = amplitude(self.dem)
         yn = {True: "yes", False: "no"}
         return (f"DEM: {what} = {th.v:.4g} {unit} (safe {th.lo:.4g}, collapsed {th.hi:.4g}, "
                 f"±{100 * th.rel_tol:g} %); failing height h = {th.h:.2f} m from z = "
@@ -225,7 +232,7 @@ def dem_threshold(config: CaseConfig, map=None) -> DemRun:
     t0 = time.perf_counter()
     record = _record(config)
     model = _model(case, dem)
-    what, unit = ("vg", "m/s") if dem.loading == "impulse" else ("a_g", "m/s^2")
+    what, unit = amplitude(dem)
     if map is not None:
         log.info("DEM: %d blocks, dt = %.3g s; every trial a task", model.n_blocks, model.dt)
         item = {"wall": wall_inputs(resolved_inputs(config)), "dem": dataclasses.asdict(dem)}
@@ -267,7 +274,7 @@ def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") 
     frames = record_frames(run.model, run.settled, t_max=run.dem.t_max,
                            interval=run.dem.frame_interval, **_load(run.dem, run.record)(th.hi))
     files = {}
-    unit = "m/s" if run.impulse else "m/s²"
+    what, unit = amplitude(run.dem, plot=True)
     if output.vtu:
         write_series(staging, run.model, run.settled, frames, name="dem")
         files["dem_pvd"] = out / "dem.pvd"
@@ -280,7 +287,6 @@ def write_files(run: DemRun, output, staging: Path, out: Path, title: str = "") 
         standing = record_frames(run.model, run.settled, t_max=run.dem.t_max,
                                  interval=run.dem.frame_interval,
                                  **_load(run.dem, run.record)(th.lo))
-        what = "vg" if run.impulse else "a_g"
         plot_animation(staging / "dem_animation.gif", run.model, run.settled,
                        [(f"{what} = {th.hi:.4g} {unit}: collapsed", frames),
                         (f"{what} = {th.lo:.4g} {unit}: stood", standing)],
@@ -359,7 +365,6 @@ def threshold_by_trials(item: dict, case, dem: DemConfig, map, label: str):
     def trial(v):
         return map(trial_task, [{**item, "amplitude": v}])[0]
 
-    unit = "m/s" if dem.loading == "impulse" else "m/s^2"
     lo, hi, recs = bisect(trial, guess=_guess(case, dem, _record_of(item)), rel_tol=dem.rel_tol,
-                          progress=_logger(label, unit))
+                          progress=_logger(label, amplitude(dem)[1]))
     return threshold_of(lo, hi, recs, dem.rel_tol, recs[0]["dt"], recs[0]["settle"]), recs
