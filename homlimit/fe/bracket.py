@@ -19,11 +19,11 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import _threads
 from ..errors import ParameterError, check_range
 from .kinematic import solve_kinematic
 from .mesh import element_areas
@@ -148,10 +148,9 @@ def bracket(problem, *, static_mesh=None, kinematic_mesh=None,
     """
     pk = problem if kinematic_mesh is None else dataclasses.replace(problem, mesh=kinematic_mesh)
     ps = problem if static_mesh is None else dataclasses.replace(problem, mesh=static_mesh)
-    with ThreadPoolExecutor(1) as pool:
-        fk = pool.submit(_timed, solve_kinematic, pk, options)
-        sta, t_sta = _timed(solve_static, ps, options)
-        kin, t_kin = fk.result()
+    fk = _threads.background(_timed, solve_kinematic, pk, options)
+    sta, t_sta = _timed(solve_static, ps, options)
+    kin, t_kin = fk.result()
     times = {"kinematic": t_kin, "static": t_sta}
     eg = gap_contributions(sta, kin) if same_mesh(ps.mesh, pk.mesh) else None
     return Bracket(name=problem.name, lower=sta.multiplier, upper=kin.multiplier, static=sta,

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import _threads
 from ..errors import ParameterError, SolverError, check_choice, check_range
 from .problems import Problem
 
@@ -319,8 +320,8 @@ def solve_cvxpy(prob, options: SolverOptions, program: str, n_unknowns: int,
             inv[-1].solver_options = dict(opts)      # what prob.solve() would have recorded
         t1 = time.perf_counter()
         try:
-            raw = chain.solve_via_data(prob, data, warm_start=False, verbose=options.verbose,
-                                       solver_opts=dict(opts))
+            raw = _threads.call(chain.solve_via_data, prob, data, warm_start=False,
+                                verbose=options.verbose, solver_opts=dict(opts))
             with warnings.catch_warnings():    # an inaccurate status raises in check_status
                 warnings.simplefilter("ignore", UserWarning)
                 prob.unpack_results(raw, chain, inv)
@@ -351,7 +352,7 @@ def solve_clarabel(q: np.ndarray, A, b: np.ndarray, cones: list, options: Solver
         settings.verbose = bool(options.verbose)
         for key, val in opts.items():
             setattr(settings, key, val)
-        sol = clarabel.DefaultSolver(P, q, A, b, cones, settings).solve()
+        sol = _threads.call(lambda: clarabel.DefaultSolver(P, q, A, b, cones, settings).solve())
         times["solve"] += float(sol.solve_time)
         sols.append(sol)
         return str(sol.status).split(".")[-1], sol.iterations

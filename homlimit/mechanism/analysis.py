@@ -32,11 +32,11 @@ import logging
 import math
 import os
 import sys
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _threads
 from ..check.ntc import StaticMechanism
 from ..errors import ParameterError, check_choice, check_range
 from ..fe.problems import Problem, t_section
@@ -350,11 +350,7 @@ def solve_here(fn, items) -> list:
     n = 1 if _on_dask_worker() else min(len(items), os.cpu_count() or 1)
     if n < 2:
         return [fn(x) for x in items]
-    pool = ThreadPoolExecutor(n, thread_name_prefix="homlimit-solve")
-    try:
-        return list(pool.map(fn, items))
-    finally:                    # interrupted: the items not started are not started
-        pool.shutdown(wait=True, cancel_futures=True)
+    return _threads.map_threads(fn, items, n)      # interrupted: the rest is not started
 
 
 def _on_dask_worker() -> bool:

@@ -1,0 +1,64 @@
+"""Threads that never hold up an interrupt.
+
+A native solver call (Clarabel) does not return to Python until it ends, and Python runs a
+signal's handler only in the main thread, between bytecodes: a conic solve in the main thread
+held Ctrl-C and SIGTERM back for its whole length (12.5 s in the demo's static bound, minutes
+on a large mesh). Here such a call runs in a daemon thread while the main thread waits on its
+``Future``, a wait that a handler interrupts at once. The abandoned call runs on until it
+ends or the process exits (daemon threads do not hold the exit up).
+
+- ``background(fn, ...)``: ``fn`` started in a daemon thread, its ``Future``;
+- ``call(fn, ...)``: ``fn``'s result, waited for interruptibly (in the main thread);
+- ``map_threads(fn, items, n)``: ``[fn(x) for x in items]``, n at a time, in order.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+from collections.abc import Callable, Iterable
+from concurrent.futures import Future
+
+__all__ = ["background", "call", "map_threads"]
+
+
+def background(fn: Callable, *args, gate: threading.Semaphore | None = None, **kwargs
+               ) -> Future:
+    """``fn(*args, **kwargs)`` in a new daemon thread (after acquiring ``gate``, if given);
+    its ``Future``. A future cancelled before the call starts never runs it."""
+    fut: Future = Future()
+
+    def run():
+        with gate if gate is not None else contextlib.nullcontext():
+            if not fut.set_running_or_notify_cancel():
+                return
+            try:
+                fut.set_result(fn(*args, **kwargs))
+            except BaseException as exc:   # delivered to the waiting thread
+                fut.set_exception(exc)
+
+    threading.Thread(target=run, name=f"homlimit-{getattr(fn, '__name__', 'call')}",
+                     daemon=True).start()
+    return fut
+
+
+def call(fn: Callable, *args, **kwargs):
+    """``fn(*args, **kwargs)``: in the main thread run in a daemon thread and waited for, so
+    that a signal interrupts the wait; elsewhere (a worker's thread) called directly."""
+    if threading.current_thread() is not threading.main_thread():
+        return fn(*args, **kwargs)
+    return background(fn, *args, **kwargs).result()
+
+
+def map_threads(fn: Callable, items: Iterable, n: int) -> list:
+    """``[fn(x) for x in items]``, at most ``n`` at a time, each in a daemon thread; results in
+    order. Interrupted (or one call raising), the calls not yet started are cancelled and the
+    exception propagates at once."""
+    gate = threading.Semaphore(max(1, int(n)))
+    futures = [background(fn, x, gate=gate) for x in items]
+    try:
+        return [f.result() for f in futures]
+    except BaseException:
+        for f in futures:
+            f.cancel()
+        raise
