@@ -14,11 +14,11 @@ from homlimit import _threads
 
 
 def test_a_signal_interrupts_the_wait_for_a_native_call():
-    # an eigenvalue solve stays in LAPACK for about a second without returning to Python, so
-    # the main thread would run the handler only after it; through call() the handler runs at
-    # once (at 0.05 s) and the call is abandoned, unfinished
+    # an eigenvalue solve of 1200 x 1200 stays in LAPACK (0.64 s on one core here) without
+    # returning to Python, so the main thread would run the handler only after it; through
+    # call() the handler runs at once (at 0.05 s) and the call is abandoned, unfinished
     done = threading.Event()
-    a = np.random.default_rng(0).random((800, 800))
+    a = np.random.default_rng(0).random((1200, 1200))
 
     def native():
         try:
