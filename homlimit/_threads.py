@@ -9,17 +9,21 @@ ends or the process exits (daemon threads do not hold the exit up).
 
 - ``background(fn, ...)``: ``fn`` started in a daemon thread, its ``Future``;
 - ``call(fn, ...)``: ``fn``'s result, waited for interruptibly (in the main thread);
-- ``map_threads(fn, items, n)``: ``[fn(x) for x in items]``, n at a time, in order.
+- ``map_threads(fn, items, n)``: ``[fn(x) for x in items]``, n at a time, in order;
+- ``threads_here(k)``: how many of k independent solves to run at once here: up to the cores,
+  one on a Dask worker (the engine already runs one task per core).
 """
 
 from __future__ import annotations
 
 import contextlib
+import os
+import sys
 import threading
 from collections.abc import Callable, Iterable
 from concurrent.futures import Future
 
-__all__ = ["background", "call", "map_threads"]
+__all__ = ["background", "call", "map_threads", "on_dask_worker", "threads_here"]
 
 
 def background(fn: Callable, *args, gate: threading.Semaphore | None = None, **kwargs
@@ -62,3 +66,21 @@ def map_threads(fn: Callable, items: Iterable, n: int) -> list:
         for f in futures:
             f.cancel()
         raise
+
+
+def threads_here(k: int) -> int:
+    """How many of ``k`` independent solves to run at once in this process: as many as there
+    are cores (at most k), or 1 on a Dask worker, where the engine runs one task per core."""
+    return 1 if on_dask_worker() else max(1, min(int(k), os.cpu_count() or 1))
+
+
+def on_dask_worker() -> bool:
+    """Whether this thread runs a Dask worker's task."""
+    dist = sys.modules.get("distributed")       # not imported: not a worker
+    if dist is None:
+        return False
+    try:
+        dist.get_worker()
+    except ValueError:
+        return False
+    return True

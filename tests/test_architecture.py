@@ -15,8 +15,9 @@ import pytest
 PKG = Path(__file__).resolve().parents[1] / "homlimit"
 
 # the layers, lowest first: a module may import its own subpackage or any lower layer
-LAYERS = [("errors", "_version", "_threads"), ("fields",), ("_io",), ("params",), ("geometry",), ("impulse",),
-          ("check",), ("closed_form",), ("fe",), ("mechanism",), ("blocks", "dynamics"),
+LAYERS = [("errors", "_version", "_threads"), ("fields",), ("_io",), ("params",), ("geometry",),
+          ("impulse",), ("check",), ("closed_form",), ("fe",), ("mechanism",),
+          ("blocks", "dynamics"),
           ("dem",), ("app",), ("__init__", "__main__")]
 RANK = {name: k for k, names in enumerate(LAYERS) for name in names}
 

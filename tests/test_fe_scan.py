@@ -121,8 +121,6 @@ def test_scan_heights_in_threads_equal_one_after_another(table1_case):
     the builtin map's mechanisms bit for bit, in order."""
     import builtins
 
-    from homlimit.mechanism import analysis
-
     case = table1_case("B1")
     hs = [0.6, 1.5, 3.0]
     kw = dict(mesh_size=0.5, facade="bedjoints", divisions=3)
@@ -133,4 +131,3 @@ def test_scan_heights_in_threads_equal_one_after_another(table1_case):
         assert x.n_triangles == y.n_triangles
         assert x.multiplier == y.multiplier and x.h == y.h
         assert x.vg == y.vg or (math.isnan(x.vg) and math.isnan(y.vg))
-    assert not analysis._on_dask_worker()

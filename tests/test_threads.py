@@ -63,3 +63,13 @@ def test_map_threads_keeps_the_order_and_starts_nothing_after_a_failure():
     gate.set()
     # cancelled: all but the one that may have taken the free slot before the cancel
     assert started[0] == 0 and len(started) <= 2
+
+
+def test_threads_here_are_the_cores_and_one_on_a_dask_worker():
+    from distributed import Client, LocalCluster
+
+    assert _threads.threads_here(64) == os.cpu_count()
+    assert _threads.threads_here(1) == 1 and not _threads.on_dask_worker()
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        assert client.submit(_threads.threads_here, 64, pure=False).result() == 1

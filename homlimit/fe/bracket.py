@@ -143,14 +143,19 @@ def bracket(problem, *, static_mesh=None, kinematic_mesh=None,
     The two conic programs are independent: the kinematic one is solved in a second thread
     while the static one is solved here (Clarabel releases the GIL; measured on the demo's
     first B1 mesh, 3278 triangles: 8.4 s one after the other, 5.9 s at once, the same
-    multipliers bit for bit; ``benchmarks/bench_bracket.py concurrent``). ``times``: each
-    bound's own wall seconds.
+    multipliers bit for bit; ``benchmarks/bench_bracket.py concurrent``); one after the other
+    on a Dask worker, or on one core (``_threads.threads_here``). ``times``: each bound's own
+    wall seconds.
     """
     pk = problem if kinematic_mesh is None else dataclasses.replace(problem, mesh=kinematic_mesh)
     ps = problem if static_mesh is None else dataclasses.replace(problem, mesh=static_mesh)
-    fk = _threads.background(_timed, solve_kinematic, pk, options)
-    sta, t_sta = _timed(solve_static, ps, options)
-    kin, t_kin = fk.result()
+    if _threads.threads_here(2) < 2:            # a Dask worker: one core
+        sta, t_sta = _timed(solve_static, ps, options)
+        kin, t_kin = _timed(solve_kinematic, pk, options)
+    else:
+        fk = _threads.background(_timed, solve_kinematic, pk, options)
+        sta, t_sta = _timed(solve_static, ps, options)
+        kin, t_kin = fk.result()
     times = {"kinematic": t_kin, "static": t_sta}
     eg = gap_contributions(sta, kin) if same_mesh(ps.mesh, pk.mesh) else None
     return Bracket(name=problem.name, lower=sta.multiplier, upper=kin.multiplier, static=sta,

@@ -30,8 +30,6 @@ import dataclasses
 import functools
 import logging
 import math
-import os
-import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -347,21 +345,10 @@ def solve_here(fn, items) -> list:
     thread may put back. On the demo's B1 scan: the mechanisms of the one-after-another run,
     bit for bit."""
     items = list(items)
-    n = 1 if _on_dask_worker() else min(len(items), os.cpu_count() or 1)
+    n = _threads.threads_here(len(items))
     if n < 2:
         return [fn(x) for x in items]
     return _threads.map_threads(fn, items, n)      # interrupted: the rest is not started
-
-
-def _on_dask_worker() -> bool:
-    dist = sys.modules.get("distributed")       # not imported: not a worker
-    if dist is None:
-        return False
-    try:
-        dist.get_worker()
-    except ValueError:
-        return False
-    return True
 
 
 @dataclass(frozen=True)
