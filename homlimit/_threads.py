@@ -10,6 +10,7 @@ ends or the process exits (daemon threads do not hold the exit up).
 - ``background(fn, ...)``: ``fn`` started in a daemon thread, its ``Future``;
 - ``call(fn, ...)``: ``fn``'s result, waited for interruptibly (in the main thread);
 - ``map_threads(fn, items, n)``: ``[fn(x) for x in items]``, n at a time, in order;
+- ``map_here(fn, items)``: the same with ``threads_here(len(items))`` threads;
 - ``threads_here(k)``: how many of k independent solves to run at once here: up to the cores,
   one on a Dask worker (the engine already runs one task per core).
 """
@@ -23,7 +24,7 @@ import threading
 from collections.abc import Callable, Iterable
 from concurrent.futures import Future
 
-__all__ = ["background", "call", "map_threads", "on_dask_worker", "threads_here"]
+__all__ = ["background", "call", "map_here", "map_threads", "on_dask_worker", "threads_here"]
 
 
 def background(fn: Callable, *args, gate: threading.Semaphore | None = None, **kwargs
@@ -66,6 +67,16 @@ def map_threads(fn: Callable, items: Iterable, n: int) -> list:
         for f in futures:
             f.cancel()
         raise
+
+
+def map_here(fn: Callable, items: Iterable) -> list:
+    """``[fn(x) for x in items]``, in order, ``threads_here(len(items))`` at a time: one after
+    another in this thread on a Dask worker or on one core, else ``map_threads``."""
+    items = list(items)
+    n = threads_here(len(items))
+    if n < 2:
+        return [fn(x) for x in items]
+    return map_threads(fn, items, n)
 
 
 def threads_here(k: int) -> int:

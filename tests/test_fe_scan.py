@@ -117,8 +117,8 @@ def test_parts_solved_at_part_tol_give_the_ladders_v_g(table1_case):
 
 
 def test_scan_heights_in_threads_equal_one_after_another(table1_case):
-    """h_scan's default (every part meshed here, then solved in threads, ``solve_here``) gives
-    the builtin map's mechanisms bit for bit, in order."""
+    """h_scan's default (every part meshed here, then solved in threads,
+    ``_threads.map_here``) gives the builtin map's mechanisms bit for bit, in order."""
     import builtins
 
     case = table1_case("B1")

@@ -140,22 +140,16 @@ def bracket(problem, *, static_mesh=None, kinematic_mesh=None,
         names, replacing ``problem.mesh`` for one bound (per-element gaps need one mesh).
     options : the ``solver.SolverOptions`` of both bounds.
 
-    The two conic programs are independent: the kinematic one is solved in a second thread
-    while the static one is solved here (Clarabel releases the GIL; measured on the demo's
-    first B1 mesh, 3278 triangles: 8.4 s one after the other, 5.9 s at once, the same
-    multipliers bit for bit; ``benchmarks/bench_bracket.py concurrent``); one after the other
-    on a Dask worker, or on one core (``_threads.threads_here``). ``times``: each bound's own
-    wall seconds.
+    The two conic programs are independent: they are solved at once, in two threads (Clarabel
+    releases the GIL; measured on the demo's first B1 mesh, 3278 triangles: 8.4 s one after
+    the other, 5.9 s at once, the same multipliers bit for bit; ``benchmarks/bench_bracket.py
+    concurrent``), or one after the other on a Dask worker or on one core
+    (``_threads.map_here``). ``times``: each bound's own wall seconds.
     """
     pk = problem if kinematic_mesh is None else dataclasses.replace(problem, mesh=kinematic_mesh)
     ps = problem if static_mesh is None else dataclasses.replace(problem, mesh=static_mesh)
-    if _threads.threads_here(2) < 2:            # a Dask worker: one core
-        sta, t_sta = _timed(solve_static, ps, options)
-        kin, t_kin = _timed(solve_kinematic, pk, options)
-    else:
-        fk = _threads.background(_timed, solve_kinematic, pk, options)
-        sta, t_sta = _timed(solve_static, ps, options)
-        kin, t_kin = fk.result()
+    (sta, t_sta), (kin, t_kin) = _threads.map_here(
+        lambda job: _timed(*job), [(solve_static, ps, options), (solve_kinematic, pk, options)])
     times = {"kinematic": t_kin, "static": t_sta}
     eg = gap_contributions(sta, kin) if same_mesh(ps.mesh, pk.mesh) else None
     return Bracket(name=problem.name, lower=sta.multiplier, upper=kin.multiplier, static=sta,

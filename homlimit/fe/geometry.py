@@ -48,7 +48,7 @@ STRIPS = ("free", "structured")       # tsection's meshes of the façade strip
 _GMSH_LOCK = threading.RLock()
 #: the signals whose handlers ``gmsh.initialize`` resets to the default (measured: SIGHUP,
 #: SIGFPE, SIGPIPE and SIGTERM), put back by ``gmsh_session``
-_SIGNALS = ("SIGHUP", "SIGINT", "SIGTERM", "SIGPIPE", "SIGFPE", "SIGXFSZ")
+_SIGNALS = ("SIGHUP", "SIGTERM", "SIGPIPE", "SIGFPE")
 
 
 @contextmanager

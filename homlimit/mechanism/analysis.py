@@ -321,9 +321,12 @@ def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DE
     whole wall for h_part = H). The hinge may float above the base of the analysed part: each
     mechanism's own h = H − z_O. ``map(fn, h_parts)``: how the heights are evaluated, results
     in order (``app.engine.Engine.map`` makes each height a Dask task; the builtin ``map``:
-    one after another here). The default, None: here, every part meshed in this thread, then
-    solved as many at a time as there are cores (``solve_here``). ``divisions``: elements per
-    part height (``part_problem``); ``mesher``: ``problems.MESHERS``."""
+    one after another here). The default, None: here, every part meshed in this thread (gmsh
+    holds global state and resets the signal handlers, which only the main thread may put
+    back: ``fe.geometry.gmsh_session``), then solved as many at a time as there are cores, one
+    after another on a Dask worker (``_threads.map_here``; on the demo's B1 scan the mechanisms
+    of the one-after-another run, bit for bit). ``divisions``: elements per part height
+    (``part_problem``); ``mesher``: ``problems.MESHERS``."""
     w = case.wall
     check_choice("mesher", mesher, MESHERS)
     h_parts = [check_range("h_part", hp, 0.0, w.H, lo_open=True, unit="m") for hp in h_parts]
@@ -332,23 +335,9 @@ def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DE
     if map is None:
         jobs = [_height_problem(case, mesh_size, facade, options, divisions, hp, mesher)
                 for hp in h_parts]
-        return solve_here(lambda job: analyse(case, *job), jobs)
+        return _threads.map_here(lambda job: analyse(case, *job), jobs)
     return list(map(functools.partial(_analyse_height, case, mesh_size, facade, options,
                                       divisions, mesher=mesher), h_parts))
-
-
-def solve_here(fn, items) -> list:
-    """``[fn(x) for x in items]``, as many at a time as there are cores, each in a thread
-    (Clarabel releases the GIL), in order; one after another on a Dask worker, where the
-    engine already runs one task per core. ``fn`` must not mesh: gmsh holds global state and
-    resets the process's signal handlers (``fe.geometry.gmsh_session``), which only the main
-    thread may put back. On the demo's B1 scan: the mechanisms of the one-after-another run,
-    bit for bit."""
-    items = list(items)
-    n = _threads.threads_here(len(items))
-    if n < 2:
-        return [fn(x) for x in items]
-    return _threads.map_threads(fn, items, n)      # interrupted: the rest is not started
 
 
 @dataclass(frozen=True)
