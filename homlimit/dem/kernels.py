@@ -293,7 +293,7 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             build_pos, build_th, margin, coinc, cone_build, cone_tol, edge_tol,
             kn, ks_ratio, thick, fac_x, fac_f, xref, trib_floor, fc, dep_f, dep_w, x_j,
             watch, ref_pos, ref_th, disp_limit, rot_limit, check_every,
-            slip_base, slip_bed, rec_every, rec, z_ref, vel_tol, loads, ties, tstate):
+            slip_base, slip_bed, work, rec_every, rec, z_ref, vel_tol, loads, ties, tstate):
     """Central differences for nsteps steps of dt.
 
     A real wall (``model``; docs/real-walls.md): ``loads`` (n_l, 5) rows (block, r_x, r_z,
@@ -315,14 +315,20 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
     unless tied; shear force incremented by −ks·(relative tangential velocity)·dt and capped
     at fric·Fn (the excess over ks is the plastic slip, summed per contact in sl_c; per
     block, slip_base and slip_bed keep the largest of its contacts' slips with a fixed block
-    and in bed joints). Of two twins only the one whose
+    and in bed joints; ``work`` (5,) sums, in J, the friction work (each step's plastic slip
+    times the mean of the shear force at the step's start and the cap, as PFC's slip energy)
+    with
+    fixed blocks, in bed joints (|n_z| > 0.9) and in the other joints, the crushing work
+    (cap × plastic closure), and the ground's inertia's work on the blocks, Σ −m a_g u dt).
+    Of two twins only the one whose
     vertex belongs to the lower block index acts while both are valid; the other carries its
     shear force and plastic closure. The list is rebuilt (``build_candidates``) once a block
     has moved by margin/2. Every check_every steps: stop (status 1) if a watched block has
     moved outwards (−x) by more than disp_limit or turned by more than rot_limit; with damping, stop
-    (status 2) once every free block is slower than vel_tol. rec (rows, 6) gets, every
-    rec_every steps, t, kinetic, potential (m g (z − z_ref)), elastic energy, then the
-    x-displacement and rotation of the first watched block.
+    (status 2) once every free block is slower than vel_tol. rec (rows, 8) gets, every
+    rec_every steps, t, kinetic, potential (m g (z − z_ref)), elastic energy, the
+    x-displacement and rotation of the first watched block, then work[:4].sum() and
+    work[4] so far.
     Returns (steps done, status, rows recorded, key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin,
     cn_c, dp_c, n_builds)."""
     n = pos.shape[0]
@@ -448,7 +454,9 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             if crush:
                 fn = kn_c[c] * (-gap - dp_c[c])
                 if fn > cn_c[c]:                  # crushing: the excess closure is plastic
-                    dp_c[c] = -gap - cn_c[c] / kn_c[c]
+                    dp_new = -gap - cn_c[c] / kn_c[c]
+                    work[3] += cn_c[c] * (dp_new - dp_c[c])
+                    dp_c[c] = dp_new
                     fn = cn_c[c]
             else:
                 fn = -kn_c[c] * gap
@@ -462,14 +470,21 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             if not tied[c]:
                 cap = fric * fn
                 if abs(fs) > cap:
-                    sl_c[c] += (abs(fs) - cap) / ks_c[c]
-                    fs = cap if fs > 0 else -cap
+                    dsl = (abs(fs) - cap) / ks_c[c]
+                    sl_c[c] += dsl
+                    sg = 1.0 if fs > 0 else -1.0
+                    w = 0.5 * (sg * fs_c[c] + cap) * dsl      # mean force × slip
+                    fs = sg * cap
                     if fixed[i] or fixed[j]:
                         slip_base[i] = max(slip_base[i], sl_c[c])
                         slip_base[j] = max(slip_base[j], sl_c[c])
+                        work[0] += w
                     elif abs(nz) > 0.9:
                         slip_bed[i] = max(slip_bed[i], sl_c[c])
                         slip_bed[j] = max(slip_bed[j], sl_c[c])
+                        work[1] += w
+                    else:
+                        work[2] += w
             fs_c[c] = fs
             if record:
                 elastic += 0.5 * fn * fn / kn_c[c] + 0.5 * fs * fs / ks_c[c]
@@ -504,6 +519,8 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             vel[b, 0] += dt * F[b, 0] * inv_m[b]
             vel[b, 1] += dt * F[b, 1] * inv_m[b]
             om[b] += dt * F[b, 2] * inv_I[b]
+            if a_g != 0.0:
+                work[4] -= dt * mass[b] * a_g * 0.5 * (vx0 + vel[b, 0])
             if record:
                 ux, uz, uw = 0.5 * (vx0 + vel[b, 0]), 0.5 * (vz0 + vel[b, 1]), 0.5 * (w0b + om[b])
                 ke += 0.5 * mass[b] * (ux * ux + uz * uz) + 0.5 * uw * uw / inv_I[b]
@@ -522,6 +539,8 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             if w0 >= 0:
                 rec[nrow, 4] = pos[w0, 0] - dt * vel[w0, 0] - ref_pos[w0, 0]
                 rec[nrow, 5] = th[w0] - dt * om[w0] - ref_th[w0]
+            rec[nrow, 6] = work[0] + work[1] + work[2] + work[3]
+            rec[nrow, 7] = work[4]
             nrow += 1
         if check_every > 0 and (step + 1) % check_every == 0:
             if damping > 0.0 and math.sqrt(vmax) < vel_tol:

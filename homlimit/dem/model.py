@@ -35,7 +35,7 @@ from ..params import G_STANDARD
 from . import kernels
 from .params import DEMParams
 
-__all__ = ["DEMModel", "DEMState", "Outcome", "build_model", "kicked", "pulse_function",
+__all__ = ["DEMModel", "DEMState", "ENERGY", "Outcome", "build_model", "kicked", "pulse_function",
            "settle", "run", "t_section_model"]
 
 
@@ -337,15 +337,25 @@ def _real_actions(a: Assembly, real, k_rigid: float):
     return np.ascontiguousarray(loads, float), np.ascontiguousarray(ties, float)
 
 
+#: the kernel's energy terms (``Outcome.work``) [J]: friction work with the ground (a fixed
+#: block), in bed joints and in the other joints (head joints, the toothing's faces), crushing
+#: work (f_c finite), and the ground acceleration's work on the blocks
+ENERGY = ("friction_base", "friction_bed", "friction_head", "crushing", "ground_work")
+
+
 @dataclass
 class Outcome:
     """One time history. collapsed: the criterion was met (module docstring), at
-    t_collapse [s]; steps, t_end [s]; record: (rows, 6) t, kinetic, potential, elastic
-    energy [J], x-displacement [m] and rotation [rad] of the first watched block; state: the
-    final state; slip_base, slip_bed: per block, the largest plastic slip [m] of its
-    contacts with the ground and of its bed joints (each contact's slip summed over time);
-    cpu [s] (this thread's: walls' bisections may run in threads at once); builds: Verlet list
-    rebuilds."""
+    t_collapse [s]; steps, t_end [s]; record: (rows, 8) t, kinetic, potential, elastic
+    energy [J], x-displacement [m] and rotation [rad] of the first watched block, energy
+    dissipated so far and the ground's work so far [J] (``ENERGY``); state: the final state;
+    slip_base, slip_bed: per block, the largest plastic slip [m] of its contacts with the
+    ground and of its bed joints (each contact's slip summed over time); work: the run's
+    energy terms [J] named by ``ENERGY``; cpu [s] (this thread's: walls' bisections may run in
+    threads at once); builds: Verlet list rebuilds.
+
+    Energy per slab of thickness s: with no ties, loads or damping, kinetic + potential +
+    elastic + dissipated − ground's work stays at its value at t = 0 (``energy_balance``)."""
 
     collapsed: bool
     t_collapse: float
@@ -355,8 +365,20 @@ class Outcome:
     state: DEMState
     slip_base: np.ndarray
     slip_bed: np.ndarray
+    work: np.ndarray
     cpu: float
     builds: int
+
+    @property
+    def energy(self) -> dict[str, float]:
+        """The run's energy terms [J], by name (``ENERGY``)."""
+        return dict(zip(ENERGY, map(float, self.work)))
+
+    def energy_balance(self) -> np.ndarray:
+        """Per recorded row: kinetic + potential + elastic + dissipated − ground's work [J],
+        constant up to the integration's error when no ties, loads or damping act."""
+        r = self.record
+        return r[:, 1] + r[:, 2] + r[:, 3] + r[:, 6] - r[:, 7]
 
 
 def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: float = 0.0,
@@ -367,12 +389,13 @@ def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: floa
     p = model.params
     ref = ref or state
     ag = np.zeros(0) if ag is None else np.ascontiguousarray(ag, float)
-    rec = np.zeros((max(rec_rows, 1), 6))
+    rec = np.zeros((max(rec_rows, 1), 8))
+    work = np.zeros(len(ENERGY))
     slip_base, slip_bed = slip if slip is not None else (np.zeros(a.n_blocks),
                                                          np.zeros(a.n_blocks))
     z_ref = ref.pos[:, 1].copy() if z_ref is None else z_ref
     if nsteps <= 0:
-        return 0, 0, rec[:0], slip_base, slip_bed, 0
+        return 0, 0, rec[:0], slip_base, slip_bed, 0, work
     out = kernels.advance(
         int(nsteps), model.dt, state.pos, state.th, state.vel, state.om, model.rel,
         model.offsets, model.nxt, model.prv, model.flat, model.owner, a.fixed, model.inv_m,
@@ -382,10 +405,10 @@ def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: floa
         p.cone_tolerance, model.coinc, p.kn, p.ks_over_kn, model.thickness, model.fac_x,
         model.fac_f, model.xref, p.trib_floor, *model.crush, model.watch, ref.pos, ref.th,
         model.disp_limit, model.rot_limit, int(check_every), slip_base, slip_bed,
-        int(rec_every), rec, z_ref, vel_tol, model.loads, model.ties, state.tstate)
+        work, int(rec_every), rec, z_ref, vel_tol, model.loads, model.ties, state.tstate)
     steps, status, nrow = out[0], out[1], out[2]
     state.contacts = tuple(out[3:14])
-    return steps, status, rec[:nrow], slip_base, slip_bed, out[14]
+    return steps, status, rec[:nrow], slip_base, slip_bed, out[14], work
 
 
 def settle(model: DEMModel, state: DEMState | None = None, *, a_g: float = 0.0
@@ -458,10 +481,10 @@ def run(model: DEMModel, settled: DEMState, *, v_g: float = 0.0, velocity=None,
     check = max(1, int(round(0.002 / model.dt))) if stop_on_collapse else 0
     rows = (nsteps // record_every + 1) if record_every else 0
     t0 = time.thread_time()
-    steps, status, rec, sb, sd, builds = _advance(
+    steps, status, rec, sb, sd, builds, work = _advance(
         model, st, nsteps, ag=ag, ref=ref, check_every=check, rec_every=record_every,
         rec_rows=rows)
     cpu = time.thread_time() - t0
     collapsed = status == 1
     return Outcome(collapsed, steps * model.dt if collapsed else math.nan, int(steps),
-                   steps * model.dt, rec, st, sb, sd, cpu, int(builds))
+                   steps * model.dt, rec, st, sb, sd, work, cpu, int(builds))
