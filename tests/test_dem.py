@@ -156,7 +156,7 @@ def test_a_sliding_block_dissipates_its_kinetic_energy_by_base_friction():
     m = model.assembly.mass[1]
     e = out.energy
     assert e["friction_base"] == pytest.approx(0.5 * m * v * v, rel=2e-3)
-    assert e["friction_bed"] == e["friction_head"] == e["crushing"] == e["ground_work"] == 0
+    assert all(e[k] == 0 for k in e if k != "friction_base")
     shift = out.state.pos[1, 0] - settled.pos[1, 0]
     assert shift == pytest.approx(v * v / (2 * f * G), rel=2e-3)
     bal = out.energy_balance()
@@ -177,7 +177,7 @@ def test_energy_balance_of_a_panel_sliding_under_a_base_acceleration():
                   record_every=1, stop_on_collapse=False)
         e = out.energy
         assert e["friction_base"] > 0 and e["friction_bed"] > 0 and e["crushing"] == 0
-        dissipated = e["friction_base"] + e["friction_bed"] + e["friction_head"]
+        dissipated = sum(e[k] for k in e if k.startswith("friction"))
         assert out.record[-1, 6] == pytest.approx(dissipated, rel=1e-9)
         assert out.record[-1, 7] == pytest.approx(e["ground_work"], rel=1e-9)
         bal = out.energy_balance()

@@ -315,11 +315,11 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
     unless tied; shear force incremented by −ks·(relative tangential velocity)·dt and capped
     at fric·Fn (the excess over ks is the plastic slip, summed per contact in sl_c; per
     block, slip_base and slip_bed keep the largest of its contacts' slips with a fixed block
-    and in bed joints; ``work`` (5,) sums, in J, the friction work (each step's plastic slip
+    and in bed joints; ``work`` (6,) sums, in J, the friction work (each step's plastic slip
     times the mean of the shear force at the step's start and the cap, as PFC's slip energy)
-    with
-    fixed blocks, in bed joints (|n_z| > 0.9) and in the other joints, the crushing work
-    (cap × plastic closure), and the ground's inertia's work on the blocks, Σ −m a_g u dt).
+    with fixed blocks, in bed joints (|n_z| > 0.9) at x < fac_x (the façade strip) and
+    beyond, and in the other joints, the crushing work (cap × plastic closure), and the
+    ground's inertia's work on the blocks, Σ −m a_g u dt.
     Of two twins only the one whose
     vertex belongs to the lower block index acts while both are valid; the other carries its
     shear force and plastic closure. The list is rebuilt (``build_candidates``) once a block
@@ -327,8 +327,8 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
     moved outwards (−x) by more than disp_limit or turned by more than rot_limit; with damping, stop
     (status 2) once every free block is slower than vel_tol. rec (rows, 8) gets, every
     rec_every steps, t, kinetic, potential (m g (z − z_ref)), elastic energy, the
-    x-displacement and rotation of the first watched block, then work[:4].sum() and
-    work[4] so far.
+    x-displacement and rotation of the first watched block, then work[:5].sum() and
+    work[5] so far.
     Returns (steps done, status, rows recorded, key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin,
     cn_c, dp_c, n_builds)."""
     n = pos.shape[0]
@@ -455,7 +455,7 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
                 fn = kn_c[c] * (-gap - dp_c[c])
                 if fn > cn_c[c]:                  # crushing: the excess closure is plastic
                     dp_new = -gap - cn_c[c] / kn_c[c]
-                    work[3] += cn_c[c] * (dp_new - dp_c[c])
+                    work[4] += cn_c[c] * (dp_new - dp_c[c])
                     dp_c[c] = dp_new
                     fn = cn_c[c]
             else:
@@ -482,9 +482,9 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
                     elif abs(nz) > 0.9:
                         slip_bed[i] = max(slip_bed[i], sl_c[c])
                         slip_bed[j] = max(slip_bed[j], sl_c[c])
-                        work[1] += w
+                        work[1 if px < fac_x else 2] += w
                     else:
-                        work[2] += w
+                        work[3] += w
             fs_c[c] = fs
             if record:
                 elastic += 0.5 * fn * fn / kn_c[c] + 0.5 * fs * fs / ks_c[c]
@@ -520,7 +520,7 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             vel[b, 1] += dt * F[b, 1] * inv_m[b]
             om[b] += dt * F[b, 2] * inv_I[b]
             if a_g != 0.0:
-                work[4] -= dt * mass[b] * a_g * 0.5 * (vx0 + vel[b, 0])
+                work[5] -= dt * mass[b] * a_g * 0.5 * (vx0 + vel[b, 0])
             if record:
                 ux, uz, uw = 0.5 * (vx0 + vel[b, 0]), 0.5 * (vz0 + vel[b, 1]), 0.5 * (w0b + om[b])
                 ke += 0.5 * mass[b] * (ux * ux + uz * uz) + 0.5 * uw * uw / inv_I[b]
@@ -539,8 +539,8 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             if w0 >= 0:
                 rec[nrow, 4] = pos[w0, 0] - dt * vel[w0, 0] - ref_pos[w0, 0]
                 rec[nrow, 5] = th[w0] - dt * om[w0] - ref_th[w0]
-            rec[nrow, 6] = work[0] + work[1] + work[2] + work[3]
-            rec[nrow, 7] = work[4]
+            rec[nrow, 6] = work[0] + work[1] + work[2] + work[3] + work[4]
+            rec[nrow, 7] = work[5]
             nrow += 1
         if check_every > 0 and (step + 1) % check_every == 0:
             if damping > 0.0 and math.sqrt(vmax) < vel_tol:

@@ -338,9 +338,11 @@ def _real_actions(a: Assembly, real, k_rigid: float):
 
 
 #: the kernel's energy terms (``Outcome.work``) [J]: friction work with the ground (a fixed
-#: block), in bed joints and in the other joints (head joints, the toothing's faces), crushing
-#: work (f_c finite), and the ground acceleration's work on the blocks
-ENERGY = ("friction_base", "friction_bed", "friction_head", "crushing", "ground_work")
+#: block), in bed joints within the façade strip (x < b of a T-section) and beyond it, and in
+#: the other joints (head joints, the façade's inner face), crushing work (f_c finite), and the
+#: ground acceleration's work on the blocks
+ENERGY = ("friction_base", "friction_bed_facade", "friction_bed", "friction_head", "crushing",
+          "ground_work")
 
 
 @dataclass
