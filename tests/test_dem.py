@@ -185,6 +185,37 @@ def test_energy_balance_of_a_panel_sliding_under_a_base_acceleration():
     assert drift[0] < 3e-3 and drift[1] < drift[0] / 3, drift
 
 
+def test_a_signal_interrupts_a_dem_run_in_the_main_thread():
+    # the kernel releases the GIL and runs in a thread of its own (``_threads.call``), so a
+    # handler runs at once rather than after the run; a run of 300 s of simulated time is
+    # timed by extrapolating one of 10 s
+    import os
+    import signal
+    import threading
+    import time
+
+    a = running_bond_panel(3, 4, 0.3, 0.2, density=RHO)
+    model = build_model(a, f=0.6)
+    settled, _ = settle(model)
+    t0 = time.perf_counter()
+    run(model, settled, t_max=10.0, stop_on_collapse=False)
+    whole = 30 * (time.perf_counter() - t0)
+
+    def handler(signum, frame):
+        raise KeyboardInterrupt
+
+    old = signal.signal(signal.SIGUSR1, handler)
+    try:
+        threading.Timer(0.1, os.kill, (os.getpid(), signal.SIGUSR1)).start()
+        t0 = time.perf_counter()
+        with pytest.raises(KeyboardInterrupt):
+            run(model, settled, t_max=300.0, stop_on_collapse=False)
+        waited = time.perf_counter() - t0
+    finally:
+        signal.signal(signal.SIGUSR1, old)
+    assert waited < min(1.0, whole / 2), (waited, whole)
+
+
 def test_threshold_converges_in_dt(block):
     # the DEM's own ideal impulse (every block given −v_g, the base joint frictional), with
     # the default dt and with dt halved

@@ -286,7 +286,7 @@ def build_candidates(X, offsets, nxt, prv, flat, owner, fixed, margin, coinc, co
     return key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, fixed, inv_m,
             inv_I, mass, radius, g, fric, ag, ag_t0, damping,
             key, cv, ce, kn_c, ks_c, fs_c, tied, sl_c, twin, cn_c, dp_c,
@@ -294,7 +294,8 @@ def advance(nsteps, dt, pos, th, vel, om, rel, offsets, nxt, prv, flat, owner, f
             kn, ks_ratio, thick, fac_x, fac_f, xref, trib_floor, fc, dep_f, dep_w, x_j,
             watch, ref_pos, ref_th, disp_limit, rot_limit, check_every,
             slip_base, slip_bed, work, rec_every, rec, z_ref, vel_tol, loads, ties, tstate):
-    """Central differences for nsteps steps of dt.
+    """Central differences for nsteps steps of dt. Releases the GIL (``model`` runs it through
+    ``_threads.call``, so that a signal interrupts the wait for it).
 
     A real wall (``model``; docs/real-walls.md): ``loads`` (n_l, 5) rows (block, r_x, r_z,
     F_x, F_z): a dead force (F_x, F_z) at the point r of the block's frame (from its

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import _threads
 from ..blocks.geometry import FACADE, TOOTHING, Assembly
 from ..errors import ParameterError, check_range
 from ..params import G_STANDARD
@@ -353,8 +354,8 @@ class Outcome:
     dissipated so far and the ground's work so far [J] (``ENERGY``); state: the final state;
     slip_base, slip_bed: per block, the largest plastic slip [m] of its contacts with the
     ground and of its bed joints (each contact's slip summed over time); work: the run's
-    energy terms [J] named by ``ENERGY``; cpu [s] (this thread's: walls' bisections may run in
-    threads at once); builds: Verlet list rebuilds.
+    energy terms [J] named by ``ENERGY``; cpu [s] (the kernel's thread's: walls' bisections
+    may run in threads at once); builds: Verlet list rebuilds.
 
     Energy per slab of thickness s: with no ties, loads or damping, kinetic + potential +
     elastic + dissipated − ground's work stays at its value at t = 0 (``energy_balance``)."""
@@ -397,8 +398,10 @@ def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: floa
                                                          np.zeros(a.n_blocks))
     z_ref = ref.pos[:, 1].copy() if z_ref is None else z_ref
     if nsteps <= 0:
-        return 0, 0, rec[:0], slip_base, slip_bed, 0, work
-    out = kernels.advance(
+        return 0, 0, rec[:0], slip_base, slip_bed, 0, work, 0.0
+    # in a thread of its own (the kernel releases the GIL), so that a signal interrupts it
+    out, cpu = _threads.call(
+        _timed, kernels.advance,
         int(nsteps), model.dt, state.pos, state.th, state.vel, state.om, model.rel,
         model.offsets, model.nxt, model.prv, model.flat, model.owner, a.fixed, model.inv_m,
         model.inv_I, model.mass, model.radius, model.g, model.f, ag, t0, damping,
@@ -410,7 +413,14 @@ def _advance(model: DEMModel, state: DEMState, nsteps: int, *, ag=None, t0: floa
         work, int(rec_every), rec, z_ref, vel_tol, model.loads, model.ties, state.tstate)
     steps, status, nrow = out[0], out[1], out[2]
     state.contacts = tuple(out[3:14])
-    return steps, status, rec[:nrow], slip_base, slip_bed, out[14], work
+    return steps, status, rec[:nrow], slip_base, slip_bed, out[14], work, cpu
+
+
+def _timed(fn, *args):
+    """(fn(*args), the CPU seconds of the thread that ran it)."""
+    c0 = time.thread_time()
+    out = fn(*args)
+    return out, time.thread_time() - c0
 
 
 def settle(model: DEMModel, state: DEMState | None = None, *, a_g: float = 0.0
@@ -482,11 +492,9 @@ def run(model: DEMModel, settled: DEMState, *, v_g: float = 0.0, velocity=None,
     ref = settled
     check = max(1, int(round(0.002 / model.dt))) if stop_on_collapse else 0
     rows = (nsteps // record_every + 1) if record_every else 0
-    t0 = time.thread_time()
-    steps, status, rec, sb, sd, builds, work = _advance(
+    steps, status, rec, sb, sd, builds, work, cpu = _advance(
         model, st, nsteps, ag=ag, ref=ref, check_every=check, rec_every=record_every,
         rec_rows=rows)
-    cpu = time.thread_time() - t0
     collapsed = status == 1
     return Outcome(collapsed, steps * model.dt if collapsed else math.nan, int(steps),
                    steps * model.dt, rec, st, sb, sd, work, cpu, int(builds))
