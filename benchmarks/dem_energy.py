@@ -1,24 +1,26 @@
 """Where the ideal impulse's energy goes in the DEM (docs/dem.md, section 21): for each Table 1
-wall, the highest safe and the lowest collapsing trial of its threshold bracket, run with the
-kernel's energy terms (``Outcome.energy``): friction work with the ground, in bed joints and in
-the other joints (head joints and the façade's inner face), as fractions of the kinetic energy
-E0 = ½ Σ m v_g² the impulse gives the free blocks (E0 split into the façade's and toothing
-blocks' share, the watched blocks, and the wall's). One JSON line per trial; ``--plot`` draws
-the energies against time for the safe trials.
+wall, the highest safe and the lowest collapsing trial of its threshold bracket, run again with
+the kernel's energy terms (``Outcome.energy``): friction work with the ground, in the façade's
+bed joints, in the wall's and in the other joints (head joints and the façade's inner face),
+as fractions of the kinetic energy E0 = ½ Σ m v_g² the impulse gives the free blocks (the
+watched blocks', façade and toothing, share of it beside). One JSON line per trial;
+``--table`` prints them, ``--plot`` draws the safe trials' energies against time.
 
-    python benchmarks/dem_energy.py B1 B4                  # brackets from the defaults' table
+    python benchmarks/dem_energy.py B1 B4                  # bisection as table1 --dem, then
+                                                           # the bracket's two trials again
     python benchmarks/dem_energy.py --table docs/figures/dem_energy.jsonl \
         --plot docs/figures/dem_energy.png
 
-The brackets (vg_lo, vg_hi) are read from ``--brackets`` (default
-docs/figures/dem_table1_after_fix.csv, the defaults' ``homlimit table1 --dem`` of section 19).
-About 10–70 s of CPU per trial on one core.
+The bracket comes from a bisection run here (``collapse_threshold``: first trial UDEC's v̄_g
+rounded to 0.1 m/s, ±1 %, t_max 5 s, as ``homlimit table1 --dem``), not from a result file:
+a file's amplitudes carry 15 significant digits, and near the threshold a trial can turn on
+less (B6: 1.0697916666666667 m/s stands for 5 s, 1.06979166666667 collapses at 3.6 s).
+About 2–7 min of CPU per wall on one core.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import time
 from pathlib import Path
@@ -26,16 +28,7 @@ from pathlib import Path
 import numpy as np
 from dem_table1 import add_overrides, settled_wall
 
-ROOT = Path(__file__).resolve().parents[1]
-BRACKETS = ROOT / "docs" / "figures" / "dem_table1_after_fix.csv"
 TERMS = ("friction_base", "friction_bed_facade", "friction_bed", "friction_head")
-
-
-def brackets(path: Path) -> dict[str, tuple[float, float]]:
-    """{wall: (vg_lo, vg_hi)} of a ``table1 --dem`` CSV."""
-    with open(path, newline="") as fh:
-        rows = list(csv.DictReader(fh))
-    return {r["test"]: (float(r["vg_lo [m/s]"]), float(r["vg_hi [m/s]"])) for r in rows}
 
 
 def trial(wall: str, model, settled, v: float, t_max: float, every: int) -> dict:
@@ -102,7 +95,6 @@ def plot(lines: list[dict], path: Path) -> None:
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("walls", nargs="*", help="Table 1 test names, e.g. B1 B4")
-    ap.add_argument("--brackets", type=Path, default=BRACKETS)
     ap.add_argument("--t-max", type=float, default=5.0, help="trial length [s]")
     ap.add_argument("--every", type=int, default=200, help="record every this many steps")
     ap.add_argument("--table", type=Path, help="print the table of these JSON lines")
@@ -115,16 +107,21 @@ def main(argv=None) -> None:
         if args.plot:
             plot(lines, args.plot)
         return
-    known = brackets(args.brackets)
+    from homlimit.closed_form.paper import table1
+    from homlimit.dem.threshold import collapse_threshold
+
+    rows = {r.test: r for r in table1()}
     for w in args.walls:
-        if w not in known:
-            ap.error(f"wall {w!r}: not in {args.brackets} (allowed: {', '.join(known)})")
+        if w not in rows:
+            ap.error(f"wall {w!r}: not a Table 1 test (allowed: {', '.join(rows)})")
     over = dict(args.over)
     for w in args.walls:
         model, settled = settled_wall(w, over)
-        for v in known[w]:
+        th = collapse_threshold(model, settled, guess=round(rows[w].vg, 1), t_max=args.t_max)
+        for v, expect in ((th.lo, False), (th.hi, True)):
             d = trial(w, model, settled, v, args.t_max, args.every)
-            print(json.dumps({**d, "overrides": over}), flush=True)
+            d.update(threshold=th.v, reproduced=d["collapsed"] == expect, overrides=over)
+            print(json.dumps(d), flush=True)
 
 
 if __name__ == "__main__":

@@ -134,6 +134,8 @@ def test_run_with_dem_makes_every_trial_a_task_and_resumes(small_run, tmp_path):
         here["base_slid"], here["hinge_slid"], here["n_blocks"])
     assert [(t["vg"], t["collapsed"]) for t in d["trials"]] == [
         (pytest.approx(t["vg"], rel=1e-12), t["collapsed"]) for t in here["trials"]]
+    # every digit of each trial's amplitude, as text, to re-run it exactly
+    assert [float(t["exact"]) for t in d["trials"]] == [t["vg"] for t in here["trials"]]
     records = sorted((out / "records").glob("[!.]*.json"))
     assert len(records) == d["n_trials"] >= 2                  # one per trial
     stamps = {p: p.stat().st_mtime_ns for p in records}

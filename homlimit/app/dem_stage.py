@@ -141,7 +141,10 @@ class DemRun:
 
     def as_dict(self) -> dict:
         """summary.json's "dem": the threshold and its bracket (vg or pga), h, λ = h/b, the
-        failing part's base z0, the slide flags and largest slips, trials, CPU, wall time."""
+        failing part's base z0, the slide flags and largest slips, trials, CPU, wall time.
+        Each trial keeps its amplitude with every digit as text ("exact": the file's numbers
+        carry 15 digits, and a trial near the threshold can turn on the 16th; docs/dem.md
+        section 3)."""
         th = self.threshold
         k = "vg" if self.impulse else "pga"
         d = {"loading": self.dem.loading}
@@ -154,7 +157,8 @@ class DemRun:
                   "h": th.h, "lam": th.h / self.b, "z0": th.z0, "base_slid": th.base_slid,
                   "hinge_slid": th.hinge_slid, "base_slip": th.base_slip,
                   "hinge_slip": th.hinge_slip, "n_trials": len(th.trials),
-                  "trials": [{k: v, "collapsed": c, "t_end": t} for v, c, t in th.trials],
+                  "trials": [{k: v, "exact": repr(v), "collapsed": c, "t_end": t}
+                             for v, c, t in th.trials],
                   "cpu": th.cpu, "seconds": self.seconds, "dt": th.dt,
                   "n_blocks": self.model.n_blocks,
                   "fc": self.model.info.get("fc", 0.0),

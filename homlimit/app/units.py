@@ -94,7 +94,8 @@ UNITS: dict[str, str] = {
     **dict.fromkeys("pulse_period t_end cpu dt settle_time".split(), "s"),
     **dict.fromkeys("vnorm_udec dem_over_udec rel_tol n_trials n_blocks joint_segments "
                      "joint_points".split(), "-"),
-    **dict.fromkeys("loading base_slid hinge_slid collapsed settle_converged".split(), ""),
+    **dict.fromkeys("loading base_slid hinge_slid collapsed settle_converged exact".split(),
+                    ""),
     # real walls (issue 30; closed_form.real, docs/real-walls.md)
     **dict.fromkeys("fc cohesion tension tension_effective peak_compression".split(), "Pa"),
     "fc_rule": "", "bond_rule": "", "vg_unavailable": "",   # the FE path with a cohesion
