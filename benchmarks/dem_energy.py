@@ -51,8 +51,10 @@ def trial(wall: str, model, settled, v: float, t_max: float, every: int) -> dict
             "t_pe_max": float(r[k, 0]), "pe_max/E0": float(r[k, 2] / e0),
             "dissipated_at_pe_max/E0": float(r[k, 6] / e0),
             "balance_drift/E0": float(np.ptp(out.energy_balance()) / e0),
-            "t": r[:, 0].tolist(), "ke/E0": (r[:, 1] / e0).tolist(),
-            "pe/E0": (r[:, 2] / e0).tolist(), "d/E0": (r[:, 6] / e0).tolist(),
+            # the series to 5 decimals (a figure's resolution), so the JSON stays small
+            "t": np.round(r[:, 0], 5).tolist(), "ke/E0": np.round(r[:, 1] / e0, 5).tolist(),
+            "pe/E0": np.round(r[:, 2] / e0, 5).tolist(),
+            "d/E0": np.round(r[:, 6] / e0, 5).tolist(),
             "cpu": time.process_time() - c0}
 
 
@@ -96,7 +98,8 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("walls", nargs="*", help="Table 1 test names, e.g. B1 B4")
     ap.add_argument("--t-max", type=float, default=5.0, help="trial length [s]")
-    ap.add_argument("--every", type=int, default=200, help="record every this many steps")
+    ap.add_argument("--sample", type=float, default=0.01,
+                    help="record the energies every this many seconds [s]")
     ap.add_argument("--table", type=Path, help="print the table of these JSON lines")
     ap.add_argument("--plot", type=Path, help="with --table: draw the safe trials")
     add_overrides(ap)
@@ -119,7 +122,8 @@ def main(argv=None) -> None:
         model, settled = settled_wall(w, over)
         th = collapse_threshold(model, settled, guess=round(rows[w].vg, 1), t_max=args.t_max)
         for v, expect in ((th.lo, False), (th.hi, True)):
-            d = trial(w, model, settled, v, args.t_max, args.every)
+            every = max(1, round(args.sample / model.dt))
+            d = trial(w, model, settled, v, args.t_max, every)
             d.update(threshold=th.v, reproduced=d["collapsed"] == expect, overrides=over)
             print(json.dumps(d), flush=True)
 
