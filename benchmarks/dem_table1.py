@@ -65,6 +65,21 @@ def pulse_loading(kind: str, period: float, polarity: int = 1):
     return load, pgv, pgv(1.0)
 
 
+def facade_impulse(model):
+    """load(v) -> the keywords of ``run`` that give the watched blocks (the façade's and
+    toothing blocks) −v x̂ and the wall none: the ideal impulse as the closed forms see it,
+    the rest of the structure at rest. A diagnostic (docs/dem.md section 22), not Table 1's
+    load, under which every block moves."""
+    import numpy as np
+
+    def load(v):
+        q = np.zeros((model.n_blocks, 3))
+        q[model.watch, 0] = -v
+        return {"velocity": q}
+
+    return load
+
+
 def settled_wall(wall: str, over: dict):
     """(model, settled state) of Table 1's ``wall`` (the T-section, façade through) with the
     DEMParams ``over``rides, settled under gravity."""
@@ -84,14 +99,17 @@ def main(argv=None) -> None:
     ap.add_argument("--t-max", type=float, default=5.0, help="trial length [s]")
     add_overrides(ap)
     ap.add_argument("--loading", default="impulse",
-                    choices=("impulse", "rectangular", "one-sine", "one-cosine", "ricker"),
-                    help="the ideal impulse (default) or a base-acceleration pulse")
+                    choices=("impulse", "facade-impulse", "rectangular", "one-sine",
+                             "one-cosine", "ricker"),
+                    help="the ideal impulse (default), the same given to the façade's and "
+                    "toothing blocks alone (a diagnostic: the wall at rest, as the closed "
+                    "forms' fixed rest of the structure), or a base-acceleration pulse")
     ap.add_argument("--pulse-period", type=float, default=None,
                     help="Δt of the pulse [s] (rectangular: its duration); needed with a pulse")
     ap.add_argument("--polarity", type=int, default=1, choices=(1, -1),
                     help="the pulse's polarity (+1: its first lobe throws the façade out)")
     args = ap.parse_args(argv)
-    pulse = args.loading != "impulse"
+    pulse = args.loading not in ("impulse", "facade-impulse")
     if pulse and (args.pulse_period is None or not 0 < args.pulse_period <= 100):
         ap.error(f"--pulse-period {args.pulse_period}: a pulse needs 0 < Δt <= 100 s")
     if not pulse and args.pulse_period is not None:
@@ -122,6 +140,8 @@ def main(argv=None) -> None:
         model = t_section_model(row.case, params)
         guess = args.guess if args.guess is not None else round(row.vg, 1)
         load, pgv = None, (lambda a: a)
+        if args.loading == "facade-impulse":
+            load = facade_impulse(model)
         if pulse:
             load, pgv, per_ag = pulse_loading(args.loading, args.pulse_period, args.polarity)
             guess /= per_ag
