@@ -155,10 +155,10 @@ def test_a_sliding_block_dissipates_its_kinetic_energy_by_base_friction():
     out = run(model, settled, velocity=q, t_max=0.4, record_every=10, stop_on_collapse=False)
     m = model.assembly.mass[1]
     e = out.energy
-    assert e["friction_base"] == pytest.approx(0.5 * m * v * v, rel=2e-3)
+    assert e["friction_base"] == pytest.approx(0.5 * m * v * v, rel=2e-4)   # measured 3e-5
     assert all(e[k] == 0 for k in e if k != "friction_base")
     shift = out.state.pos[1, 0] - settled.pos[1, 0]
-    assert shift == pytest.approx(v * v / (2 * f * G), rel=2e-3)
+    assert shift == pytest.approx(v * v / (2 * f * G), rel=2e-3)        # measured −8e-4
     bal = out.energy_balance()
     assert np.abs(bal - bal[0]).max() < 1e-3 * out.record[0, 1]
 
