@@ -65,16 +65,19 @@ def pulse_loading(kind: str, period: float, polarity: int = 1):
     return load, pgv, pgv(1.0)
 
 
-def facade_impulse(model):
-    """load(v) -> the keywords of ``run`` that give the watched blocks (the façade's and
-    toothing blocks) −v x̂ and the wall none: the ideal impulse as the closed forms see it,
-    the rest of the structure at rest. A diagnostic (docs/dem.md section 22), not Table 1's
-    load, under which every block moves."""
+def part_impulse(model, facade: bool = True):
+    """load(v) -> the keywords of ``run`` that give −v x̂ to the watched blocks (the façade's
+    and toothing blocks) alone, the wall at rest (``facade``: the ideal impulse as the closed
+    forms see it, the rest of the structure fixed), or to the wall's free blocks alone, the
+    façade at rest. Diagnostics (docs/dem.md section 22), not Table 1's load, under which
+    every block moves."""
     import numpy as np
+
+    moved = model.watch if facade else ~model.watch & ~model.assembly.fixed
 
     def load(v):
         q = np.zeros((model.n_blocks, 3))
-        q[model.watch, 0] = -v
+        q[moved, 0] = -v
         return {"velocity": q}
 
     return load
@@ -99,17 +102,18 @@ def main(argv=None) -> None:
     ap.add_argument("--t-max", type=float, default=5.0, help="trial length [s]")
     add_overrides(ap)
     ap.add_argument("--loading", default="impulse",
-                    choices=("impulse", "facade-impulse", "rectangular", "one-sine",
-                             "one-cosine", "ricker"),
+                    choices=("impulse", "facade-impulse", "wall-impulse", "rectangular",
+                             "one-sine", "one-cosine", "ricker"),
                     help="the ideal impulse (default), the same given to the façade's and "
                     "toothing blocks alone (a diagnostic: the wall at rest, as the closed "
-                    "forms' fixed rest of the structure), or a base-acceleration pulse")
+                    "forms' fixed rest of the structure) or to the wall's blocks alone, or a "
+                    "base-acceleration pulse")
     ap.add_argument("--pulse-period", type=float, default=None,
                     help="Δt of the pulse [s] (rectangular: its duration); needed with a pulse")
     ap.add_argument("--polarity", type=int, default=1, choices=(1, -1),
                     help="the pulse's polarity (+1: its first lobe throws the façade out)")
     args = ap.parse_args(argv)
-    pulse = args.loading not in ("impulse", "facade-impulse")
+    pulse = args.loading not in ("impulse", "facade-impulse", "wall-impulse")
     if pulse and (args.pulse_period is None or not 0 < args.pulse_period <= 100):
         ap.error(f"--pulse-period {args.pulse_period}: a pulse needs 0 < Δt <= 100 s")
     if not pulse and args.pulse_period is not None:
@@ -140,8 +144,8 @@ def main(argv=None) -> None:
         model = t_section_model(row.case, params)
         guess = args.guess if args.guess is not None else round(row.vg, 1)
         load, pgv = None, (lambda a: a)
-        if args.loading == "facade-impulse":
-            load = facade_impulse(model)
+        if args.loading in ("facade-impulse", "wall-impulse"):
+            load = part_impulse(model, facade=args.loading == "facade-impulse")
         if pulse:
             load, pgv, per_ag = pulse_loading(args.loading, args.pulse_period, args.polarity)
             guess /= per_ag
