@@ -121,8 +121,8 @@ def main(argv=None) -> None:
     for w in args.walls:
         model, settled = settled_wall(w, over)
         th = collapse_threshold(model, settled, guess=round(rows[w].vg, 1), t_max=args.t_max)
+        every = max(1, round(args.sample / model.dt))
         for v, expect in ((th.lo, False), (th.hi, True)):
-            every = max(1, round(args.sample / model.dt))
             d = trial(w, model, settled, v, args.t_max, every)
             d.update(threshold=th.v, reproduced=d["collapsed"] == expect, overrides=over)
             print(json.dumps(d), flush=True)
