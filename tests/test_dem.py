@@ -187,8 +187,11 @@ def test_energy_balance_of_a_panel_sliding_under_a_base_acceleration():
 
 def test_a_signal_interrupts_a_dem_run_in_the_main_thread():
     # the kernel releases the GIL and runs in a thread of its own (``_threads.call``), so a
-    # handler runs at once rather than after the run; a run of 300 s of simulated time is
-    # timed by extrapolating one of 10 s
+    # handler runs while the kernel still runs rather than after it. Measured on the kernel
+    # thread's own CPU clock, not the wall: at the handler it has done a small part of the
+    # run's whole CPU time (``Outcome.cpu`` of the same run uninterrupted). Without ``nogil``
+    # the handler waits for the kernel's end and finds it all done. The latency itself is a
+    # benchmark (benchmarks/bench_dem_interrupt.py).
     import os
     import signal
     import threading
@@ -197,23 +200,25 @@ def test_a_signal_interrupts_a_dem_run_in_the_main_thread():
     a = running_bond_panel(3, 4, 0.3, 0.2, density=RHO)
     model = build_model(a, f=0.6)
     settled, _ = settle(model)
-    t0 = time.perf_counter()
-    run(model, settled, t_max=10.0, stop_on_collapse=False)
-    whole = 30 * (time.perf_counter() - t0)
+    whole = run(model, settled, t_max=40.0, stop_on_collapse=False).cpu
+    done = []
 
     def handler(signum, frame):
+        kernel = [t for t in threading.enumerate() if t.name == "homlimit-_timed"]
+        if kernel and kernel[0].is_alive():
+            done.append(time.clock_gettime(time.pthread_getcpuclockid(kernel[0].ident)))
+        else:
+            done.append(whole)               # the kernel had ended
         raise KeyboardInterrupt
 
     old = signal.signal(signal.SIGUSR1, handler)
     try:
         threading.Timer(0.1, os.kill, (os.getpid(), signal.SIGUSR1)).start()
-        t0 = time.perf_counter()
         with pytest.raises(KeyboardInterrupt):
-            run(model, settled, t_max=300.0, stop_on_collapse=False)
-        waited = time.perf_counter() - t0
+            run(model, settled, t_max=40.0, stop_on_collapse=False)
     finally:
         signal.signal(signal.SIGUSR1, old)
-    assert waited < min(1.0, whole / 2), (waited, whole)
+    assert len(done) == 1 and done[0] < whole / 2, (done, whole)
 
 
 def test_threshold_converges_in_dt(block):

@@ -28,7 +28,7 @@ from homlimit.app import cli
 from homlimit.app import sweep as sweep_mod
 from homlimit.app.cli import app
 from homlimit.app.config import ConfigError
-from homlimit.app.engine import SCHEDULER_TIMEOUT, Engine, check_scheduler
+from homlimit.app.engine import Engine, check_scheduler
 from homlimit.app.sweep import MAX_CASES, parse_grid, plan_sweep, read_table, sweep
 from homlimit.errors import ParameterError
 
@@ -237,12 +237,11 @@ def test_part_divisions_over_the_budget_is_named(sandbox):
 
 # ----------------------------------------------------------------------------- max-cases
 def test_a_grid_of_1e8_points_is_refused_at_once(sandbox, no_planning):
+    # ``no_planning`` fails the test if a single case is planned: refused on the count alone
     values = ",".join(str(2.0 + k * 1e-4) for k in range(10_000))
-    t0 = time.perf_counter()
     refused("sweep", C4, "--grid", f"wall.l={values}", "--grid", f"wall.H={values}",
             message=doc("the sweep has 100,000,000 cases (10,000 wall.l x 10,000 wall.H): out "
                         "of range: allowed at most max_cases (--max-cases) = 100,000"))
-    assert time.perf_counter() - t0 < 5
     assert not (sandbox / "homlimit-out").exists()
 
 
@@ -342,31 +341,31 @@ def _closed_port() -> int:
 
 
 def test_no_scheduler_at_the_address_fails_fast(sandbox):
+    # a refused port is found by one TCP connection: the error is the refusal, not a timeout
     port = _closed_port()
-    t0 = time.perf_counter()
     res = refused("sweep", C4, "--grid", "wall.l=3", "--scheduler", f"tcp://127.0.0.1:{port}",
                   message=f"scheduler (--scheduler) = 'tcp://127.0.0.1:{port}': "
                           + doc("no Dask scheduler answers there (Connection refused"))
-    assert time.perf_counter() - t0 <= SCHEDULER_TIMEOUT
     assert len(res.stderr.splitlines()) == 2        # "connecting to ...", the error
     assert not (sandbox / "homlimit-out").exists()
-    t0 = time.perf_counter()
-    with pytest.raises(ParameterError, match="no Dask scheduler answers there"):
+    with pytest.raises(ParameterError, match=r"answers there \(Connection refused"):
         with Engine(scheduler="tcp://127.0.0.1:1"):
             pass
-    assert time.perf_counter() - t0 <= SCHEDULER_TIMEOUT
 
 
-def test_a_silent_server_is_given_up_within_the_timeout():
-    """A port that accepts connections but never speaks Dask: the handshake times out."""
+def test_a_silent_server_is_given_up_within_the_timeout(monkeypatch):
+    """A port that accepts connections but never speaks Dask: the handshake times out, after
+    the engine's timeout (here 1 s, so the test does not wait the default's)."""
+    import homlimit.app.engine as engine
+
+    monkeypatch.setattr(engine, "SCHEDULER_TIMEOUT", 1.0)
     with socket.socket() as srv:
         srv.bind(("127.0.0.1", 0))
         srv.listen()
-        t0 = time.perf_counter()
-        with pytest.raises(ParameterError, match="no Dask scheduler answers there"):
+        with pytest.raises(ParameterError, match=r"no Dask scheduler answers there \(.*"
+                                                 r"waited at most 1 s\)"):
             with Engine(scheduler=f"tcp://127.0.0.1:{srv.getsockname()[1]}"):
                 pass
-        assert time.perf_counter() - t0 <= SCHEDULER_TIMEOUT + 1.0
 
 
 def test_scheduler_addresses():
