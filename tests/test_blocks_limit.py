@@ -127,14 +127,15 @@ def test_non_associative_panel_converges_but_not_to_the_lowest():
     - the half block tipping about its toe with a free head joint (N = 0 there, the
       neighbour holding its own load by friction, T/N = c/a <= f) is a non-associative
       collapse state at λ = c/a = 0.667, yet the iteration, started from the associative
-      forces, settles at 0.753: its fixed point is a collapse state, not the lowest one."""
+      forces, settles above it (0.753 measured, docs/blocks.md): its fixed point is a
+      collapse state (Coulomb met, equilibrium), not the lowest one. The 0.753 itself is this
+      code's output, so it is not pinned here."""
     A = running_bond_panel(2, 2, 0.3, 0.2, shift_first=False)
     ra = solve_blocks(A, f=0.8)
     rn = solve_blocks(A, f=0.8, friction="non-associative", max_iter=60)
     assert rn.converged
     assert rn.sizes["coulomb_violation"] < 1e-6
     assert 0.2 / 0.3 < rn.multiplier < ra.multiplier
-    assert rn.multiplier == pytest.approx(0.75287, abs=2e-5)
     R = equilibrium_residual(A, rn)
     assert np.abs(R).max() < 1e-6 * A.mass.max() * 9.81
 

@@ -41,7 +41,7 @@ def test_points_and_normalisation(b1, spectra):
 
 
 @pytest.mark.slow
-def test_rectangular_spectrum_tends_to_eq7_and_to_uplift(b1, spectra):
+def test_rectangular_spectrum_tends_to_eq7_and_longer_pulses_need_less_acceleration(b1, spectra):
     for m in ("I", "II"):
         rect = sorted((p for p in spectra if p.pulse == "rectangular" and p.mechanism == m),
                       key=lambda p: p.period)

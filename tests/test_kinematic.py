@@ -243,7 +243,13 @@ def test_graded_coordinates():
     x = graded(0.0, 4.0, 0.01, 0.5, foci=(1.0,), growth=1.2)
     assert x[0] == 0.0 and x[-1] == 4.0 and np.any(np.isclose(x, 1.0))
     h = np.diff(x)
-    assert h.min() == pytest.approx(0.01, rel=0.6) and h.max() <= 0.5 * 1.5
+    # the law: each step is min(h_max, h_min + (growth − 1)·d) at its end nearer the focus,
+    # but the middle one of each span, the rest, between 0.5 and 1.5 of that size
+    d = np.minimum(np.abs(x[:-1] - 1.0), np.abs(x[1:] - 1.0))
+    ratio = h / np.minimum(0.5, 0.01 + 0.2 * d)
+    assert h.min() == pytest.approx(0.01, rel=1e-9)
+    assert 0.5 <= ratio.min() and ratio.max() <= 1.5
+    assert np.sum(np.abs(ratio - 1.0) > 1e-9) <= 2          # one rest per span
     with pytest.raises(ParameterError, match="graded"):
         graded(1.0, 0.0, 0.1, 0.2)
 

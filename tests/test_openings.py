@@ -236,10 +236,13 @@ def test_fe_band_scales_the_facade_weight_and_the_bracket_holds():
     assert live == pytest.approx([-weight, 0.0], rel=1e-12, abs=1e-6)
     lo, up = solve_static(p).multiplier, solve_kinematic(p).multiplier
     assert lo <= up * (1 + 1e-7)
-    full = solve_kinematic(t_section(B1, facade="bedjoints", h=0.5)).multiplier
-    # a lighter façade near the base, its strength unchanged: the mechanism's multiplier
-    # (resistance over load, both from the weight) moves, and stays of the same order
-    assert up == pytest.approx(full, rel=0.2)
+    rf = solve_kinematic(t_section(B1, facade="bedjoints", h=0.5))
+    # the band lies below the wall's mechanism, which moves there at a few % of its top speed
+    # (a P2 tail across the hinge's rows): lightening the façade there changes the dead and live
+    # powers only through that tail, so the multiplier stays put (measured −7.4e-4)
+    z, speed = rf.mesh.p[1], np.linalg.norm(rf.velocity, axis=1)
+    assert speed[z <= BAND.z_top].max() < 0.05 * speed.max()
+    assert up == pytest.approx(rf.multiplier, rel=5e-3)
 
 
 # --------------------------------------------------------------------------- blocks, DEM
