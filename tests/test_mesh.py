@@ -104,6 +104,25 @@ def test_cache_generates_once(tmp_path, monkeypatch):
         hm.cached("nonsense", directory=tmp_path)
 
 
+def test_cache_folder_of_a_checkout_and_of_an_install(tmp_path, monkeypatch):
+    """docs/cli.md: $HOMLIMIT_MESH_CACHE, else meshes/cache/ of a source checkout, else
+    ~/.cache/homlimit/meshes. The module lies at homlimit/fe/mesh.py in both layouts."""
+    monkeypatch.delenv("HOMLIMIT_MESH_CACHE", raising=False)
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    tree = tmp_path / "checkout"
+    (tree / "homlimit" / "fe").mkdir(parents=True)
+    (tree / "meshes").mkdir()
+    (tree / "pyproject.toml").write_text("")
+    monkeypatch.setattr(hm, "__file__", str(tree / "homlimit" / "fe" / "mesh.py"))
+    assert hm.cache_dir() == tree / "meshes" / "cache"
+    site = tmp_path / "lib" / "python3.11" / "site-packages"
+    (site / "homlimit" / "fe").mkdir(parents=True)
+    monkeypatch.setattr(hm, "__file__", str(site / "homlimit" / "fe" / "mesh.py"))
+    assert hm.cache_dir() == tmp_path / "home" / ".cache" / "homlimit" / "meshes"
+    monkeypatch.setenv("HOMLIMIT_MESH_CACHE", str(tmp_path / "mine"))
+    assert hm.cache_dir() == tmp_path / "mine"
+
+
 @pytest.mark.parametrize("name,b", [("tsection_B1_coarse", 0.5), ("tsection_B4_coarse", 0.25)])
 def test_reference_meshes(name, b):
     m = hm.to_skfem(hm.read(MESHES / f"{name}.msh"))

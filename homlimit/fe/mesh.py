@@ -228,13 +228,13 @@ def read(path: str | os.PathLike) -> meshio.Mesh:
 # ---------------------------------------------------------------------------------- cache
 
 def cache_dir() -> Path:
-    """$HOMLIMIT_MESH_CACHE, else meshes/cache/ next to the package's source tree (when the
-    package runs from a checkout), else ~/.cache/homlimit/meshes."""
+    """$HOMLIMIT_MESH_CACHE, else meshes/cache/ of the source tree the package runs from (a
+    checkout: homlimit/ beside meshes/ and pyproject.toml), else ~/.cache/homlimit/meshes."""
     env = os.environ.get("HOMLIMIT_MESH_CACHE")
     if env:
         return Path(env)
-    repo = Path(__file__).resolve().parent.parent
-    if (repo / "meshes").is_dir():
+    repo = Path(__file__).resolve().parents[2]          # homlimit/fe/mesh.py → the tree
+    if (repo / "meshes").is_dir() and (repo / "pyproject.toml").is_file():
         return repo / "meshes" / "cache"
     return Path.home() / ".cache" / "homlimit" / "meshes"
 
