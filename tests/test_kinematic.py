@@ -209,21 +209,21 @@ def test_t_section_multiplier_does_not_increase_on_nested_meshes(b1):
 
 @pytest.mark.slow
 def test_t_section_mechanism_rotates_about_the_outer_face(b1):
-    """The façade and a wedge of the wall rotate about a hinge on the outer face (x ≈ 0)."""
+    """The homogenised façade and a wedge of the wall rotate about a hinge on the outer face:
+    the rigid fit of the mechanism (``measure_mechanism``, as the run reports it) puts it
+    within a tenth of a façade column of x = 0 (measured 4 mm) and within one element (0.5 m)
+    of the exact hinge + fan's (``optimise_fan``: z0 = 3.22 m; measured 3.40 m)."""
+    from homlimit.closed_form.fan import optimise_fan
+    from homlimit.mechanism.analysis import densities, p2_nodes
+    from homlimit.mechanism.rigidfit import measure_mechanism
+
     prob = t_section(b1, h=0.5, n_b=2)
     sol = solve_kinematic(prob)
-    X, V = prob.mesh.p.T, sol.velocity
-    speed = np.linalg.norm(V, axis=1)
-    sel = speed > 0.5 * speed.max()
-    n = sel.sum()
-    A = np.zeros((2 * n, 3))
-    A[:n, 0], A[:n, 2] = 1.0, -X[sel, 1]
-    A[n:, 1], A[n:, 2] = 1.0, X[sel, 0]
-    (p0, p1, om), *_ = np.linalg.lstsq(A, np.r_[V[sel, 0], V[sel, 1]], rcond=None)
-    Ox, Oz = -p1 / om, p0 / om
-    assert abs(Ox) < 0.25 * b1.wall.b
-    assert 0.5 < Oz < b1.wall.H / 2
-    assert om > 0                     # counter-clockwise in x–z: the top moves towards −x
+    fit = measure_mechanism(*p2_nodes(sol, densities(b1))).fit
+    Ox, Oz = fit.O
+    assert abs(Ox) < 0.1 * b1.wall.b / 2
+    assert abs(Oz - optimise_fan(b1).z0) < 0.5
+    assert fit.omega > 0              # counter-clockwise in x–z: the top moves towards −x
 
 
 def test_vtu_round_trip(tmp_path):
