@@ -81,8 +81,14 @@ SCHEMA: dict[str, dict[str, Key]] = {
     "mesh": {
         "size": Key(float, 0.25, "m", 0.0, 1e4, lo_open=True,
                     doc="element spacing of the T-section mesh along z, and in the wall far "
-                        "from the junction (homlimit.fe.problems.t_section h; 4 columns across "
-                        "the façade, graded towards the junction); size <= min(H, b + L)"),
+                        "from the junction (homlimit.fe.problems.t_section h; the wall graded "
+                        "towards the junction). Across the façade (crossed, gmsh-strip): 4 "
+                        "equal columns on the FE scan's parts and on homlimit mesh's mesh; "
+                        "with outer_ratio > 0, the whole wall's bracket (gmsh-strip's "
+                        "adaptive chain, both bounds; else the static bound's copy) has "
+                        "columns graded to size/outer_ratio at the outer face (B1: 9 columns "
+                        "from 1 cm, homlimit.fe.geometry.graded_columns(0.5, 0.01)); "
+                        "size <= min(H, b + L)"),
         "max_triangles": Key(int, budget.DEFAULT_MAX_TRIANGLES, "", 100, 1e8,
                              doc="problem-size budget: the largest FE problem of the run "
                                  "(estimated from the wall and size before meshing, "
