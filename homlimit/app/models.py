@@ -26,13 +26,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .. import _io
+from .. import _io, _threads
 from .._version import package_version
 from ..dynamics import GeneralisedRocker
 from ..errors import OutputError, ParameterError, ResultError
 from ..fe.mesh import cache_dir, from_skfem
 from ..impulse import LoadWork, RigidBody
-from ..mechanism.analysis import FEResult, fe_result
+from ..mechanism.analysis import FEResult, fe_result, first_heights, h_scan
 from ..mechanism.fe_impulse import GeneralisedImpulse
 from . import plots, registry, report
 from .code_check import code_check_files
@@ -78,8 +78,12 @@ def outer_width(config: CaseConfig) -> float | None:
     return min(me.size / me.outer_ratio, config.case.wall.b / 4)
 
 
-def adaptive_bracket_of(config: CaseConfig, timings: dict):
-    """``mechanism.adaptive.adaptive_bracket`` of the whole wall, each cycle logged."""
+def adaptive_bracket_of(config: CaseConfig, timings: dict, beside=None):
+    """``mechanism.adaptive.adaptive_bracket`` of the whole wall, each cycle logged, then the
+    crack's splits (``refine_crack``). ``beside()``: work for this thread while the splits,
+    kinematic solves one after another on one core, run in a thread of their own (with two
+    cores or more and not on a Dask worker; else after them). Returns (the AdaptResult,
+    beside's result or None when it did not run)."""
     from ..fe.adapt import AdaptOptions
     from ..mechanism.adaptive import adaptive_bracket, refine_crack
     from ..mechanism.conform import conform_hook
@@ -109,7 +113,7 @@ def adaptive_bracket_of(config: CaseConfig, timings: dict):
                     "its target %g %%", res.stop, 100 * res.cycles[-1].rel_gap,
                     100 * ad.target_gap)
     if conform or ad.crack_cycles == 0:      # the fan search resolves the crack itself
-        return res
+        return res, None
 
     def crack_progress(c):
         m = c.measures
@@ -118,17 +122,27 @@ def adaptive_bracket_of(config: CaseConfig, timings: dict):
                  100 * c.rel_gap, *(("-" if m.get(k) is None else f"{m[k]:.4f}")
                                     for k in ("T1", "T2", "T_mid")), c.seconds)
 
-    with stage(timings, "crack refinement", f"the crack's band split until its edges and "
-               f"mid-line move <= {100 * ad.crack_tol:g} %, at most {ad.crack_cycles} times"):
-        res = refine_crack(config.case, res, ad.crack_tol, ad.crack_cycles,
-                           config.mesh.max_triangles, solver, crack_progress)
+    alongside = beside is not None and _threads.threads_here(2) > 1
+    with stage(timings, "crack refinement" + (" beside the scan's first parts" if alongside
+                                              else ""),
+               f"the crack's band split until its edges and mid-line move <= "
+               f"{100 * ad.crack_tol:g} %, at most {ad.crack_cycles} times"):
+        split = functools.partial(refine_crack, config.case, res, ad.crack_tol,
+                                  ad.crack_cycles, config.mesh.max_triangles, solver,
+                                  crack_progress)
+        if alongside:       # the splits use no gmsh: they may leave this thread to beside()
+            future = _threads.background(split)
+            done = beside()
+            res = future.result()
+        else:
+            res, done = split(), None
     if res.mechanism_stop == "unmarked":
         log.info("  no crack to split: the mechanism has no block turning about the façade's "
                  "outer face")
     elif res.mechanism_stop != "settled":
         log.warning("warning: the crack refinement stopped (%s) before the crack settled to "
                     "%g %%", res.mechanism_stop, 100 * ad.crack_tol)
-    return res
+    return res, done
 
 
 def whole_problem(config: CaseConfig):
@@ -298,7 +312,16 @@ def run_fe(config, result) -> None:
     """The FE path (``fe_result``): on the adaptive bracket's mesh (``adaptive``) or the
     case's; its critical body becomes mechanism "FE" when the scan found one."""
     an = config.analysis
-    adapted = adaptive_bracket_of(config, result.timings) if adaptive(config) else None
+    case = config.case
+    first = first_heights(case, an.heights)
+
+    def first_parts():       # the scan's first round below H does not need the whole wall
+        return dict(zip(first, h_scan(case, first, config.mesh.size, an.facade,
+                                      solver_options(an.tol, an.stress_degree), map,
+                                      config.mesh.part_divisions, config.mesh.mesher)))
+
+    adapted, parts = (adaptive_bracket_of(config, result.timings, beside=first_parts)
+                      if adaptive(config) else (None, None))
     whole = whole_problem(config) if adapted is None else adapted.problem
     with stage(result.timings, "FE analyses",
                f"scan from one course to H, whole wall {whole.n_triangles} triangles"
@@ -308,7 +331,8 @@ def run_fe(config, result) -> None:
                               static=an.static,
                               heights=an.heights, divisions=config.mesh.part_divisions,
                               mesher=config.mesh.mesher, adapted=adapted,
-                              static_problem=None if adapted else static_problem(config))
+                              static_problem=None if adapted else static_problem(config),
+                              parts=parts)
     if result.fe.critical is not None:
         result.mechanisms[result.fe.critical.name] = result.fe.critical
     elif getattr(result.fe, "vg_unavailable", ""):   # a cohesion: the whole wall, no v̄_g

@@ -52,8 +52,8 @@ from .fe_impulse import (
 )
 from .rigidfit import MechanismMeasures, measure_mechanism
 
-__all__ = ["FEMechanism", "FEResult", "analyse", "densities", "fe_result", "h_scan",
-           "part_problem", "scan_midpoints"]
+__all__ = ["FEMechanism", "FEResult", "analyse", "densities", "fe_result", "first_heights",
+           "h_scan", "part_problem", "scan_midpoints"]
 
 # Clarabel's tolerance for the scan's parts: the linear programs' default 1e-9 stalls on most
 # fine part meshes and is met only at the ladder's 1e-7 rung after two stalled runs (B2, part
@@ -340,6 +340,13 @@ def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DE
                                       divisions, mesher=mesher), h_parts))
 
 
+def first_heights(case: Case, heights: int = 6) -> list[float]:
+    """The scan's first round of part heights below the whole wall [m]: ``heights`` − 1 of
+    them, geometric from one course (a) up, the whole wall (H) being the last of the round."""
+    heights = int(check_range("heights", heights, 2, 200))
+    return list(np.geomspace(case.masonry.a, case.wall.H, heights)[:-1])
+
+
 @dataclass(frozen=True)
 class FEResult:
     """The FE path of one wall: the impulse scan over the heights of the failing part, sorted
@@ -513,7 +520,8 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
               whole: Problem | None = None, static: bool = False, heights: int = 6,
               step: float | None = None, rtol: float = 0.005, map=None,
               divisions: int = PART_DIVISIONS, mesher: str = MESHER_DEFAULT,
-              adapted=None, static_problem: Problem | None = None) -> FEResult:
+              adapted=None, static_problem: Problem | None = None,
+              parts: dict | None = None) -> FEResult:
     """The FE impulse scan over a <= h_part <= H (module docstring): ``heights`` starting
     heights, refined around the minimum down to ``step`` [m] (default a), or 2·step where
     the neighbour is within ``rtol`` of the minimum (``scan_midpoints``); with
@@ -525,7 +533,9 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
     ``fe.adapt.AdaptResult`` (``mechanism.adaptive.adaptive_bracket``): its last mesh is the
     whole wall's, and both its bounds are reused (no second solve). ``static_problem``: the
     whole wall on the static bound's own mesh (default: ``whole``'s), e.g. with the façade's
-    columns graded to the outer face (``t_section(h_outer=)``)."""
+    columns graded to the outer face (``t_section(h_outer=)``). ``parts``: {h_part:
+    FEMechanism} already analysed (``h_scan``, e.g. of ``first_heights`` while the whole wall
+    was refined), not analysed again."""
     check_choice("facade", facade, FACADE_MODELS)
     check_choice("mesher", mesher, MESHERS)
     w, a = case.wall, case.masonry.a
@@ -536,7 +546,7 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
         whole = adapted.problem
     if static and whole is None:
         whole = t_section(case, facade=facade, h=mesh_size, mesher=mesher)
-    done: dict[float, FEMechanism] = {}
+    done: dict[float, FEMechanism] = dict(parts or {})
 
     def run(hs):
         new = sorted(set(hs) - set(done))
@@ -548,7 +558,7 @@ def fe_result(case: Case, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
         done.update(zip(new, h_scan(case, new, mesh_size, facade, options, map, divisions,
                                     mesher)))
 
-    run(list(np.geomspace(a, w.H, heights)[:-1]) + [w.H])
+    run(first_heights(case, heights) + [w.H])
     # with a cohesion no height has a v̄_g: no minimum to bisect around (module docstring)
     while not done[w.H].vg_unavailable and (new := scan_midpoints(
             sorted(done), [done[h].vg for h in sorted(done)], step, rtol)):
