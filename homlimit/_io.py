@@ -414,36 +414,34 @@ def _staging_name(name: str) -> bool:
     return name.startswith(".homlimit-") and name != MANIFEST
 
 
+def _readable_manifest(folder: Path) -> bool:
+    """Does ``folder`` hold a manifest that says which files its set wrote?"""
+    return isinstance(_manifest(folder).get("files"), list)
+
+
 def is_result_set(folder: Path, names: Iterable[str] = ()) -> bool:
-    """True when ``folder`` holds a result set: its manifest, or (sets written before there
-    were manifests) only files called one of ``names`` and folders that are result sets."""
+    """True when ``folder`` holds a result set: its manifest, or nothing but folders that are
+    result sets (``homlimit-out/B1/`` holding only ``pulse/``). A file without a manifest
+    is never taken for a set's, whatever its name: nothing says a set wrote it (``names`` is
+    kept for the callers; the sets written before manifests existed are not recognised)."""
     folder = Path(folder)
     if (folder / MANIFEST).is_file():
         return True
-    names = set(names)
     for p in folder.iterdir():
         if _staging_name(p.name) and p.is_dir() and not p.is_symlink():
             continue                      # a nested set's staging (a killed run's leftover)
-        if p.is_symlink():
-            return False
-        if p.is_dir():
-            if not is_result_set(p, names):
-                return False
-        elif p.name not in names:
+        if p.is_symlink() or not p.is_dir() or not is_result_set(p):
             return False
     return True
 
 
-def _written(folder: Path, names) -> set[str]:
+def _written(folder: Path, names=()) -> set[str]:
     """The entries of ``folder`` that the set there wrote: the top-level names of the files
-    its manifest lists, and the manifest; for a set written before manifests existed, its
-    files called one of ``names``."""
+    its manifest lists, and the manifest; none without a readable manifest."""
     manifest = _manifest(folder)
     if isinstance(manifest.get("files"), list):
         return {MANIFEST} | {str(f).split("/")[0] for f in manifest["files"]}
-    names = set(names)
-    return {p.name for p in folder.iterdir() if p.name in names and p.is_file()
-            and not p.is_symlink()}
+    return set()
 
 
 def _foreign(folder: Path, names) -> list[str]:
@@ -465,12 +463,13 @@ def same_owner(old: Mapping, new: Mapping) -> bool:
     """May a set described by ``new`` (its manifest's command and source) replace the set
     whose manifest is ``old``? Yes for the same command and the same source: the same path
     (a case file edited since counts as the same source) or the same content hash (a copy of
-    the file). A set written before manifests recorded sources is compared on nothing."""
-    if "command" not in new or "source" not in old:
+    the file). A set of the same command written before manifests recorded sources is
+    replaced."""
+    if "command" not in new:
         return True
     if old.get("command") != new.get("command"):
-        return False
-    if old.get("source") == new.get("source"):
+        return False                 # first: a sweep's records/ records no source
+    if "source" not in old or old.get("source") == new.get("source"):
         return True
     digest = old.get("source_sha256")
     return digest is not None and digest == new.get("source_sha256")
@@ -534,10 +533,18 @@ def check_output_folder(target: str | Path, names: Iterable[str] = (),
             bad("is a file, not a folder")
         if not os.access(absolute, os.W_OK | os.X_OK):
             bad("is not writable")
+        if (absolute / MANIFEST).is_file() and not _readable_manifest(absolute):
+            bad(f"holds a {MANIFEST} that cannot be read (no list of its files), so what its "
+                "set wrote is unknown and nothing there may be replaced; give a new or empty "
+                "folder, or remove it")
         if any(absolute.iterdir()) and not is_result_set(absolute, names):
             bad(f"is a folder that holds other files (no {MANIFEST}): a result set replaces "
                 "its folder whole; give a new or empty folder, or remove it")
         check_owner(target, info)
+        clash = sorted(set(_foreign(target, names)) & set(names))
+        if clash:
+            bad(f"holds {clash[0]!r}, which the set there did not write and a new set may "
+                "write: move it away, or give another folder with --out DIR (out= in Python)")
     elif not existing.is_dir():
         bad(f"cannot be created: {existing} is a file")
     parent = absolute.parent if existing == absolute else existing

@@ -171,17 +171,47 @@ def test_nested_sets_of_other_commands_are_carried_over(tmp_path):
     assert _io.check_result_set(out) == [] and _io.check_result_set(out / "pulse") == []
 
 
-def test_sets_written_before_manifests_are_recognised_by_their_names(tmp_path):
-    out = tmp_path / "B1"
+def test_files_without_a_manifest_are_never_taken_for_a_set(tmp_path):
+    """A folder of files with homlimit's names but no manifest (the user's own results.csv, a
+    set copied with ``cp dir/*``, which drops the dot-file) is refused before any work, and
+    nothing in it is touched; a folder holding nothing but nested sets is accepted."""
+    out = tmp_path / "mine"
     out.mkdir()
-    (out / "summary.json").write_text("legacy")
-    (out / "stale.png").write_text("?")
+    (out / "results.csv").write_text("my,own,data")
+    (out / "summary.json").write_text("mine too")
+    before = _contents(out)
     with pytest.raises(ParameterError, match="holds other files"):
-        _set(out, {"summary.json": "new"})
-    (out / "stale.png").unlink()
-    with _io.result_set(out, names=("summary.json",)) as staging:
-        _io.write_text(staging / "summary.json", "new")
-    assert (out / "summary.json").read_text() == "new"
+        with _io.result_set(out, names=("summary.json", "results.csv")):
+            pytest.fail("the work started")
+    assert _contents(out) == before
+    nested = tmp_path / "B1"
+    _set(nested / "pulse", {"spectra.csv": "pulse"})
+    _set(nested, {"summary.json": "run"})
+    assert _contents(nested / "pulse")["spectra.csv"] == "pulse"
+
+
+def test_an_unreadable_manifest_is_refused_before_any_work(tmp_path):
+    """A truncated manifest cannot say which files its set wrote: nothing may be replaced."""
+    out = tmp_path / "sweep"
+    _set(out, {"results.csv": "the sweep's", "sweep.json": "{}"})
+    (out / _io.MANIFEST).write_text("{")
+    before = _contents(out)
+    with pytest.raises(ParameterError, match="cannot be read"):
+        with _io.result_set(out, info={"command": "run"}, names=("summary.json",)):
+            pytest.fail("the work started")
+    assert _contents(out) == before
+
+
+def test_a_file_the_set_did_not_write_with_a_name_it_may_write_is_refused_first(tmp_path):
+    """Before any work, not after it: the user's fe_scan.csv in a run's folder."""
+    out = tmp_path / "B1"
+    _set(out, {"summary.json": "run 1"})
+    (out / "fe_scan.csv").write_text("the user's")
+    with pytest.raises(ParameterError, match="holds 'fe_scan.csv', which the set there did "
+                                             "not write and a new set may write.*--out"):
+        with _io.result_set(out, info={"command": "test"}, names=("fe_scan.csv",)):
+            pytest.fail("the work started")
+    assert (out / "fe_scan.csv").read_text() == "the user's"
 
 
 def test_what_a_killed_run_left_is_cleaned_by_the_next(tmp_path):
@@ -313,7 +343,24 @@ def test_the_same_case_file_edited_or_copied_is_the_same_source(tmp_path):
     assert (out / "summary.json").read_text() == "copied"
     with pytest.raises(ParameterError, match="'homlimit run' on /copy/c4.toml"):
         _owned(out, "run", "/other/c4.toml", "h3")
-    # a set written before manifests recorded sources: replaced as before
-    _set(tmp_path / "legacy", {"summary.json": "old"})
+    # a set of the same command written before manifests recorded sources: replaced
+    with _io.result_set(tmp_path / "legacy", info={"command": "run"}) as staging:
+        _io.write_text(staging / "summary.json", "old")
     _owned(tmp_path / "legacy", "run", "/cases/c4.toml", "h1", "new")
     assert (tmp_path / "legacy" / "summary.json").read_text() == "new"
+
+
+def test_a_sweeps_records_folder_takes_no_other_set(tmp_path):
+    """records/ (command "records", no source) is no place for a run's set, and clearing it
+    removes the records alone."""
+    from homlimit.app.records import RecordStore, record_key
+
+    store = RecordStore(tmp_path / "records")
+    key = record_key("case", {"x": 1}, version="0")
+    store.put(key, {"status": "ok"})
+    with pytest.raises(ParameterError, match="'homlimit records'"):
+        _owned(tmp_path / "records", "run", "/cases/c4.toml", "h1")
+    (tmp_path / "records" / "notes.json").write_text("mine")
+    store.clear()
+    assert sorted(p.name for p in (tmp_path / "records").iterdir()) == [_io.MANIFEST,
+                                                                         "notes.json"]

@@ -7,18 +7,23 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 from pathlib import Path
 
 import orjson
 
 from .._io import MANIFEST, json_bytes, to_jsonable, write_json, write_text
 
-__all__ = ["RecordStore", "batch_json", "json_text", "read_json", "record_key"]
+__all__ = ["RECORD_NAME", "RecordStore", "batch_json", "json_text", "read_json", "record_key"]
 
 
 def json_text(data, indent: bool = False) -> str:
     """``data`` as JSON text (``_io.json_bytes``), ending with a newline."""
     return json_bytes(data, indent=indent).decode("utf-8") + "\n"
+
+
+#: a record file's name: ``<key>.json`` or ``batch-<key>.json``
+RECORD_NAME = re.compile(r"(batch-)?[0-9a-f]{20}\.json")
 
 
 def record_key(kind: str, inputs, version: str | None = None) -> str:
@@ -64,9 +69,11 @@ class RecordStore:
             write_json(self.folder / MANIFEST, {"command": "records", "files": []})
 
     def _files(self):
+        """The records: ``<key>.json`` and ``batch-<key>.json`` (``record_key``'s 20 hex
+        digits); nothing else in the folder is read or removed."""
         if not self.folder.is_dir():
             return []
-        return sorted(p for p in self.folder.glob("*.json") if not p.name.startswith("."))
+        return sorted(p for p in self.folder.glob("*.json") if RECORD_NAME.fullmatch(p.name))
 
     def load(self) -> dict[str, dict]:
         """Every stored record, key → record."""
