@@ -10,33 +10,25 @@
 
 Each model runs when the case asks for it (``[analysis] closed_form``, ``fe``, ``blocks``) and
 fills the ``pipeline.Result``. The closed forms, the rigid blocks, the DEM and the rigid
-rockers live in ``app.models_rigid``, the FE path here; every model registers here.
+rockers live in ``app.models_rigid``, the FE path here and its cache in ``app.fe_cache``;
+every model registers here.
 ``stage`` and ``solver_options`` (``app.stages``) serve every command.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import functools
-import hashlib
-import json
 import logging
-import math
-from dataclasses import dataclass
-from pathlib import Path
-from typing import Any
 
-from .. import _io, _threads
-from .._version import package_version
+from .. import _threads
 from ..dynamics import GeneralisedRocker
-from ..errors import OutputError, ParameterError, ResultError
-from ..fe.mesh import cache_dir, from_skfem
-from ..impulse import LoadWork, RigidBody
-from ..mechanism.analysis import FEResult, fe_result, first_heights, h_scan
-from ..mechanism.fe_impulse import GeneralisedImpulse
+from ..errors import ParameterError, ResultError
+from ..fe.mesh import from_skfem
+from ..mechanism.analysis import fe_result, first_heights, h_scan
 from . import plots, registry, report
 from .code_check import code_check_files
 from .config import CaseConfig
+from .fe_cache import FERocker, fe_cache_inputs, fe_cache_path, read_fe_cache, write_fe_cache
 from .models_rigid import (
     blocks_files,
     closed_form_alone,
@@ -51,7 +43,6 @@ from .models_rigid import (
     run_dem,
 )
 from .registry import Mechanism, Model
-from .schema import ARRAYS
 from .stages import finite, solver_options, stage
 
 __all__ = ["FERocker", "adaptive", "adaptive_bracket_of", "closed_forms", "fe_cache_inputs",
@@ -81,9 +72,9 @@ def outer_width(config: CaseConfig) -> float | None:
 def adaptive_bracket_of(config: CaseConfig, timings: dict, beside=None):
     """``mechanism.adaptive.adaptive_bracket`` of the whole wall, each cycle logged, then the
     crack's splits (``refine_crack``). ``beside()``: work for this thread while the splits,
-    kinematic solves one after another on one core, run in a thread of their own (with two
-    cores or more and not on a Dask worker; else after them). Returns (the AdaptResult,
-    beside's result or None when it did not run)."""
+    kinematic solves one after another on one core, run in a thread of their own; it should
+    wait interruptibly (``_threads``). Returns (the AdaptResult, beside's result), or None
+    for the latter where it did not run: no splits, one core, or a Dask worker."""
     from ..fe.adapt import AdaptOptions
     from ..mechanism.adaptive import adaptive_bracket, refine_crack
     from ..mechanism.conform import conform_hook
@@ -168,120 +159,6 @@ def static_problem(config: CaseConfig):
                      mesher=me.mesher, h_outer=h_outer)
 
 
-FE_CACHE_FORMAT = "homlimit FE rocker 2"    # 2: the impulse's W_floors, W_ties, load_work
-IMPULSE_FLOATS = ("M", "Pi", "W_m", "q_m", "vg", "lift_rest", "M_rest_share", "W_rest_share",
-                  "W_floors", "W_ties")     # the GeneralisedImpulse's numbers the cache keeps
-
-
-@dataclass(frozen=True)
-class FERocker:
-    """What the pulse spectra need of the FE path (``dynamics.case_rockers``' ``fe_body``):
-    the critical mechanism's one-DOF impulse (``fe_impulse.GeneralisedImpulse``), its height
-    h [m] and v̄_g [m/s]; ``cache``: its entry in the FE cache, ``from_cache``: read from it
-    (rather than computed now)."""
-
-    impulse: Any
-    h: float
-    vg: float
-    cache: Path | None = None
-    from_cache: bool = False
-    name = "FE"                  # the mechanism it stands for (not a field)
-
-
-@functools.cache
-def _fe_code_digest() -> str:
-    """SHA-256 of the source of every module the FE path runs (fe, mechanism, impulse,
-    params): a cache entry made by other code is never read, whatever the version says."""
-    root = Path(__file__).resolve().parents[1]
-    h = hashlib.sha256()
-    for path in sorted([*root.joinpath("fe").rglob("*.py"), *root.joinpath("mechanism")
-                        .rglob("*.py"), *root.joinpath("impulse").rglob("*.py"),
-                        root / "params.py"]):
-        h.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
-    return h.hexdigest()
-
-
-def fe_cache_inputs(config: CaseConfig) -> dict:
-    """Every input the FE path of ``config`` depends on: the case's wall, masonry, mesh,
-    adapt (the whole wall's mesh and crack splits) and analysis sections, the solver settings,
-    the package version and its FE source code."""
-    opts = dataclasses.asdict(solver_options(config.analysis.tol, config.analysis.stress_degree))
-    opts.pop("verbose")                       # the solver log changes no number
-    d = config.as_dict()
-    real = {k: d[k] for k in ARRAYS if d.get(k)}     # none: the paper's inputs
-    return {"format": FE_CACHE_FORMAT, **{k: d[k] for k in ("wall", "masonry", "mesh",
-                                                            "adapt", "analysis")}, **real,
-            "solver": opts, "homlimit_version": package_version(), "code": _fe_code_digest()}
-
-
-def fe_cache_path(config: CaseConfig) -> Path:
-    """The FE cache entry of ``config``: ``fe-<hash of fe_cache_inputs>.json`` in the
-    package's cache folder (``fe.mesh.cache_dir()``, ``$HOMLIMIT_MESH_CACHE``)."""
-    text = _io.json_bytes(fe_cache_inputs(config), sort_keys=True)
-    return cache_dir() / f"fe-{hashlib.sha256(text).hexdigest()[:24]}.json"
-
-
-def _checksum(entry: dict) -> str:
-    return hashlib.sha256(_io.json_bytes({k: v for k, v in entry.items() if k != "sha256"},
-                                         sort_keys=True)).hexdigest()
-
-
-def write_fe_cache(config: CaseConfig, fe: FEResult) -> Path | None:
-    """Keep the critical FE mechanism's one-DOF impulse of ``fe`` (the FE path of ``config``)
-    in the FE cache, atomically, with its inputs and a checksum; None (and a warning) when
-    the cache folder cannot be written, which fails nothing else. With ties or floors it
-    keeps their work too (``impulse.LoadWork``, the rocker's ``load_work``)."""
-    crit = fe.critical
-    if crit is None or crit.impulse is None:
-        return None
-    gi = crit.impulse
-    lw = getattr(gi, "load_work", None)
-    entry = {"inputs": fe_cache_inputs(config),
-             "impulse": {**{k: getattr(gi, k) for k in IMPULSE_FLOATS},
-                         "block": dataclasses.asdict(gi.block),
-                         "load_work": None if lw is None else lw.as_dict()},
-             "h": crit.h, "vg": crit.vg, "scan": [m.record() for m in fe.scan]}
-    entry["sha256"] = _checksum(entry)
-    path = fe_cache_path(config)
-    try:      # the exact floats: json writes the shortest repr that reads back the same
-        _io.write_text(path, json.dumps(_io.to_jsonable(entry), indent=1) + "\n")
-    except (OSError, OutputError) as exc:
-        log.warning("warning: FE cache %s not written: %s", path, exc)
-        return None
-    return path
-
-
-def read_fe_cache(config: CaseConfig) -> FERocker | None:
-    """The FE cache entry of ``config`` (``fe_cache_path``) if there is one and it is sound:
-    its checksum holds, its inputs are ``config``'s, its impulse a valid one. A corrupt or
-    foreign entry is never trusted: None (and a warning), so that the caller computes the
-    FE path again and rewrites it."""
-    path = fe_cache_path(config)
-    if not path.is_file():
-        return None
-    try:
-        entry = json.loads(path.read_text(encoding="utf-8"))
-        if entry.get("sha256") != _checksum(entry):
-            raise ValueError("checksum mismatch")
-        if entry["inputs"] != json.loads(_io.json_bytes(fe_cache_inputs(config))):
-            raise ValueError("inputs differ")
-        imp = dict(entry["impulse"])
-        lw = imp.pop("load_work")
-        gi = GeneralisedImpulse(block=RigidBody(**imp.pop("block")),
-                                load_work=None if lw is None else LoadWork.from_dict(lw),
-                                **{k: float(imp.pop(k)) for k in IMPULSE_FLOATS})
-        if imp:
-            raise ValueError(f"unknown impulse keys {sorted(imp)}")
-        if not all(math.isfinite(getattr(gi, k)) and getattr(gi, k) > 0
-                   for k in ("M", "Pi", "W_m", "vg")):
-            raise ValueError("impulse not positive and finite")
-        return FERocker(gi, float(entry["h"]), float(entry["vg"]), path, True)
-    except (OSError, ValueError, KeyError, TypeError, AttributeError, ParameterError) as exc:
-        log.warning("warning: FE cache entry %s ignored (%s): computing the FE path again",
-                    path, exc)
-        return None
-
-
 def fe_rocker(config: CaseConfig) -> FERocker:
     """The FE path's critical mechanism for the pulse spectra: read from the FE cache (which
     ``run`` fills) when the entry is sound, else computed (``fe_result``, as ``run`` without
@@ -315,10 +192,12 @@ def run_fe(config, result) -> None:
     case = config.case
     first = first_heights(case, an.heights)
 
-    def first_parts():       # the scan's first round below H does not need the whole wall
+    def first_parts():       # the scan's first round below H does not need the whole wall:
+        # meshed here (gmsh), solved one at a time in a thread while this one waits
         return dict(zip(first, h_scan(case, first, config.mesh.size, an.facade,
-                                      solver_options(an.tol, an.stress_degree), map,
-                                      config.mesh.part_divisions, config.mesh.mesher)))
+                                      solver_options(an.tol, an.stress_degree), None,
+                                      config.mesh.part_divisions, config.mesh.mesher,
+                                      at_once=1)))
 
     adapted, parts = (adaptive_bracket_of(config, result.timings, beside=first_parts)
                       if adaptive(config) else (None, None))

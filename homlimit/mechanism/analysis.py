@@ -316,7 +316,7 @@ def _height_problem(case: Case, mesh_size: float, facade: str, options, division
 
 def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DEFAULT,
            options=None, map=None, divisions: int = PART_DIVISIONS,
-           mesher: str = MESHER_DEFAULT) -> list[FEMechanism]:
+           mesher: str = MESHER_DEFAULT, at_once: int | None = None) -> list[FEMechanism]:
     """``analyse`` on the top part of height h_part for every h_part in ``h_parts`` [m] (the
     whole wall for h_part = H). The hinge may float above the base of the analysed part: each
     mechanism's own h = H − z_O. ``map(fn, h_parts)``: how the heights are evaluated, results
@@ -326,7 +326,8 @@ def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DE
     back: ``fe.geometry.gmsh_session``), then solved as many at a time as there are cores, one
     after another on a Dask worker (``_threads.map_here``; on the demo's B1 scan the mechanisms
     of the one-after-another run, bit for bit). ``divisions``: elements per part height
-    (``part_problem``); ``mesher``: ``problems.MESHERS``."""
+    (``part_problem``); ``mesher``: ``problems.MESHERS``; ``at_once``: with ``map`` None, how
+    many parts to solve at a time (default: ``_threads.map_here``'s)."""
     w = case.wall
     check_choice("mesher", mesher, MESHERS)
     h_parts = [check_range("h_part", hp, 0.0, w.H, lo_open=True, unit="m") for hp in h_parts]
@@ -335,6 +336,8 @@ def h_scan(case: Case, h_parts, mesh_size: float = 0.25, facade: str = FACADE_DE
     if map is None:
         jobs = [_height_problem(case, mesh_size, facade, options, divisions, hp, mesher)
                 for hp in h_parts]
+        if at_once is not None:
+            return _threads.map_threads(lambda job: analyse(case, *job), jobs, at_once)
         return _threads.map_here(lambda job: analyse(case, *job), jobs)
     return list(map(functools.partial(_analyse_height, case, mesh_size, facade, options,
                                       divisions, mesher=mesher), h_parts))
