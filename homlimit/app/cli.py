@@ -128,7 +128,7 @@ def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = Fal
 
 @app.command()
 @guarded
-def table1(as_json: JsonOpt = False, out: _out(
+def table1(ctx: typer.Context, as_json: JsonOpt = False, out: _out(
                "homlimit-out/table1/; with --fe, --blocks or -t: table1-fe/, table1-blocks/, "
                "table1-B1/...") = None,
            verbose: VerboseOpt = False, quiet: QuietOpt = False,
