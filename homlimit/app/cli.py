@@ -91,6 +91,10 @@ SchedulerOpt = Annotated[str | None, typer.Option(
     "--scheduler", help="Address of a running Dask scheduler (e.g. tcp://127.0.0.1:8786) to "
                         "use instead of embedded workers; exit 2 if none answers within 5 s.")]
 
+ResumeOpt = Annotated[bool, typer.Option(
+    "--resume/--no-resume", help="With [analysis] dem: keep the DEM trials recorded in "
+                                 "OUT/records/ by an earlier run of this case.")]
+
 
 @app.callback()
 def _main(version: Annotated[bool | None, typer.Option(
@@ -104,10 +108,7 @@ def _main(version: Annotated[bool | None, typer.Option(
 def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
             verbose: VerboseOpt = False, quiet: QuietOpt = False, overrides: SetOpt = None,
             workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
-            resume: Annotated[bool, typer.Option(
-                "--resume/--no-resume", help="With [analysis] dem: keep the DEM trials "
-                                             "recorded in OUT/records/ by an earlier run "
-                                             "of this case.")] = True):
+            resume: ResumeOpt = True):
     """Run the full pipeline for one wall (no CASE: the embedded default, B1).
 
     Closed-form mechanisms I and II, the FE mechanism and its crack, the impulse criterion;
@@ -121,9 +122,14 @@ def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
 @app.command()
 @guarded
 def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
-         quiet: QuietOpt = False, overrides: SetOpt = None):
-    """Run the embedded default case: the paper's Table 1 wall B1 (H=9 m, b=0.5 m, ρ=12)."""
-    case_cmds.run_case(None, as_json, out, verbose, quiet, overrides, command="demo")
+         quiet: QuietOpt = False, overrides: SetOpt = None, workers: WorkersOpt = None,
+         scheduler: SchedulerOpt = None, resume: ResumeOpt = True):
+    """Run the embedded default case: the paper's Table 1 wall B1 (H=9 m, b=0.5 m, ρ=12).
+
+    The same as run with no case (--workers, --scheduler, --resume: with --set
+    analysis.dem=true)."""
+    case_cmds.run_case(None, as_json, out, verbose, quiet, overrides, command="demo",
+                       workers=workers, scheduler=scheduler, resume=resume)
 
 
 @app.command()

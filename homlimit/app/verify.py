@@ -44,8 +44,8 @@ from ..mechanism.crack import fan_ray
 from ..params import Case
 from .budget import estimate_triangles
 
-__all__ = ["FIRST_TRIANGLES", "Known", "KNOWN", "TOL", "check_first_meshes", "first_triangles",
-           "known_problem", "verify_records"]
+__all__ = ["FIRST_TRIANGLES", "Known", "KNOWN", "TOL", "check_first_meshes", "check_name",
+           "first_triangles", "known_problem", "verify_records"]
 
 # the static bound's stresses: quadratic where the problem allows (docs/adaptive.md: on the
 # T-section it reaches in 4 meshes what the linear field did not in 8)
@@ -141,7 +141,7 @@ def first_triangles(name: str) -> float:
         w = Case().wall
         return estimate_triangles(w.H, w.b, w.L, TSECTION_SIZE, "gmsh-strip",
                                   h_outer=TSECTION_OUTER)
-    return FIRST_TRIANGLES[_check_name(name)]
+    return FIRST_TRIANGLES[check_name(name)]
 
 
 def check_first_meshes(names, max_triangles: int, option: str = "max_triangles"):
@@ -158,7 +158,7 @@ def check_first_meshes(names, max_triangles: int, option: str = "max_triangles")
             f"or leave {worst} out")
 
 
-def _check_name(name: str, option: str = "problem") -> str:
+def check_name(name: str, option: str = "problem") -> str:
     if name not in KNOWN:
         raise ParameterError(f"{option} = {name!r} is not a known-answer problem: allowed "
                              f"{', '.join(map(repr, KNOWN))}")
@@ -167,7 +167,7 @@ def _check_name(name: str, option: str = "problem") -> str:
 
 def known_problem(name: str) -> Known:
     """The known-answer problem ``name`` (a key of ``KNOWN``), meshed."""
-    return KNOWN[_check_name(name)]()
+    return KNOWN[check_name(name)]()
 
 
 def verify_records(names=None, options: AdaptOptions = AdaptOptions(target_gap=0.005),
@@ -182,7 +182,7 @@ def verify_records(names=None, options: AdaptOptions = AdaptOptions(target_gap=0
     """
     names = list(KNOWN) if names is None else list(names)
     for n in names:                       # every name checked before any work
-        _check_name(n)
+        check_name(n)
     SolverOptions(stress_degree=stress_degree)
     check_first_meshes(names, options.max_triangles)
     out = []

@@ -23,7 +23,6 @@ from ..engine import RecordStore
 from ..problems import Problems
 from ..tables import table1_checks
 
-
 # the column flags (one at a time: each its own computation and result set) and the options
 # that only one or some of them use
 COLUMNS = ("fe", "blocks", "dem")
