@@ -13,7 +13,8 @@ they share in ``app.door`` (exit codes, logging, signals, JSON and table output)
     homlimit mesh CASE.toml       the T-section mesh only, for inspection
 
 Every computing command takes ``--json`` (machine-readable on stdout, nothing else there),
-``--out DIR`` (default homlimit-out/NAME/), ``-v`` (solver logs) and ``-q`` (no progress);
+``--out DIR`` (default homlimit-out/NAME/), and all but figure2, mesh and sweep report ``-v``
+(solver logs) and ``-q`` (no progress; not both); a command's bad options are listed at once;
 progress, warnings and logs go to stderr through ``logging``. Each command writes one result
 set: its folder is checked before any work (a set of another command or another case source
 there is refused, exit 2) and the previous set replaced at the end, what that set did not write
