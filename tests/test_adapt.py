@@ -95,6 +95,19 @@ def test_free_block_is_exact_on_the_first_mesh():
     assert res.bracket.upper == pytest.approx(0.5 / 3.0, rel=1e-7)
 
 
+@pytest.mark.parametrize("name", ["prandtl", "vertical_cut", "tsection", "free_block"])
+def test_first_meshes_are_known_before_meshing(name):
+    """verify's budget check (``first_triangles``) against the first mesh it stands for:
+    the polygons' counts as gmsh makes them, the T-section's estimate within 5 %."""
+    from homlimit.app.verify import check_first_meshes, first_triangles, known_problem
+
+    n = known_problem(name).problem.n_triangles
+    assert n <= first_triangles(name) <= 1.05 * n
+    check_first_meshes([name], math.ceil(first_triangles(name)))
+    with pytest.raises(ParameterError, match=f"first mesh of problem {name}"):
+        check_first_meshes([name], n - 1)
+
+
 def test_the_loop_stops_before_the_budget():
     from homlimit.app.verify import known_problem
 
@@ -168,10 +181,11 @@ def test_verify_refuses_bad_input_before_any_work(tmp_path):
 
     from homlimit.app.cli import app
 
-    for args, message in ((["-p", "nope"], "problem = 'nope' is not a known-answer problem"),
-                          (["--target-gap", "0"], "adapt.target_gap = 0"),
-                          (["--max-cycles", "0"], "adapt.max_cycles = 0"),
-                          (["--stress-degree", "3"], "stress_degree = 3")):
+    for args, message in ((["-p", "nope"], "--problem = 'nope' is not a known-answer problem"),
+                          (["--target-gap", "0"], "--target-gap = 0"),
+                          (["--max-cycles", "0"], "--max-cycles = 0"),
+                          (["--min-size", "0"], "--min-size = 0"),
+                          (["--stress-degree", "3"], "--stress-degree = 3")):
         res = CliRunner().invoke(app, ["verify", *args, "--out", str(tmp_path / "v")])
         assert res.exit_code == 2, res.output
         assert message in res.stderr and "Traceback" not in res.stderr

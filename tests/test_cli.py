@@ -339,9 +339,9 @@ def test_bad_option_value_exits_2(tmp_path):
     res = CliRunner().invoke(app, ["table1", "--fe", "--mesh-size", "-1", "--out",
                                    str(tmp_path)])
     assert res.exit_code == 2
-    assert "mesh_size = -1.0 m is out of range: allowed 0 < mesh_size" in res.stderr
+    assert "--mesh-size = -1.0 m is out of range: allowed 0 < --mesh-size" in res.stderr
     res = CliRunner().invoke(app, ["table1", "-t", "B9", "--out", str(tmp_path)])
-    assert res.exit_code == 2 and "test = 'B9' is out of range: allowed one of 'B1'" in res.stderr
+    assert res.exit_code == 2 and "--test = 'B9' is out of range: allowed one of 'B1'" in res.stderr
 
 
 # ----------------------------------------------------------------------------- other commands
@@ -583,7 +583,7 @@ def test_crack_study_one_point(tmp_path):
 def test_crack_study_bad_grid_exits_2(tmp_path):
     res = CliRunner().invoke(app, ["crack-study", "--c-over-a", "-1", "--out", str(tmp_path)])
     assert res.exit_code == 2
-    assert "c_over_a = -1.0 is out of range: allowed 0 < c_over_a" in res.stderr
+    assert "--c-over-a = -1.0 is out of range: allowed 0 < --c-over-a" in res.stderr
     res = CliRunner().invoke(app, ["crack-study", "--facade", "brick", "--out", str(tmp_path)])
     assert res.exit_code == 2 and "facade = 'brick' is out of range" in res.stderr
 

@@ -265,8 +265,8 @@ def test_the_triangle_budget_stops_before_meshing(sandbox, no_meshing):
     res = invoke("table1", "--fe", "--mesh-size", "0.005", "-t", "B1")
     assert res.exit_code == 2 and doc("--max-triangles") in res.stderr
     res = invoke("table1", "--fe", "--part-divisions", "1", "-t", "B1")   # [mesh]'s range
-    assert res.exit_code == 2 and ("part_divisions = 1 is out of range: allowed 2 <= "
-                                   "part_divisions and part_divisions <= 1000") in res.stderr
+    assert res.exit_code == 2 and ("--part-divisions = 1 is out of range: allowed 2 <= "
+                                   "--part-divisions and --part-divisions <= 1000") in res.stderr
     res = invoke("crack-study", "--mesh-size", "0.05", "--finer", "0.004")
     assert res.exit_code == 2 and "--finer = 0.004 m gives about" in res.stderr
     assert not (sandbox / "homlimit-out").exists()
@@ -400,6 +400,120 @@ def test_summary_json_has_units(sandbox):
     assert u["results"]["vg"] == "m/s" and u["results"]["lam"] == "-"
     assert u["results"]["I_O"] == "kg m^2" and u["results"]["theta_m"] == "rad"
     assert None not in u["results"].values()                # every quantity has its unit
+
+
+# ----------------------------------------------------------------------------- options
+@pytest.fixture
+def no_table1(no_compute, monkeypatch):
+    """No column of table1 may start, nor verify's meshing: for option checks."""
+    def boom(*a, **k):  # pragma: no cover - must never run
+        raise AssertionError("computation started")
+
+    from homlimit.app import verify
+    from homlimit.app.commands import table1
+
+    monkeypatch.setattr(pipeline, "table1_blocks_records", boom)
+    monkeypatch.setattr(table1, "table1_dem_records", boom)
+    monkeypatch.setattr(verify, "known_problem", boom)
+
+
+@pytest.mark.parametrize("flags, named", [
+    (["--blocks", "--fe"], doc("--fe and --blocks cannot be combined: allowed one of --fe, "
+                               "--blocks, --dem")),
+    (["--dem", "--fe"], "--fe and --dem cannot be combined"),
+    (["--blocks", "--dem"], "--blocks and --dem cannot be combined"),
+])
+def test_table1_runs_one_column_at_a_time(sandbox, no_table1, flags, named):
+    res = invoke("table1", *flags, "-t", "C4")
+    assert res.exit_code == 2, res.output
+    assert named in res.stderr
+    assert not (sandbox / "homlimit-out").exists()
+
+
+def test_table1_checks_every_option_whatever_the_flags(sandbox, no_table1):
+    res = invoke("table1", "--blocks-facade", "foo")                 # without --blocks
+    assert res.exit_code == 2
+    assert "--blocks-facade = 'foo' is out of range: allowed one of 'through'" in res.stderr
+    res = invoke("table1", "--blocks", "--heights", "0")             # --fe's, with --blocks
+    assert res.exit_code == 2 and "--heights = 0 is out of range" in res.stderr
+    # a valid option that the column run does not use
+    res = invoke("table1", "--blocks-facade", "running-bond")
+    assert res.exit_code == 2 and doc("--blocks-facade 'running-bond' is out of range "
+                                      "without --blocks: allowed only with table1 "
+                                      "--blocks") in res.stderr
+    res = invoke("table1", "--blocks", "--mesher", "gmsh", "--workers", "2")
+    assert res.exit_code == 2 and "2 problems in the options" in res.stderr
+    assert "--mesher 'gmsh' is out of range without --fe" in res.stderr
+    assert "--workers 2 is out of range without --fe or --dem" in res.stderr
+    assert not (sandbox / "homlimit-out").exists()
+
+
+def test_option_problems_are_listed_at_once_naming_the_flags(sandbox, no_table1):
+    res = invoke("crack-study", "--mesh-size", "0", "--friction", "-1", "--finer", "-1")
+    assert res.exit_code == 2
+    for piece in (doc("crack-study: 3 problems in the options"),
+                  doc("--mesh-size = 0.0 m is out of range: allowed 0 < --mesh-size and "
+                      "--mesh-size <= 6.5 m"),
+                  doc("--friction = -1.0 is out of range: allowed 0 < --friction"),
+                  "--finer = -1.0 m is out of range"):
+        assert piece in res.stderr, piece
+    assert "mesh_size" not in res.stderr and "f =" not in res.stderr
+    res = invoke("verify", "--target-gap", "0", "--max-cycles", "0", "-p", "nope")
+    assert res.exit_code == 2 and "3 problems in the options" in res.stderr
+    assert doc("verify: --target-gap = 0.0 is out of range") in res.stderr
+    assert "--max-cycles = 0 is out of range" in res.stderr
+    assert "--problem = 'nope' is not a known-answer problem" in res.stderr
+    assert "adapt." not in res.stderr
+    res = invoke("table1", "--fe", "--heights", "0", "-t", "B9")
+    assert res.exit_code == 2 and "2 problems in the options" in res.stderr
+    assert "--heights = 0 is out of range" in res.stderr and "--test = 'B9'" in res.stderr
+    assert not (sandbox / "homlimit-out").exists()
+
+
+def test_verify_refuses_a_budget_its_first_mesh_exceeds(sandbox, no_table1):
+    res = invoke("verify", "--max-triangles", "1")              # table1's and crack-study's range
+    assert res.exit_code == 2
+    assert ("--max-triangles = 1 is out of range: allowed 100 <= --max-triangles and "
+            "--max-triangles <= 1e+08") in res.stderr
+    res = invoke("verify", "-p", "prandtl", "--max-triangles", "100")   # nothing meshed
+    assert res.exit_code == 2
+    assert doc("verify: --max-triangles = 100 is out of range: the first mesh of problem "
+               "prandtl has about 1,261 triangles (known before meshing): allowed "
+               "--max-triangles >= 1,261, or leave prandtl out") in res.stderr
+    res = invoke("verify", "-p", "free_block", "-p", "vertical_cut", "--max-triangles", "1000")
+    assert res.exit_code == 2 and "problem vertical_cut has about 1,760" in res.stderr
+    assert not (sandbox / "homlimit-out").exists()
+
+
+@pytest.mark.parametrize("cmd", [["demo"], ["table1"], ["crack-study"], ["verify"], ["pulse"],
+                                 ["sweep", "--grid", "wall.l=3,6", "--max-cases", "1"]])
+def test_quiet_and_verbose_together_are_refused(sandbox, no_table1, cmd):
+    res = invoke(*cmd, "-q", "-v")
+    assert res.exit_code == 2, res.output
+    assert doc("-q/--quiet and -v/--verbose contradict each other") in res.stderr
+    assert not (sandbox / "homlimit-out").exists()
+
+
+def test_a_key_set_twice_is_refused(sandbox, no_compute):
+    for cmd in (["demo"], ["mesh"], ["table1", "--dem"]):
+        key = "dem.kn" if "--dem" in cmd else "wall.H"
+        res = invoke(*cmd, "--set", f"{key}=3e9", "--set", f"{key}=4e9")
+        assert res.exit_code == 2, (cmd, res.output)
+        assert f"--set {key!r} is given twice ('{key}=3e9', '{key}=4e9'): allowed once" \
+            in res.stderr, cmd
+    assert doc("--set 'wall.H' is given twice ('wall.H=3', 'wall.H=4'): allowed once") in \
+        invoke("run", "--set", "wall.H=3", "--set", "wall.H=4").stderr
+    assert not (sandbox / "homlimit-out").exists()
+
+
+def test_demo_takes_runs_engine_options(sandbox, no_compute):
+    """demo is run with no case: --workers, --scheduler, --resume as run takes them (used
+    with [analysis] dem only, as run)."""
+    for opts in (["--workers", "2"], ["--scheduler", "tcp://127.0.0.1:1"], ["--no-resume"]):
+        res = invoke("demo", *opts)
+        assert res.exit_code == 2, res.output
+        assert "is out of range without [analysis] dem = true" in res.stderr, res.stderr
+    assert "--resume / --no-resume" in invoke("demo", "--help").stdout
 
 
 def test_the_error_table_lists_every_message():

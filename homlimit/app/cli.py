@@ -13,7 +13,8 @@ they share in ``app.door`` (exit codes, logging, signals, JSON and table output)
     homlimit mesh CASE.toml       the T-section mesh only, for inspection
 
 Every computing command takes ``--json`` (machine-readable on stdout, nothing else there),
-``--out DIR`` (default homlimit-out/NAME/), ``-v`` (solver logs) and ``-q`` (no progress);
+``--out DIR`` (default homlimit-out/NAME/), and all but figure2, mesh and sweep report ``-v``
+(solver logs) and ``-q`` (no progress; not both); a command's bad options are listed at once;
 progress, warnings and logs go to stderr through ``logging``. Each command writes one result
 set: its folder is checked before any work (a set of another command or another case source
 there is refused, exit 2) and the previous set replaced at the end, what that set did not write
@@ -91,6 +92,10 @@ SchedulerOpt = Annotated[str | None, typer.Option(
     "--scheduler", help="Address of a running Dask scheduler (e.g. tcp://127.0.0.1:8786) to "
                         "use instead of embedded workers; exit 2 if none answers within 5 s.")]
 
+ResumeOpt = Annotated[bool, typer.Option(
+    "--resume/--no-resume", help="With [analysis] dem: keep the DEM trials recorded in "
+                                 "OUT/records/ by an earlier run of this case.")]
+
 
 @app.callback()
 def _main(version: Annotated[bool | None, typer.Option(
@@ -104,10 +109,7 @@ def _main(version: Annotated[bool | None, typer.Option(
 def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
             verbose: VerboseOpt = False, quiet: QuietOpt = False, overrides: SetOpt = None,
             workers: WorkersOpt = None, scheduler: SchedulerOpt = None,
-            resume: Annotated[bool, typer.Option(
-                "--resume/--no-resume", help="With [analysis] dem: keep the DEM trials "
-                                             "recorded in OUT/records/ by an earlier run "
-                                             "of this case.")] = True):
+            resume: ResumeOpt = True):
     """Run the full pipeline for one wall (no CASE: the embedded default, B1).
 
     Closed-form mechanisms I and II, the FE mechanism and its crack, the impulse criterion;
@@ -121,14 +123,19 @@ def run_cmd(case: CaseArg = None, as_json: JsonOpt = False, out: OutOpt = None,
 @app.command()
 @guarded
 def demo(as_json: JsonOpt = False, out: OutOpt = None, verbose: VerboseOpt = False,
-         quiet: QuietOpt = False, overrides: SetOpt = None):
-    """Run the embedded default case: the paper's Table 1 wall B1 (H=9 m, b=0.5 m, ρ=12)."""
-    case_cmds.run_case(None, as_json, out, verbose, quiet, overrides, command="demo")
+         quiet: QuietOpt = False, overrides: SetOpt = None, workers: WorkersOpt = None,
+         scheduler: SchedulerOpt = None, resume: ResumeOpt = True):
+    """Run the embedded default case: the paper's Table 1 wall B1 (H=9 m, b=0.5 m, ρ=12).
+
+    The same as run with no case (--workers, --scheduler, --resume: with --set
+    analysis.dem=true)."""
+    case_cmds.run_case(None, as_json, out, verbose, quiet, overrides, command="demo",
+                       workers=workers, scheduler=scheduler, resume=resume)
 
 
 @app.command()
 @guarded
-def table1(as_json: JsonOpt = False, out: _out(
+def table1(ctx: typer.Context, as_json: JsonOpt = False, out: _out(
                "homlimit-out/table1/; with --fe, --blocks or -t: table1-fe/, table1-blocks/, "
                "table1-B1/...") = None,
            verbose: VerboseOpt = False, quiet: QuietOpt = False,

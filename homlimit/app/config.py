@@ -342,12 +342,17 @@ def _override(data: dict, overrides, source: str) -> dict:
     items = overrides.items() if isinstance(overrides, dict) else []
     problems = []
     if not isinstance(overrides, dict):
-        parsed = []
+        parsed, seen = [], {}
         for text in overrides:
             key, sep, raw = str(text).partition("=")
             if not sep:
                 problems.append(f"--set {text!r}: expected section.key=value")
                 continue
+            if key.strip() in seen:   # which one was meant? (never the last silently)
+                problems.append(f"--set {key.strip()!r} is given twice ({seen[key.strip()]!r}, "
+                                f"{text!r}): allowed once")
+                continue
+            seen[key.strip()] = text
             try:
                 value = tomllib.loads(f"v = {raw.strip()}")["v"]
             except tomllib.TOMLDecodeError:

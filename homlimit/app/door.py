@@ -29,7 +29,8 @@ from .engine import Engine
 from .engine import Interrupted as EngineInterrupted
 from .report import format_table
 
-__all__ = ["EXIT_BAD_INPUT", "EXIT_SOLVER", "LOG", "Interrupted", "emit_json", "fail",
+__all__ = ["EXIT_BAD_INPUT", "EXIT_SOLVER", "LOG", "Interrupted", "check_verbosity",
+           "emit_json", "fail",
            "guarded", "interruptible", "open_engine", "setup_logging", "show", "signals",
            "stored_tasks",
            "stdout_quiet"]
@@ -41,10 +42,19 @@ HANDLER: logging.Handler | None = None
 LOG = logging.getLogger("homlimit")
 
 
+def check_verbosity(verbose: bool, quiet: bool):
+    """ParameterError for -q and -v together: they contradict each other."""
+    if verbose and quiet:
+        raise ParameterError("-q/--quiet and -v/--verbose contradict each other: allowed one "
+                             "of them, or neither")
+
+
 def setup_logging(verbose: bool = False, quiet: bool = False, as_json: bool = False):
     """Progress and logs of the library on stderr: stages at INFO (the default), solver logs
-    at DEBUG (-v); only warnings with -q or --json (stdout carries the JSON document)."""
+    at DEBUG (-v); only warnings with -q or --json (stdout carries the JSON document). -q
+    with -v is refused (``check_verbosity``)."""
     global HANDLER
+    check_verbosity(verbose, quiet)
     logger = logging.getLogger("homlimit")
     if HANDLER is not None:
         logger.removeHandler(HANDLER)

@@ -19,17 +19,21 @@ from . import budget, models, plots, report
 from .config import CaseConfig, check_mesh
 from .models import solver_options, stage
 from .outputs import result_folder, source_of
+from .problems import Problems
 from .schema import SCHEMA
 from .studies import STUDY_WALL, crack_angle_study
 
-__all__ = ["check_budget", "crack_study_records", "figure2_curves", "mesh_case",
-           "table1_blocks_records", "table1_records"]
+__all__ = ["check_budget", "check_option", "crack_study_checks", "crack_study_records",
+           "figure2_curves", "mesh_case", "table1_blocks_records", "table1_checks",
+           "table1_records"]
 
 
-def _option(section: str, key: str, value) -> float:
+def check_option(section: str, key: str, value, name: str | None = None) -> float:
     """A command's option checked against its case-file key's range (one range, the
-    schema's): ParameterError naming the option, its value and the range."""
-    return SCHEMA[section][key].range.check(key, value)
+    schema's): ParameterError naming the option (``name``, default the key), its value and
+    the range."""
+    return SCHEMA[section][key].range.check(name or key, value)
+
 
 
 def check_budget(option: str, cases, size: float, max_triangles: int, scan: bool = True,
@@ -48,6 +52,35 @@ def check_budget(option: str, cases, size: float, max_triangles: int, scan: bool
             "machine with the memory, --max-triangles")
 
 
+def table1_checks(problems: Problems, fe: bool = False, mesh_size: float = 0.25,
+                  heights: int = 6, tests: list[str] | None = None,
+                  facade: str = FACADE_DEFAULT,
+                  max_triangles: int = budget.DEFAULT_MAX_TRIANGLES,
+                  mesher: str = MESHER_DEFAULT, part_divisions: int = PART_DIVISIONS,
+                  names: dict | None = None):
+    """Every problem of ``table1_records``' arguments into ``problems`` (a ``Problems``),
+    each value checked whatever ``fe`` says; with ``fe`` also the triangle budget of the
+    walls' FE problems (``check_budget``). ``names``: argument → the name the messages give
+    it (the command line's flags; default the argument's own)."""
+    name = (names or {}).get
+    size = problems.check(check_range, name("mesh_size", "mesh_size"), mesh_size, 0.0, 9.0,
+                          lo_open=True, unit="m")
+    problems.check(check_option, "analysis", "heights", heights, name("heights"))
+    problems.check(check_choice, name("facade", "facade"), facade, FACADE_MODELS)
+    mesher_ok = problems.check(check_choice, name("mesher", "mesher"), mesher, MESHERS)
+    budget_ok = problems.check(check_option, "mesh", "max_triangles", max_triangles,
+                               name("max_triangles"))
+    problems.check(check_option, "mesh", "part_divisions", part_divisions,
+                   name("part_divisions"))
+    cases = {t.test: t.case for t in table1()}
+    tests_ok = all([problems.check(check_choice, name("test", "test"), t, tuple(cases))
+                    is not None for t in tests or ()])
+    if fe and None not in (size, mesher_ok, budget_ok) and tests_ok:
+        problems.check(check_budget, "--mesh-size",
+                       [c for t, c in cases.items() if not tests or t in tests], size,
+                       max_triangles, mesher=mesher)
+
+
 def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
                    tests: list[str] | None = None, facade: str = FACADE_DEFAULT,
                    max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, fe_results=None,
@@ -63,18 +96,12 @@ def table1_records(fe: bool = False, mesh_size: float = 0.25, heights: int = 6,
     ``fe_results(cases, mesh_size, facade, heights, options, mesher, divisions)``: the FE
     path of the walls, one ``FEResult`` each (default: ``fe_result`` wall after wall here;
     ``engine.Engine.fe_results`` runs every height as a Dask task)."""
-    check_range("mesh_size", mesh_size, 0.0, 9.0, lo_open=True, unit="m")
-    _option("analysis", "heights", heights)
-    check_choice("facade", facade, FACADE_MODELS)
-    check_choice("mesher", mesher, MESHERS)
-    _option("mesh", "max_triangles", max_triangles)
-    _option("mesh", "part_divisions", part_divisions)
+    problems = Problems("table1_records", "the arguments")
+    table1_checks(problems, fe=fe, mesh_size=mesh_size, heights=heights, tests=tests,
+                  facade=facade, max_triangles=max_triangles, mesher=mesher,
+                  part_divisions=part_divisions)
+    problems.raise_any()
     cases = {t.test: t.case for t in table1()}
-    for t in tests or ():
-        check_choice("test", t, tuple(cases))
-    if fe:
-        check_budget("--mesh-size", [c for t, c in cases.items() if not tests or t in tests],
-                      mesh_size, max_triangles, mesher=mesher)
     timings: dict[str, float] = {}
     with stage(timings, "closed forms for Table 1"):
         rows = [r for r in table1_rows() if not tests or r["test"] in tests]
@@ -106,7 +133,7 @@ def table1_blocks_records(tests: list[str] | None = None, step: int = 1,
                           ) -> tuple[list[dict], dict]:
     """Table 1 with the rigid-block column (``blocks.table1_blocks``): rows and the ratios
     B4/B1, B5/B2, B6/B3 of v̄_g/√(gb) of the DEM, I, II and the blocks."""
-    _option("blocks", "step", step)
+    check_option("blocks", "step", step)
     check_choice("facade", facade, FACADE_BONDS)
     names = [t.test for t in table1()]
     for t in tests or ():
@@ -147,6 +174,35 @@ def figure2_curves(rho=None) -> dict:
     return {"rho": rho, "alpha2": alpha2, "panels": panels}
 
 
+def crack_study_checks(problems: Problems, mesh_size: float = 0.5,
+                       finer: float | None = 0.25, quick: bool = False, c_over_a=None,
+                       frictions=None, facades=None,
+                       max_triangles: int = budget.DEFAULT_MAX_TRIANGLES,
+                       mesher: str = MESHER_DEFAULT, names: dict | None = None):
+    """Every problem of ``crack_study_records``' arguments into ``problems`` (a
+    ``Problems``), the triangle budget of its finest mesh last (``check_budget``).
+    ``names``: argument → the name the messages give it (default the argument's own)."""
+    name = (names or {}).get
+    w = STUDY_WALL
+    size = problems.check(check_range, name("mesh_size", "mesh_size"), mesh_size, 0.0,
+                          min(w.H, w.b + w.L), lo_open=True, unit="m")
+    finer_ok = finer is None or problems.check(     # below a bad mesh_size: above 0 at least
+        check_range, name("finer", "finer"), finer, 0.0, size, lo_open=True, hi_open=True,
+        unit="m") is not None
+    budget_ok = problems.check(check_option, "mesh", "max_triangles", max_triangles,
+                               name("max_triangles"))
+    mesher_ok = problems.check(check_choice, name("mesher", "mesher"), mesher, MESHERS)
+    for arg, values in (("c_over_a", c_over_a), ("f", frictions)):
+        for v in values or ():
+            problems.check(check_range, name(arg, arg), v, 0.0, 100.0, lo_open=True)
+    for fac in facades or ():
+        problems.check(check_choice, name("facade", "facade"), fac, FACADE_MODELS)
+    if None not in (size, budget_ok, mesher_ok) and finer_ok:
+        finest = finer if finer is not None and not quick else size
+        problems.check(check_budget, "--finer" if finest != size else "--mesh-size",
+                       [Case(w)], finest, max_triangles, scan=False, mesher=mesher)
+
+
 def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
                         c_over_a=None, frictions=None, facades=None,
                         max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, map=map,
@@ -156,20 +212,11 @@ def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quic
     budget of its meshes (``budget``), checked before any work; ``map``: how the grid points
     are evaluated (``crack_angle_study``); ``mesher``: ``problems.MESHERS``; ``conform``: the
     ray-conforming search on the homogenised façade (``mechanism.conform``)."""
-    w = STUDY_WALL
-    check_range("mesh_size", mesh_size, 0.0, min(w.H, w.b + w.L), lo_open=True, unit="m")
-    if finer is not None:
-        check_range("finer", finer, 0.0, mesh_size, lo_open=True, hi_open=True, unit="m")
-    _option("mesh", "max_triangles", max_triangles)
-    check_choice("mesher", mesher, MESHERS)
-    for name, values in (("c_over_a", c_over_a), ("f", frictions)):
-        for v in values or ():
-            check_range(name, v, 0.0, 100.0, lo_open=True)
-    finest = finer if finer is not None and not quick else mesh_size
-    check_budget("--finer" if finest != mesh_size else "--mesh-size", [Case(w)], finest,
-                  max_triangles, scan=False, mesher=mesher)
-    for fac in facades or ():
-        check_choice("facade", fac, FACADE_MODELS)
+    problems = Problems("crack_study_records", "the arguments")
+    crack_study_checks(problems, mesh_size=mesh_size, finer=finer, quick=quick,
+                       c_over_a=c_over_a, frictions=frictions, facades=facades,
+                       max_triangles=max_triangles, mesher=mesher)
+    problems.raise_any()
     grid = {k: tuple(v) for k, v in (("c_over_a", c_over_a), ("frictions", frictions),
                                      ("facades", facades)) if v}
     return crack_angle_study(mesh_size=mesh_size, finer=finer, quick=quick,

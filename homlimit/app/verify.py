@@ -42,8 +42,10 @@ from ..mechanism.adaptive import hinge_fan, tsection_remesher
 from ..mechanism.conform import conform_hook
 from ..mechanism.crack import fan_ray
 from ..params import Case
+from .budget import estimate_triangles
 
-__all__ = ["Known", "KNOWN", "TOL", "known_problem", "verify_records"]
+__all__ = ["FIRST_TRIANGLES", "Known", "KNOWN", "TOL", "check_first_meshes", "check_name",
+           "first_triangles", "known_problem", "verify_records"]
 
 # the static bound's stresses: quadratic where the problem allows (docs/adaptive.md: on the
 # T-section it reaches in 4 meshes what the linear field did not in 8)
@@ -95,7 +97,11 @@ def _vertical_cut(size: float = 0.25, n_fan: int = 12) -> Known:
                  "Kammoun, Pastor, Smaoui & Pastor 2010: 3.7752 <= γH/k <= 3.7776")
 
 
-def _tsection(size: float = 0.25, case: Case = Case(), h_outer: float = 0.01) -> Known:
+TSECTION_SIZE, TSECTION_OUTER = 0.25, 0.01   # the T-section's first mesh: size, outer column [m]
+
+
+def _tsection(size: float = TSECTION_SIZE, case: Case = Case(),
+              h_outer: float = TSECTION_OUTER) -> Known:
     fan = optimise_fan(case)
     remesh = tsection_remesher(case, size=size, strip=True, h_outer=h_outer)
     pr = dataclasses.replace(problems.t_section(case, facade="homogenised", h=size,
@@ -123,16 +129,45 @@ KNOWN = {"prandtl": _prandtl, "vertical_cut": _vertical_cut, "tsection": _tsecti
          "free_block": _free_block}
 
 
-def _check_name(name: str) -> str:
+# triangles of each problem's first mesh, known before meshing (``check_first_meshes``): the
+# polygons' fixed meshes as gmsh 4.15 makes them (tests/test_adapt.py checks them), the
+# T-section's estimated as a run's (``budget.estimate_triangles``, gmsh-strip)
+FIRST_TRIANGLES = {"prandtl": 1261, "vertical_cut": 1760, "free_block": 54}
+
+
+def first_triangles(name: str) -> float:
+    """The triangles of the first mesh of the known-answer problem ``name``, without meshing."""
+    if name == "tsection":
+        w = Case().wall
+        return estimate_triangles(w.H, w.b, w.L, TSECTION_SIZE, "gmsh-strip",
+                                  h_outer=TSECTION_OUTER)
+    return FIRST_TRIANGLES[check_name(name)]
+
+
+def check_first_meshes(names, max_triangles: int, option: str = "max_triangles"):
+    """ParameterError when the first mesh of a problem of ``names`` (None: all) has more
+    triangles than ``max_triangles`` allows: the adaptive loop solves its first mesh whatever
+    the budget (``fe.adapt``), so such a budget is refused before any meshing."""
+    need = {n: first_triangles(n) for n in (KNOWN if names is None else names)}
+    worst = max(need, key=need.get, default=None)
+    if worst is not None and need[worst] > max_triangles:
+        n = math.ceil(need[worst])
+        raise ParameterError(
+            f"{option} = {max_triangles!r} is out of range: the first mesh of problem {worst} "
+            f"has about {n:,} triangles (known before meshing): allowed {option} >= {n:,}, "
+            f"or leave {worst} out")
+
+
+def check_name(name: str, option: str = "problem") -> str:
     if name not in KNOWN:
-        raise ParameterError(f"problem = {name!r} is not a known-answer problem: allowed "
+        raise ParameterError(f"{option} = {name!r} is not a known-answer problem: allowed "
                              f"{', '.join(map(repr, KNOWN))}")
     return name
 
 
 def known_problem(name: str) -> Known:
     """The known-answer problem ``name`` (a key of ``KNOWN``), meshed."""
-    return KNOWN[_check_name(name)]()
+    return KNOWN[check_name(name)]()
 
 
 def verify_records(names=None, options: AdaptOptions = AdaptOptions(target_gap=0.005),
@@ -147,8 +182,9 @@ def verify_records(names=None, options: AdaptOptions = AdaptOptions(target_gap=0
     """
     names = list(KNOWN) if names is None else list(names)
     for n in names:                       # every name checked before any work
-        _check_name(n)
+        check_name(n)
     SolverOptions(stress_degree=stress_degree)
+    check_first_meshes(names, options.max_triangles)
     out = []
     for n in names:
         t0 = time.perf_counter()

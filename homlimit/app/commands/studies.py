@@ -8,6 +8,7 @@ from ...fe.adapt import AdaptOptions
 from .. import pipeline, plots, report
 from ..door import (
     LOG,
+    check_verbosity,
     emit_json,
     interruptible,
     setup_logging,
@@ -16,7 +17,13 @@ from ..door import (
     stored_tasks,
 )
 from ..engine import RecordStore
-from ..verify import verify_records
+from ..problems import Problems
+from ..tables import check_option, crack_study_checks
+from ..verify import check_first_meshes, check_name, verify_records
+
+CRACK_STUDY_FLAGS = {"mesh_size": "--mesh-size", "finer": "--finer", "c_over_a": "--c-over-a",
+                     "f": "--friction", "facade": "--facade", "mesher": "--mesher",
+                     "max_triangles": "--max-triangles"}
 
 
 def figure2(as_json, out):
@@ -37,6 +44,19 @@ def verify(as_json, out, verbose, quiet, problem, target_gap, max_cycles, min_si
            max_triangles, stress_degree):
     """``homlimit verify``'s work: see ``cli.verify``."""
     out = out or Path("homlimit-out") / "verify"
+    problems = Problems("verify")
+    problems.check(check_verbosity, verbose, quiet)
+    for key, value in (("target_gap", target_gap), ("max_cycles", max_cycles),
+                       ("min_size", min_size)):
+        problems.check(check_option, "adapt", key, value, "--" + key.replace("_", "-"))
+    budget_ok = problems.check(check_option, "mesh", "max_triangles", max_triangles,
+                               "--max-triangles")
+    problems.check(check_option, "analysis", "stress_degree", stress_degree,
+                   "--stress-degree")
+    names = [n for n in problem or () if problems.check(check_name, n, "--problem")]
+    if budget_ok is not None and len(names) == len(problem or ()):
+        problems.check(check_first_meshes, problem, max_triangles, "--max-triangles")
+    problems.raise_any()
     setup_logging(verbose, quiet, as_json)
     opts = AdaptOptions(target_gap=target_gap, max_cycles=max_cycles, min_size=min_size,
                         max_triangles=max_triangles)
@@ -75,14 +95,18 @@ def crack_study(as_json, out, verbose, quiet, mesh_size, finer, quick, c_over_a,
                 facade, max_triangles, mesher, conform, workers, scheduler, resume):
     """``homlimit crack-study``'s work: see ``cli.crack_study``."""
     out = out or Path("homlimit-out") / "crack-study"
-    setup_logging(verbose, quiet, as_json)
     grid = dict(mesh_size=mesh_size, finer=finer or None, quick=quick, c_over_a=c_over_a,
                 frictions=friction, facades=facade, max_triangles=max_triangles,
-                mesher=mesher, conform=conform)
+                mesher=mesher)
+    problems = Problems("crack-study")
+    problems.check(check_verbosity, verbose, quiet)
+    crack_study_checks(problems, **grid, names=CRACK_STUDY_FLAGS)
+    problems.raise_any()
+    setup_logging(verbose, quiet, as_json)
+    grid["conform"] = conform
     store = RecordStore(out / "records")   # a nested set: kept when the set is replaced
     with stdout_quiet(as_json or verbose) as stdout, interruptible(store.folder), \
             pipeline.result_folder(out, "crack-study") as staging:
-        pipeline.crack_study_records(**grid, map=lambda fn, points: [])   # validate before any work
         with stored_tasks(store, "crack-study", "crack-study", resume=resume, workers=workers,
                           scheduler=scheduler, quiet=quiet or as_json) as map_:
             records = pipeline.crack_study_records(**grid, map=map_)

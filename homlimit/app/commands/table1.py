@@ -6,10 +6,12 @@ from __future__ import annotations
 from dataclasses import asdict
 from pathlib import Path
 
-from ...errors import ParameterError
+from ...blocks.geometry import FACADE_BONDS
+from ...errors import check_choice
 from .. import pipeline, plots, report
 from ..dem_table1 import dem_section, table1_dem_records, table1_dem_walls
 from ..door import (
+    check_verbosity,
     interruptible,
     open_engine,
     setup_logging,
@@ -18,15 +20,73 @@ from ..door import (
     stored_tasks,
 )
 from ..engine import RecordStore
+from ..problems import Problems
+from ..tables import table1_checks
+
+# the column flags (one at a time: each its own computation and result set) and the options
+# that only one or some of them use
+COLUMNS = ("fe", "blocks", "dem")
+USED_BY = {"mesh_size": ("fe",), "heights": ("fe",), "facade": ("fe",),
+           "max_triangles": ("fe",), "mesher": ("fe",), "part_divisions": ("fe",),
+           "blocks_facade": ("blocks",), "overrides": ("dem",), "resume": ("dem",),
+           "workers": ("fe", "dem"), "scheduler": ("fe", "dem")}
+NONE_DEFAULT = ("overrides", "workers", "scheduler")    # given wherever they are not None
+FLAGS = {"fe": "--fe", "blocks": "--blocks", "dem": "--dem", "mesh_size": "--mesh-size",
+         "heights": "--heights", "facade": "--facade", "max_triangles": "--max-triangles",
+         "mesher": "--mesher", "part_divisions": "--part-divisions", "test": "--test",
+         "blocks_facade": "--blocks-facade", "overrides": "--set", "resume": "--resume",
+         "workers": "--workers", "scheduler": "--scheduler"}
+
+
+def check_options(options: dict, given: set[str] = frozenset()):
+    """Every problem of table1's options at once (ConfigError, exit 2), before any work: two
+    column flags together; an option given without the column that uses it (``USED_BY``;
+    ``given``: the options given, ``given_options``); any value out of its range, whatever
+    the flags."""
+    o = options
+    problems = Problems("table1")
+    problems.check(check_verbosity, o["verbose"], o["quiet"])
+    on = [c for c in COLUMNS if o[c]]
+    if len(on) > 1:
+        problems.add(f"{' and '.join(FLAGS[c] for c in on)} cannot be combined: allowed one "
+                     "of --fe, --blocks, --dem (each its own column, computation and result "
+                     "set); run table1 once per column")
+    for key, users in USED_BY.items():
+        if (key in given or key in NONE_DEFAULT and o[key]) and not any(o[c] for c in users):
+            shown = (f"--set {o[key][0]!r}" if key == "overrides" else
+                     "--resume" if o[key] is True else "--no-resume" if o[key] is False
+                     else f"{FLAGS[key]} {o[key]!r}")
+            problems.add(f"{shown} is out of range without "
+                         f"{' or '.join(FLAGS[c] for c in users)}: allowed only with "
+                         + " or ".join(f"table1 {FLAGS[c]}" for c in users)
+                         + (" (its [dem] keys)" if key == "overrides" else ""))
+    table1_checks(problems, fe=o["fe"] and not (o["blocks"] or o["dem"]),
+                  mesh_size=o["mesh_size"], heights=o["heights"], tests=o["test"],
+                  facade=o["facade"], max_triangles=o["max_triangles"], mesher=o["mesher"],
+                  part_divisions=o["part_divisions"], names=FLAGS)
+    problems.check(check_choice, "--blocks-facade", o["blocks_facade"], FACADE_BONDS)
+    if o["dem"]:                  # the [dem] keys of --set, and the loading Table 1 needs
+        section = problems.check(dem_section, o["overrides"])
+        if section is not None:
+            problems.check(table1_dem_walls, [], section)
+    problems.raise_any()
+
+
+def given_options(ctx) -> set[str]:
+    """The parameters whose options were given on the command line (not left at their
+    default) in the click context ``ctx`` (none without one: called from Python)."""
+    if ctx is None:
+        return set()
+    return {name for name in ctx.params
+            if getattr(ctx.get_parameter_source(name), "name", "DEFAULT")
+            not in ("DEFAULT", "DEFAULT_MAP")}
 
 
 def table1(as_json, out, verbose, quiet, fe, mesh_size, heights, facade, test, max_triangles,
            mesher, part_divisions, workers, scheduler, blocks, blocks_facade, dem, overrides,
-           resume):
-    """``homlimit table1``'s work: see ``cli.table1``."""
-    if overrides and not dem:
-        raise ParameterError(f"--set {overrides[0]!r} is out of range without --dem: allowed "
-                             "only with table1 --dem (its [dem] keys)")
+           resume, ctx=None):
+    """``homlimit table1``'s work: see ``cli.table1``; ``ctx``: its click context."""
+    check_options(locals(), given_options(ctx))
     variant = "--dem" if dem else "--blocks" if blocks else "--fe" if fe else ""
     tests = sorted(set(test or ()))
     out = out or table1_folder(variant, tests)
