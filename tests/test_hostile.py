@@ -314,6 +314,18 @@ def test_internal_names_never_reach_the_user(sandbox, no_compute, sets, message)
     assert "array(" not in res.stderr and "lam =" not in res.stderr
 
 
+def test_a_crushing_fc_is_refused_before_the_fe_path(sandbox, no_compute):
+    """fc below the wall's bound (every part crushes at its hinge) used to end in numpy's
+    'All-NaN slice encountered' (exit 1); now exit 2 naming [masonry] fc and the bound,
+    before any work: the demo's FE path is on."""
+    res = invoke("demo", "--set", "masonry.fc=1000")
+    assert res.exit_code == 2, res.stderr
+    assert "[masonry] fc = 1000.0 Pa" in res.stderr
+    assert doc("Pa is too low for this wall: every part of mechanism II (crack) crushes at its "
+               "hinge; allowed fc = 0 (infinite) or fc >= ") in res.stderr
+    assert not (sandbox / "homlimit-out").exists()
+
+
 def test_a_non_finite_result_is_exit_3_naming_mechanism_and_quantity(sandbox, monkeypatch):
     real = models_rigid.closed_forms
 

@@ -12,13 +12,14 @@ import math
 import unicodedata
 from typing import Any
 
+from ..closed_form.real import fc_problem
 from ..params import MESHER_DEFAULT, PART_DIVISIONS, Case, opening_problems
 from . import budget, registry
 from .case_openings import openings_refused
 from .schema import ARRAYS, MAX_ARRAY, OPTIONAL_SECTIONS, REQUIRED_SECTIONS, SCHEMA, TOP_LEVEL, Key
 
-__all__ = ["LAM_MIN_CLOSED", "MAX_NAME", "array_key", "check_key", "collect", "cross_checks",
-           "range_problem", "shown", "warnings_of"]
+__all__ = ["LAM_MIN_CLOSED", "MAX_NAME", "array_key", "check_key", "collect", "crushing",
+           "cross_checks", "range_problem", "shown", "warnings_of"]
 
 #: the closed forms search the critical slenderness over LAM_MIN_CLOSED <= λ <= λ_max
 #: (``closed_form.mechanisms._minimise``'s lam_min); a wall with H/b below it has no part to try
@@ -335,6 +336,16 @@ def cross_checks(v: dict[str, dict[str, Any]], *, mesh_only: bool = False) -> li
                    f"[mesh] max_triangles = {me['max_triangles']:,}; raise {keys} or, on a "
                    "machine with the memory, [mesh] max_triangles")
     return out
+
+
+def crushing(case: Case, analysis: dict) -> list[str]:
+    """A finite [masonry] fc under which every part of a closed form the case runs crushes at
+    its hinge (``closed_form.real.fc_problem``: a bound of the wall), checked on the built
+    ``Case`` before any work (the FE path included)."""
+    kinds = (("detachment", "crack") if analysis.get("closed_form") else ()) \
+        + (("overturning",) if analysis.get("overturning") else ())
+    bad = fc_problem(case, kinds, analysis.get("tanpsi") or None) if kinds else None
+    return [bad] if bad else []
 
 
 def warnings_of(case: Case, values: dict) -> tuple[str, ...]:

@@ -38,7 +38,7 @@ from ..check.site import Site
 from ..errors import ParameterError
 from ..params import Case, FacadeOpening, Floor, Masonry, Tie, Wall, WallOpening
 from .accelerogram import record_problems
-from .case_checks import array_key, collect, cross_checks, shown, warnings_of
+from .case_checks import array_key, collect, cross_checks, crushing, shown, warnings_of
 from .schema import (
     ARRAYS,
     MAX_ARRAY,
@@ -108,6 +108,9 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
                 facade_openings=tuple(FacadeOpening(**e)
                                       for e in values.get("facade_opening", ())),
                 wall_openings=tuple(WallOpening(**e) for e in values.get("wall_opening", ())))
+    problems = crushing(case, values["analysis"])     # needs the built wall
+    if problems:
+        raise ConfigError(source, problems)
     site = Site(**values["site"], g=case.wall.g) if "site" in values else None
     return CaseConfig(case=case, source=source, warnings=warnings_of(case, values), site=site,
                       **{sec: cls(**{k: tuple(v) if isinstance(v, list) else v

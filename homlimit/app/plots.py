@@ -84,7 +84,10 @@ def plot_vg_lambda(path: str | Path, curves: dict, mechanisms: dict, *, fe=None,
                       f"v̄_g = {dem.vg:g} m/s")
     finite = np.concatenate([np.asarray(vg, float) for _, vg, _ in curves.values()])
     finite = finite[np.isfinite(finite)]
-    top = min(float(np.max(finite)), 2.5 * max(mechanisms[name].vg for name in curves))
+    # a real wall's curve may be NaN throughout (every λ of the grid crushes, its critical
+    # part below the grid's first λ): the critical points set the axis then
+    top = min(float(np.max(finite)) if finite.size else math.inf,
+              2.5 * max(mechanisms[name].vg for name in curves))
     ax.set_ylim(0.0, top * 1.05)
     # a curve may be empty (II's wedge fits no λ of the grid): the others set the axis
     ax.set_xlim(0.0, max((float(np.max(lam)) for lam, _, _ in curves.values() if len(lam)),

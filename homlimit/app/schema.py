@@ -62,7 +62,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "fc": Key(float, default_of(Masonry, "fc"), "Pa", 0.0, 1e10,
                   doc="compressive strength of the masonry; 0 means infinite (the paper's "
                       "rigid blocks). Finite: the hinge of every closed form retreats to the "
-                      "resultant of a rectangular stress block, t = N/(2 fc l); both FE "
+                      "resultant of a rectangular stress block, t = N/(2 fc l), and a finite "
+                      "fc below N/(b l) of the smallest part (λ = 0.5: γ g b/2 on a plain "
+                      "wall) is refused, the bound named; both FE "
                       "bounds cap the principal compressive stress at fc; the rigid blocks "
                       "cap every contact at fc (docs/real-walls.md); the DEM caps every "
                       "contact point's normal spring at fc × tributary × depth, on points "

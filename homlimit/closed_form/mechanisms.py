@@ -247,35 +247,47 @@ def _minimise(fun, lam_max, lam_min=0.5, n_grid=160, n_golden=45):
     A log-spaced grid locates the best cell, then golden-section search refines it (one new
     evaluation per step: the other interior point is the previous step's). Returns
     (λ*, fun(λ*)). If the minimum sits on lam_max the constraint λ <= H/b is active.
+    A NaN value is no candidate (a real wall's part that crushes, ``real``): the search keeps
+    to the finite values; a problem with no finite value on the grid gets (λ, NaN).
     """
     lam_max = np.asarray(lam_max, float)
     shape = lam_max.shape
     lm = lam_max.ravel()
     s = np.linspace(0.0, 1.0, n_grid)
     grid = lam_min * (lm[:, None] / lam_min) ** s[None, :]
-    vals = fun(grid, (slice(None), None))
-    k = np.nanargmin(vals, axis=1)
+
+    def fin(v):                 # NaN: no candidate, above any value
+        return np.where(np.isnan(v), np.inf, v)
+
+    raw = fun(grid, (slice(None), None))
+    vals = fin(raw)
+    k = np.argmin(vals, axis=1)
     idx = np.arange(lm.size)
     lo = grid[idx, np.maximum(k - 1, 0)]
     hi = grid[idx, np.minimum(k + 1, n_grid - 1)]
     gr = (math.sqrt(5) - 1) / 2
     x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
-    f1, f2 = fun(x1, slice(None)), fun(x2, slice(None))
+    f1, f2 = fin(fun(x1, slice(None))), fin(fun(x2, slice(None)))
     for _ in range(n_golden - 1):
         left = f1 < f2          # the minimum is in [lo, x2]: x1 becomes the new x2
         hi, lo = np.where(left, x2, hi), np.where(left, lo, x1)
         x_new = np.where(left, hi - gr * (hi - lo), lo + gr * (hi - lo))
-        f_new = fun(x_new, slice(None))
+        f_new = fin(fun(x_new, slice(None)))
         x1, x2 = np.where(left, x_new, x2), np.where(left, x1, x_new)
         f1, f2 = np.where(left, f_new, f2), np.where(left, f1, f_new)
     left = f1 < f2
     hi, lo = np.where(left, x2, hi), np.where(left, lo, x1)
     lam = 0.5 * (lo + hi)
     f_lam = fun(lam, slice(None))
+    # a midpoint past a crushing limit (NaN): the better inner point of the last bracket
+    if np.isnan(f_lam).any():
+        inner = np.where(f1 < f2, x1, x2)
+        lam = np.where(np.isnan(f_lam), inner, lam)
+        f_lam = np.where(np.isnan(f_lam), fun(inner, slice(None)), f_lam)
     # keep the grid's point if it beats the interior refinement (the minimum on an end point)
-    grid_wins = vals[idx, k] < f_lam
+    grid_wins = vals[idx, k] < fin(f_lam)
     lam = np.where(grid_wins, grid[idx, k], lam)
-    f_lam = np.where(grid_wins, vals[idx, k], f_lam)
+    f_lam = np.where(grid_wins, raw[idx, k], f_lam)
     return lam.reshape(shape), f_lam.reshape(shape)
 
 

@@ -42,7 +42,7 @@ from ..params import Case
 from .mechanisms import MechanismResult, geometry_II, lam_max_II, minimise, wedge_Jz
 
 __all__ = ["KINDS", "RealMechanismResult", "real_mechanism", "vnorm_real", "multiplier_real",
-           "friction_work_I", "mechanism_state",
+           "friction_work_I", "mechanism_state", "fc_min", "fc_problem",
            "work_real", "theta_m_real", "lam_bounds"]
 
 KINDS = ("detachment", "crack", "overturning")     # mechanisms I, II and the overturning
@@ -173,6 +173,39 @@ def _state(case: Case, kind: str, lam, tanpsi=None):
     t = np.where(2 * t <= b, t, np.nan)        # the stress block must fit the thickness
     return dict(lam=lam, m=m, xg=xg, zg=zg, I_O=I_O, Jz=Jz, Q=Q, e=e, zq=zq, T=T, k=k, du=du, d=d,
                 N=N, t=t, g=g, t_psi=t_psi)
+
+
+def fc_min(case: Case, kind: str, tanpsi: float | None = None) -> tuple[float, float]:
+    """(fc_min [Pa], N [N]): the smallest f_c at which some part of mechanism ``kind`` is a
+    candidate, and the normal force N on the hinge that sets it. A part crushes when its
+    stress block w = N/(f_c l) is deeper than b, i.e. f_c < N/(b l); N (the body's weight and
+    the floor loads on it, all >= 0) only grows with λ, so the smallest part, λ = LAM_MIN,
+    sets the bound: fc_min = N(LAM_MIN)/(b l) (a plain wall's mechanism I: γ g b/2)."""
+    n = float(_state(case, kind, [LAM_MIN], tanpsi)["N"][0])
+    return n / (case.wall.b * case.wall.l), n
+
+
+def fc_problem(case: Case, kinds=KINDS, tanpsi: float | None = None) -> str | None:
+    """The problem line of a finite ``[masonry] fc`` under which every part of one of the
+    mechanisms ``kinds`` crushes at its hinge (none: None). The bound depends on the wall
+    (``fc_min``), and the message says so."""
+    fc = case.masonry.fc
+    if not fc:
+        return None
+    bounds = {kind: fc_min(case, kind, tanpsi) for kind in kinds}
+    kind = max(bounds, key=lambda k: bounds[k][0])
+    low, n = bounds[kind]
+    if fc >= low:
+        return None
+    w = case.wall
+    step = 10.0 ** (math.floor(math.log10(low)) - 3)
+    up = math.ceil(low / step) * step           # 4 digits, rounded up: an admissible value
+    return (f"[masonry] fc = {fc!r} Pa is too low for this wall: every part of mechanism "
+            f"{NAMES[kind]} ({kind}) crushes at its hinge; allowed fc = 0 (infinite) or "
+            f"fc >= {up:.4g} Pa (a bound of this wall: its smallest part, h = {LAM_MIN:g} b "
+            f"= {LAM_MIN * w.b:.4g} m, presses N = {n:.4g} N (its weight and the floor loads "
+            f"on it) on its hinge, whose stress block N/(fc l) must fit the thickness "
+            f"b = {w.b:g} m: fc >= N/(b l); docs/real-walls.md)")
 
 
 def mechanism_state(case: Case, kind: str, lam, tanpsi: float | None = None) -> dict:
@@ -407,19 +440,20 @@ def real_mechanism(case: Case, kind: str, tanpsi: float | None = None,
     def fun(x, ix):
         return vnorm_real(case, kind, np.ravel(x), tanpsi).reshape(np.shape(x))
 
+    bad = fc_problem(case, (kind,), tanpsi)
+    if bad:                          # every part crushes: nothing to minimise
+        raise ParameterError(bad)
     if lam is None:
-        lam, _ = minimise(fun, np.array([lam_max]))
+        lam, _ = minimise(fun, np.array([lam_max]))    # the parts that crush are no candidates
         lam = float(lam[0])
-        if not math.isfinite(fun(np.array([lam]), 0)[0]):
-            raise ParameterError(
-                f"[masonry] fc = {case.masonry.fc!r} Pa: every part of mechanism {kind} "
-                "crushes at its hinge (the stress block N/(fc l) is deeper than b); allowed "
-                "a larger fc")
     st = _state(case, kind, [lam], tanpsi)
     v, th, Wm, I_h = (float(a[0]) for a in _velocity(case, kind, st))
     if not math.isfinite(v):
+        need = float(st["N"][0]) / (w.b * w.l)
         raise ParameterError(f"[masonry] fc = {case.masonry.fc!r} Pa: mechanism {kind} at "
-                             f"λ = {lam:.4g} crushes at its hinge; allowed a larger fc")
+                             f"λ = {lam:.4g} crushes at its hinge (its stress block N/(fc l) "
+                             f"is deeper than b); allowed fc = 0 (infinite) or fc >= N/(b l) "
+                             f"= {need:.4g} Pa at this λ")
     t = float(st["t"][0])
     m, zg, xg = float(st["m"][0]), float(st["zg"][0]), float(st["xg"][0])
     body = RigidBody(m=m, x_G=xg - t, z_G=zg, I_O=I_h, J_z=float(st["Jz"][0]))
