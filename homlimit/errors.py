@@ -47,11 +47,15 @@ def check_range(
     lo_open: bool = False,
     hi_open: bool = False,
     unit: str = "",
+    note: str = "",
 ) -> float:
-    """Return ``float(value)`` if it lies in the stated interval, else raise ParameterError.
+    """Return ``float(value)`` if it lies in the stated (finite) interval, else raise
+    ParameterError.
 
     The message names the parameter, its value and the allowed range, e.g.
-    ``b = -0.5 m is out of range: allowed 0 < b``.
+    ``b = -0.5 m is out of range: allowed 0 < b``; a range open above adds "finite" for
+    inf and NaN (``min_size = inf m is out of range: allowed 0 < min_size m, finite``);
+    ``note`` is added in brackets (``0: none``).
     """
     u = f" {unit}" if unit else ""
     try:
@@ -69,8 +73,11 @@ def check_range(
             parts.append(f"{lo:g} {'<' if lo_open else '<='} {name}")
         if hi is not None:
             parts.append(f"{name} {'<' if hi_open else '<='} {hi:g}")
-        rng = " and ".join(parts) if parts else f"{name} finite"
-        raise ParameterError(f"{name} = {value!r}{u} is out of range: allowed {rng}{u}")
+        rng = (" and ".join(parts) if parts else f"{name} finite") + u
+        if parts and hi is None and not math.isfinite(x):
+            rng += ", finite"
+        rng += f" ({note})" if note else ""
+        raise ParameterError(f"{name} = {value!r}{u} is out of range: allowed {rng}")
     return x
 
 

@@ -235,6 +235,46 @@ def test_a_binary_pulse_record_exits_2(sandbox):
     assert not (sandbox / "homlimit-out").exists()
 
 
+def test_a_missing_pulse_record_names_the_case_file(sandbox):
+    case = sandbox / "case.toml"
+    case.write_text(B1 + FAST, encoding="utf-8")
+    res = invoke("pulse", case, "--set", "pulse.record=nowhere.csv")
+    assert res.exit_code == 2
+    assert f"{case}: " + doc("[pulse] record = 'nowhere.csv': record = '") in res.stderr
+    assert "nowhere.csv' is not a file" in res.stderr
+    assert not (sandbox / "homlimit-out").exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    # the default --finer (0.25 m) above a lowered --mesh-size: the flag the user gave first
+    (["crack-study", "--mesh-size", "1e-4"],
+     doc("--mesh-size = 0.0001 m is not above --finer = 0.25 m (the default of --finer, the "
+         "study's second, finer mesh): out of range: allowed --finer < --mesh-size")),
+    (["crack-study", "--finer", "-1"],
+     doc("--finer = -1.0 m is out of range: allowed 0 <= --finer and --finer < 0.5 m (below "
+         "--mesh-size; 0: none)")),
+    (["verify", "--min-size", "inf"],
+     doc("adapt.min_size = inf m is out of range: allowed 0 < adapt.min_size m, finite")),
+    (["demo", "--set", "wall.H=1e400"],
+     doc("[wall] H = 1e400 (beyond the largest float, about 1.8e308) m is out of range")),
+])
+def test_option_messages_say_what_the_user_gave(sandbox, no_meshing, args, message):
+    res = invoke(*args)
+    assert res.exit_code == 2 and message in res.stderr, res.stderr
+    assert not (sandbox / "homlimit-out").exists()
+
+
+def test_finer_0_is_none_and_the_quick_grid_takes_no_finer(monkeypatch):
+    from homlimit.app import studies, tables
+
+    seen = []
+    monkeypatch.setattr(studies, "crack_point", lambda point, **kw: seen.append(point[3]))
+    tables.crack_study_records(mesh_size=0.6, finer=0.0, c_over_a=[1.0], frictions=[0.6],
+                               facades=["homogenised"])
+    tables.crack_study_records(mesh_size=0.1, quick=True, max_triangles=10 ** 6)
+    assert set(seen) == {0.6, 0.1}
+
+
 # ----------------------------------------------------------------------------- problem size
 @pytest.fixture
 def no_meshing(monkeypatch):

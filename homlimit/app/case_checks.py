@@ -18,8 +18,8 @@ from . import budget, registry
 from .case_openings import openings_refused
 from .schema import ARRAYS, MAX_ARRAY, OPTIONAL_SECTIONS, REQUIRED_SECTIONS, SCHEMA, TOP_LEVEL, Key
 
-__all__ = ["LAM_MIN_CLOSED", "MAX_NAME", "array_key", "check_key", "collect", "crushing",
-           "cross_checks", "range_problem", "shown", "warnings_of"]
+__all__ = ["LAM_MIN_CLOSED", "MAX_NAME", "Overflow", "array_key", "check_key", "collect",
+           "crushing", "cross_checks", "range_problem", "shown", "toml_float", "warnings_of"]
 
 #: the closed forms search the critical slenderness over LAM_MIN_CLOSED <= λ <= λ_max
 #: (``closed_form.mechanisms._minimise``'s lam_min); a wall with H/b below it has no part to try
@@ -27,12 +27,33 @@ LAM_MIN_CLOSED = 0.5
 MAX_NAME = 100                    # characters of a case name
 
 
+class Overflow(float):
+    """A number written beyond the largest float (1e400 reads as inf), keeping its text for
+    the messages: ``[wall] H = 1e400 (beyond the largest float, about 1.8e308) m``."""
+
+    text: str
+
+    def __new__(cls, text: str):
+        obj = super().__new__(cls, text)
+        obj.text = text
+        return obj
+
+    def __repr__(self) -> str:
+        return f"{self.text} (beyond the largest float, about 1.8e308)"
+
+
+def toml_float(text: str) -> float:
+    """A TOML float (``tomllib``'s parse_float): an ``Overflow`` where finite digits overflow."""
+    x = float(text)
+    return Overflow(text) if math.isinf(x) and "inf" not in text.lower() else x
+
+
 def typed(kind: type, value) -> tuple[bool, Any]:
     """(ok, converted) for TOML values: ints are accepted for floats, bools are never numbers."""
     if isinstance(value, bool):
         return kind is bool, value
     if kind is float and isinstance(value, int | float):
-        return True, value if isinstance(value, int) else float(value)
+        return True, value if isinstance(value, int | Overflow) else float(value)
     return isinstance(value, kind), value
 
 

@@ -38,7 +38,15 @@ from ..check.site import Site
 from ..errors import ParameterError
 from ..params import Case, FacadeOpening, Floor, Masonry, Tie, Wall, WallOpening
 from .accelerogram import record_problems
-from .case_checks import array_key, collect, cross_checks, crushing, shown, warnings_of
+from .case_checks import (
+    array_key,
+    collect,
+    cross_checks,
+    crushing,
+    shown,
+    toml_float,
+    warnings_of,
+)
 from .schema import (
     ARRAYS,
     MAX_ARRAY,
@@ -174,7 +182,7 @@ def read_case(path: str | Path) -> dict:
     text = read_text(path, "case file", MAX_CASE_BYTES, fail,
                      size_hint="a case file is a few hundred bytes")
     try:
-        return tomllib.loads(text)
+        return tomllib.loads(text, parse_float=toml_float)
     except tomllib.TOMLDecodeError as e:
         fail(f"not valid TOML: {e}")
     except ValueError as e:          # e.g. an integer of more than 4300 digits
@@ -357,7 +365,7 @@ def _override(data: dict, overrides, source: str) -> dict:
                 continue
             seen[key.strip()] = text
             try:
-                value = tomllib.loads(f"v = {raw.strip()}")["v"]
+                value = tomllib.loads(f"v = {raw.strip()}", parse_float=toml_float)["v"]
             except tomllib.TOMLDecodeError:
                 value = raw.strip()                   # a bare word: a string
             parsed.append((key.strip(), value))

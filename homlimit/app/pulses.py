@@ -8,9 +8,10 @@ import logging
 
 from ..dynamics import overturning_spectrum
 from ..dynamics.spectra import PLAUSIBLE_PGA_G, PLAUSIBLE_PGV, record_thresholds
+from ..errors import ParameterError
 from . import registry
 from .accelerogram import MAX_RECORD_BYTES, read_record
-from .config import CaseConfig
+from .config import CaseConfig, ConfigError
 from .models import FERocker, stage
 from .models_rigid import no_joint_strength
 from .result import Result
@@ -31,7 +32,7 @@ def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
     # refused before any work (the FE path): what the chosen rockers do not take
     # (every rocker takes fc, ties and floors: the FE body's with the FE impulse's LoadWork)
     no_joint_strength(case, "the pulse spectra's rocker of every mechanism")
-    record = read_record(config.source, pc.record, "[pulse] record") if pc.record else None
+    record = _record(config) if pc.record else None
     chosen = {e.name: _alone(e, config) for e in registry.mechanisms()
               if e.name in pc.mechanisms}
     rockers = {name: registry.mechanism(name).rocker(case, m, gravity_I=pc.gravity_I,
@@ -49,6 +50,15 @@ def pulse_records(config: CaseConfig) -> tuple[list, FERocker | None]:
             points += record_thresholds(rockers, record, **kw)
     _warn_implausible(points)
     return points, next((m for m in chosen.values() if isinstance(m, FERocker)), None)
+
+
+def _record(config: CaseConfig):
+    """[pulse] record read (``read_record``); a problem with it is the case's, ConfigError
+    naming the case file as [dem] record's (``accelerogram.record_problems``)."""
+    try:
+        return read_record(config.source, config.pulse.record, "[pulse] record")
+    except ParameterError as e:
+        raise ConfigError(config.source, [str(e)]) from None
 
 
 def _alone(entry: registry.Mechanism, config: CaseConfig):

@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 from ..closed_form.fan import optimise_fan, optimise_wedge
-from ..errors import SolverError, check_choice, check_range
+from ..errors import ParameterError, SolverError, check_choice, check_range
 from ..fe.problems import t_section
 from ..fe.solver import SolverOptions
 from ..mechanism.adaptive import hinge_fan_of
@@ -36,6 +36,7 @@ log = logging.getLogger(__name__)
 C_OVER_A = (0.5, 0.75, 1.0, 1.5, 2.0, 3.0)
 FRICTIONS = (0.3, 0.6, 0.9)
 STUDY_WALL = Wall(H=9.0, L=6.0, s=0.5, b=0.5, l=6.0)
+FINER = 0.25        # the second, finer mesh of the study [m] (crack-study --finer's default)
 _A = 0.2  # block height [m] of the study; c = (c/a) a
 
 CRACK_COLUMNS = [
@@ -58,7 +59,24 @@ def _deg(t: float) -> float:
     return math.degrees(math.atan(t)) if np.isfinite(t) else math.nan
 
 
-def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
+def check_finer(mesh_size: float | None, finer: float | None, name: str = "finer",
+                size_name: str = "mesh_size") -> float | None:
+    """The study's second mesh size (None: none, for None or 0), below ``mesh_size`` (None:
+    not known, a bad one), else ParameterError naming ``name`` (0 <= finer < mesh_size, 0:
+    none) or, when finer is its default, ``size_name``, the size the user lowered below it.
+    ``name``, ``size_name``: the arguments' names in the messages (the flags)."""
+    if finer is None or finer == 0:
+        return None
+    if mesh_size is not None and finer == FINER and finer >= mesh_size:
+        raise ParameterError(
+            f"{size_name} = {mesh_size!r} m is not above {name} = {finer!r} m (the default "
+            f"of {name}, the study's second, finer mesh): out of range: allowed {name} < "
+            f"{size_name}; give {name} below {mesh_size!r} m, or {name} 0 (none)")
+    return check_range(name, finer, 0.0, mesh_size, hi_open=True, unit="m",
+                       note=f"below {size_name}; 0: none")
+
+
+def crack_angle_study(mesh_size: float = 0.5, finer: float | None = FINER, quick: bool = False,
                       c_over_a=C_OVER_A, frictions=FRICTIONS, facades=FACADE_MODELS,
                       wall: Wall = STUDY_WALL, options=None, map=map,
                       mesher: str = MESHER_DEFAULT, conform: bool = False) -> list[dict]:
@@ -75,9 +93,9 @@ def crack_angle_study(mesh_size: float = 0.5, finer: float | None = 0.25, quick:
     check_choice("mesher", mesher, MESHERS)
     mesh_size = check_range("mesh_size", mesh_size, 0.0, lo_open=True, unit="m")
     sizes = [mesh_size]
-    if finer is not None and not quick:
-        sizes.append(check_range("finer", finer, 0.0, mesh_size, lo_open=True, hi_open=True,
-                                 unit="m"))
+    finer = None if quick else check_finer(mesh_size, finer)
+    if finer is not None:
+        sizes.append(finer)
     if quick:
         c_over_a, frictions = (0.5, 1.0, 3.0), (0.3, 0.9)
     grid = [(check_range("c_over_a", ca, 0.0, lo_open=True), f, fac, h)

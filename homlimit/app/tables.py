@@ -21,7 +21,7 @@ from .models import solver_options, stage
 from .outputs import result_folder, source_of
 from .problems import Problems
 from .schema import SCHEMA
-from .studies import STUDY_WALL, crack_angle_study
+from .studies import FINER, STUDY_WALL, check_finer, crack_angle_study
 
 __all__ = ["check_budget", "check_option", "crack_study_checks", "crack_study_records",
            "figure2_curves", "mesh_case", "table1_blocks_records", "table1_checks",
@@ -175,7 +175,7 @@ def figure2_curves(rho=None) -> dict:
 
 
 def crack_study_checks(problems: Problems, mesh_size: float = 0.5,
-                       finer: float | None = 0.25, quick: bool = False, c_over_a=None,
+                       finer: float | None = FINER, quick: bool = False, c_over_a=None,
                        frictions=None, facades=None,
                        max_triangles: int = budget.DEFAULT_MAX_TRIANGLES,
                        mesher: str = MESHER_DEFAULT, names: dict | None = None):
@@ -186,9 +186,10 @@ def crack_study_checks(problems: Problems, mesh_size: float = 0.5,
     w = STUDY_WALL
     size = problems.check(check_range, name("mesh_size", "mesh_size"), mesh_size, 0.0,
                           min(w.H, w.b + w.L), lo_open=True, unit="m")
-    finer_ok = finer is None or problems.check(     # below a bad mesh_size: above 0 at least
-        check_range, name("finer", "finer"), finer, 0.0, size, lo_open=True, hi_open=True,
-        unit="m") is not None
+    finer = None if quick else finer                # --quick: one mesh, no second one
+    finer_ok = not finer or problems.check(         # below a bad mesh_size: >= 0 at least
+        check_finer, size, finer, name("finer", "finer"),
+        name("mesh_size", "mesh_size")) is not None
     budget_ok = problems.check(check_option, "mesh", "max_triangles", max_triangles,
                                name("max_triangles"))
     mesher_ok = problems.check(check_choice, name("mesher", "mesher"), mesher, MESHERS)
@@ -198,12 +199,12 @@ def crack_study_checks(problems: Problems, mesh_size: float = 0.5,
     for fac in facades or ():
         problems.check(check_choice, name("facade", "facade"), fac, FACADE_MODELS)
     if None not in (size, budget_ok, mesher_ok) and finer_ok:
-        finest = finer if finer is not None and not quick else size
+        finest = finer or size
         problems.check(check_budget, "--finer" if finest != size else "--mesh-size",
                        [Case(w)], finest, max_triangles, scan=False, mesher=mesher)
 
 
-def crack_study_records(mesh_size: float = 0.5, finer: float | None = 0.25, quick: bool = False,
+def crack_study_records(mesh_size: float = 0.5, finer: float | None = FINER, quick: bool = False,
                         c_over_a=None, frictions=None, facades=None,
                         max_triangles: int = budget.DEFAULT_MAX_TRIANGLES, map=map,
                         mesher: str = MESHER_DEFAULT, conform: bool = False) -> list[dict]:
