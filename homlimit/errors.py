@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 __all__ = ["HomlimitError", "ParameterError", "MeshError", "OutputError", "ResultError",
-           "SolverError", "check_choice", "check_range"]
+           "SolverError", "check_choice", "check_range", "check_type"]
 
 
 class HomlimitError(Exception):
@@ -86,4 +86,16 @@ def check_choice(name: str, value, choices) -> object:
     if value not in tuple(choices):
         raise ParameterError(f"{name} = {value!r} is out of range: allowed one of "
                              + ", ".join(repr(c) for c in choices))
+    return value
+
+
+def check_type(name: str, value, types: tuple, allowed: str):
+    """Return ``value`` if it is an instance of one of ``types`` (a bool is no int here),
+    else raise ParameterError naming the argument, its value and ``allowed``."""
+    ok = isinstance(value, types) and not (isinstance(value, bool) and bool not in types)
+    if not ok:
+        text = repr(value)
+        text = text if len(text) <= 60 else f"{text[:50]}... ({len(text)} characters)"
+        raise ParameterError(f"{name} = {text} ({type(value).__name__}) has the wrong type: "
+                             f"allowed {allowed}")
     return value

@@ -29,13 +29,14 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import os
 import tomllib
 from importlib import resources
 from pathlib import Path
 
 from .._io import json_bytes
 from ..check.site import Site
-from ..errors import ParameterError
+from ..errors import ParameterError, check_type
 from ..params import Case, FacadeOpening, Floor, Masonry, Tie, Wall, WallOpening
 from .accelerogram import record_problems
 from .case_checks import (
@@ -210,6 +211,9 @@ def case_data(path_or_dict: str | Path | dict | None = None,
     """(data, source, default name) of a case: a TOML path (``read_case``; its stem names
     the case), a dict (source ``source`` or "<dict>", name "case"), or None (the embedded B1).
     Nothing is validated here but the file itself."""
+    check_type("path_or_dict", path_or_dict, (str, os.PathLike, dict, type(None)),
+               "a case file's path (str or pathlib.Path), a dict of the case file's shape, "
+               "None (the embedded B1), or (homlimit.run) a CaseConfig")
     if path_or_dict is None:
         return _default_data(), "<default: B1>", "B1"
     if isinstance(path_or_dict, dict):

@@ -25,10 +25,12 @@ the other commands' work (``table1_records``, ``crack_study_records``, ``mesh_ca
 from __future__ import annotations
 
 import logging
+import os
 from pathlib import Path
 
 from .._version import package_version
 from ..closed_form.paper import dem_row
+from ..errors import check_type
 from . import registry
 from .case import announce, resolve_case
 from .checks import check_results, conclude, hinge_checks
@@ -98,11 +100,17 @@ def run(path_or_dict: str | Path | dict | CaseConfig | None = None, *,
     manifest: "run", or "demo" for the command line's demo) is refused. ``tasks(folder)``:
     the map hook of ``compute``, asked for once the output folder has been checked (its
     records may live there); None: every model's work here.
-    Raises ConfigError/ParameterError for bad input and an unusable output folder (before any
+    Raises ConfigError/ParameterError for bad input (an argument of the wrong type too:
+    ``write`` is a bool, ``out`` a path or None) and an unusable output folder (before any
     computation), SolverError when a conic program does not end optimal, ResultError when a
     result is not a finite number, OutputError when the files cannot be written (the previous
     set is then kept).
     """
+    check_type("write", write, (bool,), "True or False")
+    check_type("out", out, (str, os.PathLike, type(None)),
+               "a folder's path (str or pathlib.Path), or None (the default folder)")
+    check_type("overrides", overrides, (list, tuple, dict, type(None)),
+               "a list of 'section.key=value' strings, a {'section.key': value} dict, or None")
     config = resolve_case(path_or_dict, overrides)
     announce(config)
     if not write:
