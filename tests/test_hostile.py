@@ -254,8 +254,8 @@ def test_a_missing_pulse_record_names_the_case_file(sandbox):
     (["crack-study", "--finer", "-1"],
      doc("--finer = -1.0 m is out of range: allowed 0 <= --finer and --finer < 0.5 m (below "
          "--mesh-size; 0: none)")),
-    (["verify", "--min-size", "inf"],
-     doc("adapt.min_size = inf m is out of range: allowed 0 < adapt.min_size m, finite")),
+    (["verify", "--min-size", "inf"],          # its range is bounded above (the option's)
+     "--min-size = inf m is out of range: allowed 0 < --min-size and --min-size <= 10000 m"),
     (["demo", "--set", "wall.H=1e400"],
      doc("[wall] H = 1e400 (beyond the largest float, about 1.8e308) m is out of range")),
 ])
@@ -263,6 +263,15 @@ def test_option_messages_say_what_the_user_gave(sandbox, no_meshing, args, messa
     res = invoke(*args)
     assert res.exit_code == 2 and message in res.stderr, res.stderr
     assert not (sandbox / "homlimit-out").exists()
+
+
+def test_a_range_open_above_says_finite():
+    from homlimit.errors import ParameterError
+    from homlimit.fe.adapt import AdaptOptions
+
+    with pytest.raises(ParameterError, match=re.escape(doc(
+            "adapt.min_size = inf m is out of range: allowed 0 < adapt.min_size m, finite"))):
+        AdaptOptions(min_size=float("inf"))
 
 
 def test_finer_0_is_none_and_the_quick_grid_takes_no_finer(monkeypatch):

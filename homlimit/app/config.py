@@ -29,25 +29,16 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
-import os
 import tomllib
 from importlib import resources
 from pathlib import Path
 
 from .._io import json_bytes
 from ..check.site import Site
-from ..errors import ParameterError, check_type
+from ..errors import ParameterError
 from ..params import Case, FacadeOpening, Floor, Masonry, Tie, Wall, WallOpening
 from .accelerogram import record_problems
-from .case_checks import (
-    array_key,
-    collect,
-    cross_checks,
-    crushing,
-    shown,
-    toml_float,
-    warnings_of,
-)
+from .case_checks import array_key, collect, cross_checks, crushing, shown, toml_float, warnings_of
 from .schema import (
     ARRAYS,
     MAX_ARRAY,
@@ -117,9 +108,8 @@ def _parse(data: dict, source: str, default_name: str) -> CaseConfig:
                 facade_openings=tuple(FacadeOpening(**e)
                                       for e in values.get("facade_opening", ())),
                 wall_openings=tuple(WallOpening(**e) for e in values.get("wall_opening", ())))
-    problems = crushing(case, values["analysis"])     # needs the built wall
-    if problems:
-        raise ConfigError(source, problems)
+    if bad := crushing(case, values["analysis"]):       # needs the built wall
+        raise ConfigError(source, bad)
     site = Site(**values["site"], g=case.wall.g) if "site" in values else None
     return CaseConfig(case=case, source=source, warnings=warnings_of(case, values), site=site,
                       **{sec: cls(**{k: tuple(v) if isinstance(v, list) else v
@@ -211,9 +201,6 @@ def case_data(path_or_dict: str | Path | dict | None = None,
     """(data, source, default name) of a case: a TOML path (``read_case``; its stem names
     the case), a dict (source ``source`` or "<dict>", name "case"), or None (the embedded B1).
     Nothing is validated here but the file itself."""
-    check_type("path_or_dict", path_or_dict, (str, os.PathLike, dict, type(None)),
-               "a case file's path (str or pathlib.Path), a dict of the case file's shape, "
-               "None (the embedded B1), or (homlimit.run) a CaseConfig")
     if path_or_dict is None:
         return _default_data(), "<default: B1>", "B1"
     if isinstance(path_or_dict, dict):
