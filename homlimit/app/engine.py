@@ -33,6 +33,7 @@ import time
 from collections.abc import Callable, Iterable, Sequence
 from contextlib import contextmanager
 
+from .. import _threads
 from .._io import to_jsonable
 from ..errors import ParameterError, check_range
 from ..params import MESHER_DEFAULT, PART_DIVISIONS
@@ -46,6 +47,8 @@ log = logging.getLogger(__name__)
 
 #: environment of every embedded worker process: one BLAS/OpenMP thread (one task per core)
 BLAS_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+#: seconds an embedded worker has to stop after an interrupt before it is killed
+STOP_TIMEOUT = 0.5
 
 
 @contextmanager
@@ -201,6 +204,8 @@ class Engine:
                 if self.client is not None:
                     self.client.close()
                 if self._cluster is not None:
+                    if interrupted:
+                        self._stop_workers()
                     self._cluster.close()
         finally:
             self.client = self._cluster = None
@@ -208,6 +213,22 @@ class Engine:
                 signal.signal(signal.SIGTERM, self._old_term)
                 self._old_term = None
         return False
+
+    def _stop_workers(self):
+        """The embedded workers stopped within ``STOP_TIMEOUT`` (then killed): a worker busy
+        in a task would otherwise hold the cluster's close for its nanny's 4 s of grace."""
+        import asyncio
+
+        nannies = list(self._cluster.workers.values())
+
+        async def stop():
+            await asyncio.gather(*(w.close(timeout=STOP_TIMEOUT) for w in nannies),
+                                 return_exceptions=True)
+
+        try:
+            self._cluster.sync(stop)
+        except Exception as e:  # the ordinary close follows
+            log.debug("stopping the workers at once failed: %s", e)
 
     @property
     def n_workers(self) -> int:
@@ -304,9 +325,9 @@ class Engine:
         of the refinement around the minimum) through its ``map`` hook, all walls at once (a
         client thread per wall only waits). Returns one ``mechanism.analysis.FEResult`` per
         wall, as ``fe_result(case, mesh_size, facade, options, heights=heights,
-        mesher=mesher, divisions=divisions)`` would."""
-        from concurrent.futures import ThreadPoolExecutor
-
+        mesher=mesher, divisions=divisions)`` would. The walls' threads are daemon threads
+        (``_threads.map_threads``): an interrupt leaves at once, abandoning the scans, whose
+        waits end when the engine's client closes (an executor would join them first)."""
         from ..mechanism.analysis import fe_result
 
         def one(case):
@@ -315,8 +336,7 @@ class Engine:
 
         if not cases:
             return []
-        with ThreadPoolExecutor(len(cases)) as pool:
-            return list(pool.map(one, cases))
+        return _threads.map_threads(one, cases, len(cases))
 
 
 def _weight(result) -> tuple[int, int]:
