@@ -11,6 +11,10 @@ ends or the process exits (daemon threads do not hold the exit up).
 - ``call(fn, ...)``: ``fn``'s result, waited for interruptibly (in the main thread);
 - ``map_threads(fn, items, n)``: ``[fn(x) for x in items]``, n at a time, in order;
 - ``map_here(fn, items)``: the same with ``threads_here(len(items))`` threads;
+- ``abandoned()``: whether such a call still runs (one that an interrupt left behind: the
+  command line then ends the process at once, ``os._exit``, since a thread that leaves native
+  code while the interpreter finalises is forced to exit, and Clarabel's Rust core aborts
+  the process on that forced unwind, exit 134);
 - ``threads_here(k)``: how many of k independent solves to run at once here: up to the cores,
   one on a Dask worker (the engine already runs one task per core).
 """
@@ -24,7 +28,8 @@ import threading
 from collections.abc import Callable, Iterable
 from concurrent.futures import Future
 
-__all__ = ["background", "call", "map_here", "map_threads", "on_dask_worker", "threads_here"]
+__all__ = ["abandoned", "background", "call", "map_here", "map_threads", "on_dask_worker",
+           "threads_here"]
 
 
 def background(fn: Callable, *args, gate: threading.Semaphore | None = None, **kwargs
@@ -34,17 +39,32 @@ def background(fn: Callable, *args, gate: threading.Semaphore | None = None, **k
     fut: Future = Future()
 
     def run():
-        with gate if gate is not None else contextlib.nullcontext():
-            if not fut.set_running_or_notify_cancel():
-                return
-            try:
-                fut.set_result(fn(*args, **kwargs))
-            except BaseException as exc:   # delivered to the waiting thread
-                fut.set_exception(exc)
+        try:
+            with gate if gate is not None else contextlib.nullcontext():
+                if not fut.set_running_or_notify_cancel():
+                    return
+                try:
+                    fut.set_result(fn(*args, **kwargs))
+                except BaseException as exc:   # delivered to the waiting thread
+                    fut.set_exception(exc)
+        finally:
+            _RUNNING.discard(thread)
 
-    threading.Thread(target=run, name=f"homlimit-{getattr(fn, '__name__', 'call')}",
-                     daemon=True).start()
+    thread = threading.Thread(target=run, name=f"homlimit-{getattr(fn, '__name__', 'call')}",
+                              daemon=True)
+    _RUNNING.add(thread)
+    thread.start()
     return fut
+
+
+#: the threads of ``background`` that have not ended
+_RUNNING: set[threading.Thread] = set()
+
+
+def abandoned() -> bool:
+    """Whether a call started by ``background`` still runs: at the end of a command, one
+    that an interrupt (or another call's failure) left behind."""
+    return any(t.is_alive() for t in list(_RUNNING))
 
 
 def call(fn: Callable, *args, **kwargs):

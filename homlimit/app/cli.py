@@ -41,7 +41,7 @@ from .commands import case as case_cmds
 from .commands import studies as study_cmds
 from .commands import sweep as sweep_cmds
 from .commands import table1 as table1_cmds
-from .door import EXIT_BAD_INPUT, EXIT_SOLVER, guarded, print_version
+from .door import EXIT_BAD_INPUT, EXIT_SOLVER, guarded, leave, print_version
 
 MAX_CASES = 100_000         # sweep.MAX_CASES (sweep imports numpy: kept off the start-up)
 
@@ -326,11 +326,15 @@ def sweep_report_cmd(
 def main():
     """Console-script entry point (``homlimit``, ``python -m homlimit``). Ctrl-C outside a
     command's own handling (while modules are still importing, say) exits 130 with one line,
-    as an interrupted command does, never a traceback."""
+    as an interrupted command does, never a traceback. The exit itself: ``door.leave``."""
     try:
-        app(prog_name="homlimit")
-    except KeyboardInterrupt:
-        interrupted()
+        try:
+            app(prog_name="homlimit")
+        except KeyboardInterrupt:
+            interrupted()
+    except SystemExit as e:
+        leave(e.code)
+        raise
 
 
 def interrupted():

@@ -14,6 +14,7 @@ from contextlib import contextmanager
 
 import typer
 
+from .. import _threads
 from .._io import rounded  # floats to 15 digits, as in the files (_io.write_output)
 from .._version import package_version
 from ..errors import (
@@ -29,14 +30,13 @@ from .engine import Engine
 from .engine import Interrupted as EngineInterrupted
 from .report import format_table
 
-__all__ = ["EXIT_BAD_INPUT", "EXIT_SOLVER", "LOG", "Interrupted", "check_verbosity",
-           "emit_json", "fail",
-           "guarded", "interruptible", "open_engine", "setup_logging", "show", "signals",
-           "stored_tasks",
-           "stdout_quiet"]
+__all__ = ["EXIT_BAD_INPUT", "EXIT_BROKEN_PIPE", "EXIT_SOLVER", "LOG", "Interrupted",
+           "check_verbosity", "emit_json", "fail", "guarded", "interruptible", "leave",
+           "open_engine", "setup_logging", "show", "signals", "stored_tasks", "stdout_quiet"]
 
 EXIT_BAD_INPUT = 2
 EXIT_SOLVER = 3
+EXIT_BROKEN_PIPE = 128 + 13     # SIGPIPE: stdout's reader has gone
 
 HANDLER: logging.Handler | None = None
 LOG = logging.getLogger("homlimit")
@@ -109,9 +109,42 @@ def signals():
             signal.signal(getattr(signal, name), handler)
 
 
+def leave(code):
+    """At the command line's exit with ``code``: when a solve that an interrupt (or another
+    solve's failure) abandoned still runs in a daemon thread (``_threads.abandoned``), end the
+    process now (``os._exit``), after flushing stdout, stderr and the logs: the result set's
+    clean-up and the Dask engine's shutdown have run in their ``with`` blocks before, and the
+    interpreter's finalisation would force that thread to exit when it leaves native code,
+    which Clarabel's Rust core turns into an abort (SIGABRT, exit 134: "FATAL: exception not
+    rethrown"). Otherwise nothing: the ordinary exit follows."""
+    if not isinstance(code, int) or not _threads.abandoned():
+        return
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # closed, or a broken pipe: nothing more to say
+            pass
+    logging.shutdown()
+    os._exit(code)
+
+
+def _stdout_closed():
+    """Exit 141 (128 + SIGPIPE, as other Unix tools) when stdout's reader has gone (``|
+    head``): no message; what remains buffered for stdout goes to /dev/null, so that the
+    exit's flush fails no more."""
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, sys.stdout.fileno())
+        os.close(null)
+    except (AttributeError, OSError, ValueError):  # no file descriptor (typer's CliRunner)
+        pass
+    raise typer.Exit(EXIT_BROKEN_PIPE)
+
+
 def guarded(fn):
     """Map expected failures to exit codes 2 (bad input) and 3 (computation or disk), and
-    interrupts to 128 + the signal number; one line on stderr, no traceback."""
+    interrupts to 128 + the signal number; one line on stderr, no traceback. A closed stdout
+    (a broken pipe) exits 141, quietly."""
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
@@ -139,6 +172,8 @@ def guarded(fn):
         except MemoryError:
             fail(EXIT_SOLVER, "out of memory: a coarser [mesh] size, or a lower [mesh] "
                               "max_triangles so that such cases stop before they start")
+        except BrokenPipeError:
+            _stdout_closed()
         except KeyboardInterrupt as e:
             signum = getattr(e, "signum", signal.SIGINT)
             print(f"homlimit: interrupted ({signal.Signals(signum).name}): the result set "
