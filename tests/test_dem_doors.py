@@ -324,7 +324,8 @@ def test_table1_dem_one_trial_per_task_repeats_the_walls_run_here():
     from homlimit.app import dem_table1
 
     # half CHEAP's trial length, twice its first guess: three trials
-    section = dem_table1.dem_section([*CHEAP[1::2], "dem.t_max=0.1", "dem.guess=40"])
+    section = dem_table1.dem_section([*(s for s in CHEAP[1::2] if not s.startswith(
+        ("dem.t_max=", "dem.guess="))), "dem.t_max=0.1", "dem.guess=40"])
     calls = []
 
     def fake_map(fn, items):

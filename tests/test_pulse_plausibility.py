@@ -48,7 +48,7 @@ def test_a_record_that_is_no_ground_motion_exits_2(sandbox, rows, reason):
     res = invoke("pulse", "--set", "pulse.record=rec.csv", *CHEAP)
     assert res.exit_code == 2
     (line,) = [ln for ln in res.stderr.splitlines() if "error" in ln]
-    assert line.startswith("homlimit: error: [pulse] record = 'rec.csv': ")
+    assert line.startswith("homlimit: error: <default: B1>: [pulse] record = 'rec.csv': ")
     assert reason in line
     assert not (sandbox / "homlimit-out").exists()
 

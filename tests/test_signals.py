@@ -20,48 +20,41 @@ CASE = ROOT / "examples" / "c4-closed-form" / "case.toml"
 
 @pytest.fixture
 def blocked():
-    """A stub scan of a wall that blocks until released (``release``), marking ``finished``;
-    the test's interrupt is SIGUSR1 (raising KeyboardInterrupt in the main thread), sent once
-    the stubs of both walls run (the main thread has started their threads: an executor's
-    first thread, interrupted in its start, was not joined). Released at the end, so no
-    thread outlives the test."""
+    """``make(first)``: a stub scan of a wall. The first wall in the table's order (``first``)
+    is interrupted (raises KeyboardInterrupt, as a Ctrl-C delivered to its waiting caller
+    would) once the other wall's stub runs; that one blocks until released (``release``),
+    then marks ``finished``. Whatever waits for the walls must leave at once, not after the
+    blocked one (an executor's ``with`` joined it: Ctrl-C and SIGTERM waited for the whole
+    scan). No signal: which thread a test runs in (pytest-xdist) does not matter. Released
+    at the end, so no thread outlives the test."""
     started, release, finished = threading.Event(), threading.Event(), threading.Event()
-    running = []
 
-    def stub(*args, **kwargs):
-        running.append(1)
-        if len(running) == 2:
+    def make(first: str):
+        def stub(wall, *args, **kwargs):
+            if (wall if isinstance(wall, str) else wall["test"]) == first:
+                assert started.wait(60)
+                raise KeyboardInterrupt
             started.set()
-        try:
-            release.wait(30)        # a safety net: before the fix the caller joined this
-        finally:
-            finished.set()
+            try:
+                release.wait(30)    # a safety net: before the fix the caller joined this
+            finally:
+                finished.set()
+        return stub
 
-    def handler(signum, frame):
-        raise KeyboardInterrupt
-
-    def interrupt():
-        if started.wait(60):
-            signal.pthread_kill(threading.main_thread().ident, signal.SIGUSR1)
-
-    old = signal.signal(signal.SIGUSR1, handler)
-    threading.Thread(target=interrupt, daemon=True).start()
     try:
-        yield stub, finished
+        yield make, finished
     finally:
-        signal.signal(signal.SIGUSR1, old)
         release.set()
     assert finished.wait(60)
 
 
 def test_an_interrupt_abandons_the_fe_scans_of_table1(monkeypatch, blocked):
-    """Engine.fe_results: the interrupt propagates while the walls' scans still run (an
-    executor's ``with`` joined them: Ctrl-C and SIGTERM waited for the whole scan)."""
+    """Engine.fe_results: the interrupt propagates while the other wall's scan still runs."""
     from homlimit.app.engine import Engine
     from homlimit.mechanism import analysis
 
-    stub, finished = blocked
-    monkeypatch.setattr(analysis, "fe_result", stub)
+    make, finished = blocked
+    monkeypatch.setattr(analysis, "fe_result", make("B1"))
     with pytest.raises(KeyboardInterrupt):
         Engine(workers=1).fe_results(["B1", "B2"], 0.5, "bedjoints", 6)
     assert not finished.is_set()
@@ -70,9 +63,11 @@ def test_an_interrupt_abandons_the_fe_scans_of_table1(monkeypatch, blocked):
 def test_an_interrupt_abandons_the_dem_bisections_of_table1(monkeypatch, blocked):
     """table1_dem_records with a map hook: the same for the walls' DEM bisections."""
     from homlimit.app import dem_table1
+    from homlimit.app.config import DemConfig
 
-    stub, finished = blocked
-    monkeypatch.setattr(dem_table1, "_wall_by_trials", stub)
+    make, finished = blocked
+    first = dem_table1.table1_dem_walls(["B1", "B2"], DemConfig())[0]
+    monkeypatch.setattr(dem_table1, "_wall_by_trials", make(first))
     with pytest.raises(KeyboardInterrupt):
         dem_table1.table1_dem_records(["B1", "B2"], map=lambda fn, items: [])
     assert not finished.is_set()
