@@ -419,11 +419,10 @@ def _readable_manifest(folder: Path) -> bool:
     return isinstance(_manifest(folder).get("files"), list)
 
 
-def is_result_set(folder: Path, names: Iterable[str] = ()) -> bool:
+def is_result_set(folder: Path) -> bool:
     """True when ``folder`` holds a result set: its manifest, or nothing but folders that are
     result sets (``homlimit-out/B1/`` holding only ``pulse/``). A file without a manifest
-    is never taken for a set's, whatever its name: nothing says a set wrote it (``names`` is
-    kept for the callers; the sets written before manifests existed are not recognised)."""
+    is never taken for a set's, whatever its name: nothing says a set wrote it."""
     folder = Path(folder)
     if (folder / MANIFEST).is_file():
         return True
@@ -435,7 +434,7 @@ def is_result_set(folder: Path, names: Iterable[str] = ()) -> bool:
     return True
 
 
-def _written(folder: Path, names=()) -> set[str]:
+def _written(folder: Path) -> set[str]:
     """The entries of ``folder`` that the set there wrote: the top-level names of the files
     its manifest lists, and the manifest; none without a readable manifest."""
     manifest = _manifest(folder)
@@ -444,12 +443,12 @@ def _written(folder: Path, names=()) -> set[str]:
     return set()
 
 
-def _foreign(folder: Path, names) -> list[str]:
+def _foreign(folder: Path) -> list[str]:
     """The entries of ``folder`` that the set there did not write (nested sets of other
     commands, a user's files): a new set carries them over."""
     if not folder.is_dir() or folder.is_symlink():
         return []
-    written = _written(folder, names)
+    written = _written(folder)
     return sorted(p.name for p in folder.iterdir() if p.name not in written)
 
 
@@ -497,8 +496,10 @@ def check_output_folder(target: str | Path, names: Iterable[str] = (),
     (no NUL byte, no component longer than the file system allows), it is not the working
     folder or one of its parents, it is a folder (or absent) that is empty or a result set
     (``is_result_set``) and writable, the nearest existing parent is a writable folder, and
-    a set already there is of the command and source ``info`` names (``check_owner``).
-    Raises ParameterError naming the folder and the reason; returns the path."""
+    a set already there is of the command and source ``info`` names (``check_owner``), its
+    manifest readable, and no file it did not write bears one of ``names`` (the files a new
+    set may write). Raises ParameterError naming the folder and the reason; returns the
+    path."""
     from .errors import ParameterError
 
     text = os.fspath(target)
@@ -537,11 +538,11 @@ def check_output_folder(target: str | Path, names: Iterable[str] = (),
             bad(f"holds a {MANIFEST} that cannot be read (no list of its files), so what its "
                 "set wrote is unknown and nothing there may be replaced; give a new or empty "
                 "folder, or remove it")
-        if any(absolute.iterdir()) and not is_result_set(absolute, names):
+        if any(absolute.iterdir()) and not is_result_set(absolute):
             bad(f"is a folder that holds other files (no {MANIFEST}): a result set replaces "
                 "its folder whole; give a new or empty folder, or remove it")
         check_owner(target, info)
-        clash = sorted(set(_foreign(target, names)) & set(names))
+        clash = sorted(set(_foreign(target)) & set(names))
         if clash:
             bad(f"holds {clash[0]!r}, which the set there did not write and a new set may "
                 "write: move it away, or give another folder with --out DIR (out= in Python)")
@@ -566,8 +567,9 @@ def result_set(target: str | Path, *, info: Mapping | None = None,
     the interrupts held back in between), then the previous set is removed. Folders inside
     the previous set that are result sets themselves (another command's, e.g. ``pulse/``) are
     carried over. On any exception or interrupt the staging folder is removed and ``target``
-    is left as it was. ``names``: the file names of result sets written before manifests
-    existed (``is_result_set``). Files and folders get the modes the umask gives.
+    is left as it was. ``names``: the file names a new set may write (``check_output_folder``:
+    such a file that the set there did not write is refused before any work). Files and
+    folders get the modes the umask gives.
     """
     names = tuple(names)
     target = check_output_folder(target, names, info)
@@ -606,7 +608,7 @@ def result_set(target: str | Path, *, info: Mapping | None = None,
         files = sorted(str(p.relative_to(staging)) for p in staging.rglob("*")
                        if p.is_file() and not _inside_nested(p, staging))
         with _signals_deferred():
-            kept = _foreign(target, names)
+            kept = _foreign(target)
             clash = [n for n in kept if os.path.lexists(staging / n)]
             if clash:
                 from .errors import ParameterError
@@ -617,7 +619,7 @@ def result_set(target: str | Path, *, info: Mapping | None = None,
                     "give another folder with --out DIR (out= in Python)")
             write_json(staging / MANIFEST, {**(info or {}), "files": files,
                                             **({"kept": kept} if kept else {})})
-            _swap(staging, target, names)
+            _swap(staging, target)
     except BaseException as exc:
         abandon()
         if isinstance(exc, OSError) and not isinstance(exc, OutputError):
@@ -640,7 +642,7 @@ def _inside_nested(path: Path, root: Path) -> bool:
                if q != root and root in q.parents)
 
 
-def _swap(staging: Path, target: Path, names):
+def _swap(staging: Path, target: Path):
     """Put ``staging`` in the place of ``target``, carrying over what the set in ``target`` did
     not write (the ``kept`` entries of the staged manifest): they are moved into ``staging``
     first, and moved back if the exchange fails (a killed process's are put back by the next

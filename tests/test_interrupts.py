@@ -63,9 +63,9 @@ def atomic_path(path):
             pause(60)
 
 
-def swap(staging, target, names):
+def swap(staging, target):
     pause(3)                       # interrupts are held back here: the swap completes
-    real_swap(staging, target, names)
+    real_swap(staging, target)
 
 
 def rename(src, dst, *a, **k):

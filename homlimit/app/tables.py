@@ -35,7 +35,6 @@ def check_option(section: str, key: str, value, name: str | None = None) -> floa
     return SCHEMA[section][key].range.check(name or key, value)
 
 
-
 def check_budget(option: str, cases, size: float, max_triangles: int, scan: bool = True,
                   mesher: str = MESHER_DEFAULT):
     """ParameterError when the largest FE problem over ``cases`` at mesh ``size`` (with

@@ -91,8 +91,8 @@ def _outputs(command: str, units: str, names: str, **kw) -> list[Output]:
     return [Output(n, command, units, **kw) for n in names.split()]
 
 
-#: name → Output: every file a homlimit command writes (result sets written before
-#: manifests existed are recognised by these names, ``_io.is_result_set``)
+#: name → Output: every file a homlimit command writes (a file of these names that the set
+#: in an output folder did not write is refused before any work, ``_io.check_output_folder``)
 OUTPUTS: dict[str, Output] = {o.name: o for o in [
     *_outputs("run", "sections", "summary.json"),
     *_outputs("run", "axes", "vg_lambda.png mesh.png mechanism.png stress.png"),
